@@ -1,0 +1,71 @@
+"""Input checks shared by every learner.
+
+Every public learner entry point passes its data through :func:`check_block`, so a
+bad input fails with one clear ``ValueError`` that says what was expected, never with
+a silent NaN further down a compiled loop.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def check_block(X, *, name: str = "X", n_features: int | None = None, min_rows: int = 1) -> np.ndarray:
+    """Return ``X`` as a C-contiguous float64 array of shape (time, features).
+
+    Raises ``ValueError`` for a wrong number of dimensions, a non-numeric dtype,
+    too few rows, a feature count other than ``n_features``, or NaN/inf values.
+    """
+    arr = np.asarray(X)
+    if arr.dtype.kind not in "biuf":
+        raise ValueError(f"{name} must hold real numbers (bool, int or float); got dtype {arr.dtype}")
+    if arr.ndim != 2:
+        raise ValueError(f"{name} must be 2-d with shape (time, features); got shape {arr.shape}")
+    if arr.shape[0] < min_rows:
+        raise ValueError(f"{name} must have at least {min_rows} row(s) (time steps); got {arr.shape[0]}")
+    if n_features is not None and arr.shape[1] != n_features:
+        raise ValueError(f"{name} must have {n_features} features (columns); got {arr.shape[1]}")
+    arr = np.ascontiguousarray(arr, dtype=np.float64)
+    if not np.isfinite(arr).all():
+        bad = np.argwhere(~np.isfinite(arr))[0]
+        raise ValueError(f"{name} contains NaN or inf (first at row {bad[0]}, column {bad[1]})")
+    return arr
+
+
+def check_nonconstant(X: np.ndarray, *, name: str = "X") -> None:
+    """Raise ``ValueError`` when every column of ``X`` is constant (zero variance)."""
+    if X.shape[0] < 2 or not np.any(np.ptp(X, axis=0) > 0):
+        raise ValueError(f"{name} has zero variance: every feature is constant over time")
+
+
+def check_positive_int(value, name: str) -> int:
+    """Return ``value`` as an int, raising ``ValueError`` unless it is a positive integer."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+        raise ValueError(f"{name} must be a positive integer; got {value!r}")
+    return int(value)
+
+
+def check_fraction(value, name: str, *, open_low: bool = True, open_high: bool = False) -> float:
+    """Return ``value`` as a float in (0, 1] (bounds' openness configurable), else ``ValueError``."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a number in (0, 1]; got {value!r}") from None
+    low_ok = v > 0 if open_low else v >= 0
+    high_ok = v < 1 if open_high else v <= 1
+    if not (low_ok and high_ok and np.isfinite(v)):
+        lo = "(0" if open_low else "[0"
+        hi = "1)" if open_high else "1]"
+        raise ValueError(f"{name} must be in {lo}, {hi}; got {value!r}")
+    return v
+
+
+def check_random_state(random_state) -> np.random.Generator:
+    """Turn ``None``, an int, a ``SeedSequence`` or a ``Generator`` into a ``Generator``."""
+    if isinstance(random_state, np.random.Generator):
+        return random_state
+    if random_state is None or isinstance(random_state, (int, np.integer, np.random.SeedSequence)):
+        return np.random.default_rng(random_state)
+    raise ValueError(
+        f"random_state must be None, an int, a numpy SeedSequence or a numpy Generator; got {type(random_state).__name__}"
+    )

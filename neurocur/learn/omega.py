@@ -1,0 +1,50 @@
+"""The learning-cost measure Ω of CIMCA (paper eqs 15 and 40).
+
+Ω(x) = 1 − η(λ_{n−1} − λ_n) / (1 − η − η λ_n), where λ_n ≤ λ_{n−1} are the two
+smallest eigenvalues of the second-moment matrix of the derivative of the whitened
+signal. Ω is the per-step contraction factor S_{n−1} (eq 26) of the penultimate
+coefficient of the MCA weight vector: lower Ω means faster learning, and white noise
+(λ_{n−1} = λ_n) gives Ω = 1, never learned.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._validation import check_block, check_fraction, check_nonconstant
+from .sfa_batch import whiten_batch
+
+
+def derivative_eigenvalues(X, *, rank_tol: float = 1e-10) -> np.ndarray:
+    """Ascending eigenvalues of ``<ż żᵀ>`` for the whitened signal ``z`` of ``X``."""
+    X = check_block(X, min_rows=3)
+    check_nonconstant(X)
+    Z, _, _ = whiten_batch(X, rank_tol)
+    dZ = np.diff(Z, axis=0)
+    return np.linalg.eigvalsh(dZ.T @ dZ / len(dZ))
+
+
+def omega_from_eigenvalues(lam, eta: float) -> float:
+    """Eq 40 from ascending derivative eigenvalues ``lam`` (needs at least two)."""
+    lam = np.sort(np.asarray(lam, dtype=np.float64))
+    if lam.size < 2:
+        raise ValueError("Ω needs at least two whitened dimensions (λ_n and λ_{n-1})")
+    lam_n, lam_n1 = lam[0], lam[1]
+    return float(1.0 - eta * (lam_n1 - lam_n) / (1.0 - eta - eta * lam_n))
+
+
+def omega(X, eta: float = 0.05, *, rank_tol: float = 1e-10) -> float:
+    """Ω of the signal ``X`` (rows are time) for MCA learning rate ``eta`` (eq 40).
+
+    The convergence conditions of eq 20 (η λ_1 < 0.5, 0 < η ≤ 0.5) must hold for Ω to
+    be meaningful; a ``ValueError`` says so when they do not.
+    """
+    eta = check_fraction(eta, "eta")
+    if eta > 0.5:
+        raise ValueError(f"eta must be in (0, 0.5] (eq 20); got {eta}")
+    lam = derivative_eigenvalues(X, rank_tol=rank_tol)
+    if eta * lam[-1] >= 0.5:
+        raise ValueError(
+            f"eta * lambda_1 = {eta * lam[-1]:.3g} must be < 0.5 for MCA to converge (eq 20); lower eta"
+        )
+    return omega_from_eigenvalues(lam, eta)
