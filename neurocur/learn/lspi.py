@@ -1,0 +1,130 @@
+"""Model-based least-squares policy iteration (Lagoudakis & Parr 2003) for small discrete MDPs.
+
+CD-MISFA's value estimator (paper section 2.8) plans over contexts with the internal
+actions engage/disengage, using the known transition model P (eqs 12–13) and the
+learned reward model R (eq 14). With the model, LSTDQ evaluates a policy π exactly in
+the span of the features φ(s, a):
+
+    A = Σ_{s,a} φ(s,a) (φ(s,a) − γ Σ_{s'} P(s'|s,a) φ(s', π(s')))ᵀ,   b = Σ_{s,a} φ(s,a) R(s,a),
+    w = A⁻¹ b,   Q(s, a) = φ(s,a)ᵀ w,
+
+and policy iteration makes π greedy in Q until it no longer changes. With tabular
+(one-hot) features this is exact policy iteration and returns the optimal Q*.
+
+Conventions: ``P[s, a, s']`` (shape (S, A, S)), ``R[s, a]`` the expected reward (S, A).
+Greedy actions break ties toward the lowest action index; Q values within ``tol``
+(relative to the largest |Q|, at least 1) of the best count as tied, so rounding cannot
+make the policy alternate between equally good actions.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+from ._validation import check_positive_int
+
+
+def _as_finite(x, name: str, ndim: int, shape_doc: str) -> np.ndarray:
+    arr = np.asarray(x)
+    if arr.dtype.kind not in "biuf":
+        raise ValueError(f"{name} must hold real numbers; got dtype {arr.dtype}")
+    if arr.ndim != ndim:
+        raise ValueError(f"{name} must have shape {shape_doc}; got shape {arr.shape}")
+    arr = np.asarray(arr, dtype=np.float64)
+    if not np.isfinite(arr).all():
+        raise ValueError(f"{name} contains NaN or inf")
+    return arr
+
+
+def _check_mdp(P, R, discount) -> tuple[np.ndarray, np.ndarray, float]:
+    """Validate the model: P (S, A, S) stochastic over s', R (S, A) finite, 0 ≤ discount < 1."""
+    P = _as_finite(P, "P", 3, "(S, A, S) with P[s, a, s']")
+    S, A, S2 = P.shape
+    if S2 != S or S == 0 or A == 0:
+        raise ValueError(f"P must have shape (S, A, S) with S, A ≥ 1; got shape {P.shape}")
+    if (P < 0).any():
+        raise ValueError("P must be non-negative (transition probabilities)")
+    row_err = np.abs(P.sum(axis=2) - 1.0)
+    if (row_err > 1e-8).any():
+        s, a = np.unravel_index(np.argmax(row_err), row_err.shape)
+        raise ValueError(f"each P[s, a, :] must sum to 1; P[{s}, {a}, :] sums to {P[s, a].sum()!r}")
+    R = _as_finite(R, "R", 2, f"(S, A) = ({S}, {A})")
+    if R.shape != (S, A):
+        raise ValueError(f"R must have shape (S, A) = ({S}, {A}) to match P; got {R.shape}")
+    try:
+        gamma = float(discount)
+    except (TypeError, ValueError):
+        raise ValueError(f"discount must be a number in [0, 1); got {discount!r}") from None
+    if not 0.0 <= gamma < 1.0:
+        raise ValueError(f"discount must be in [0, 1); got {discount!r}")
+    return P, R, gamma
+
+
+def _check_tol(tol) -> float:
+    try:
+        t = float(tol)
+    except (TypeError, ValueError):
+        raise ValueError(f"tol must be a non-negative finite number; got {tol!r}") from None
+    if not (np.isfinite(t) and t >= 0):
+        raise ValueError(f"tol must be a non-negative finite number; got {tol!r}")
+    return t
+
+
+def greedy(Q: np.ndarray, tol: float = 0.0) -> np.ndarray:
+    """The greedy action per state (int64, (S,)), ties within ``tol`` toward the lowest index."""
+    atol = tol * max(1.0, float(np.abs(Q).max()))
+    return np.argmax(Q >= Q.max(axis=1, keepdims=True) - atol, axis=1).astype(np.int64)
+
+
+def lspi(P, R, discount=0.9, *, features=None, max_iter=100, tol=1e-10) -> tuple[np.ndarray, np.ndarray]:
+    """Model-based LSPI: ``(Q (S, A), policy (S,) int64)``.
+
+    ``features`` is None for tabular one-hot φ(s, a), or an array (S, A, k). The loop
+    starts from the policy greedy in R and stops when the policy is unchanged or the
+    weights move by less than ``tol`` (max-norm); it warns if ``max_iter`` is reached.
+    A singular A (redundant features) is solved in the least-squares, minimum-norm sense.
+    """
+    P, R, gamma = _check_mdp(P, R, discount)
+    S, A = R.shape
+    max_iter = check_positive_int(max_iter, "max_iter")
+    tol = _check_tol(tol)
+    if features is None:
+        phi = np.eye(S * A).reshape(S, A, S * A)
+    else:
+        phi = _as_finite(features, "features", 3, f"(S, A, k) = ({S}, {A}, k)")
+        if phi.shape[:2] != (S, A) or phi.shape[2] == 0:
+            raise ValueError(f"features must have shape (S, A, k) = ({S}, {A}, k ≥ 1); got {phi.shape}")
+    Phi = phi.reshape(S * A, -1)
+    P_flat = P.reshape(S * A, S)
+    b = Phi.T @ R.ravel()
+    policy = greedy(R, tol)
+    w = None
+    for _ in range(max_iter):
+        next_phi = P_flat @ phi[np.arange(S), policy]  # E[φ(s', π(s')) | s, a]
+        w_new = np.linalg.lstsq(Phi.T @ (Phi - gamma * next_phi), b, rcond=None)[0]
+        Q = (Phi @ w_new).reshape(S, A)
+        new_policy = greedy(Q, tol)
+        done = np.array_equal(new_policy, policy) or (w is not None and np.max(np.abs(w_new - w)) < tol)
+        w, policy = w_new, new_policy
+        if done:
+            return Q, policy
+    warnings.warn(f"lspi did not converge in max_iter={max_iter} iterations", RuntimeWarning, stacklevel=2)
+    return Q, policy
+
+
+def value_iteration(P, R, discount, tol=1e-12, max_iter=100000) -> np.ndarray:
+    """Optimal Q (S, A) by value iteration, Q ← R + γ P max_a Q, until max|ΔQ| < ``tol``."""
+    P, R, gamma = _check_mdp(P, R, discount)
+    max_iter = check_positive_int(max_iter, "max_iter")
+    tol = _check_tol(tol)
+    Q = R.copy()
+    for _ in range(max_iter):
+        Q_new = R + gamma * (P @ Q.max(axis=1))
+        delta = np.max(np.abs(Q_new - Q))
+        Q = Q_new
+        if delta < tol:
+            return Q
+    warnings.warn(f"value_iteration did not converge in max_iter={max_iter} iterations", RuntimeWarning, stacklevel=2)
+    return Q
