@@ -1,0 +1,37 @@
+"""Incremental learners of CD-MISFA: pure mathematics, no brain vocabulary.
+
+| learner | module | paper |
+|---|---|---|
+| CCIPCA (amnesic incremental PCA, whitening) | ``ccipca`` | Algorithm 2 |
+| MCA (CIMCA minor components) | ``mca`` | eqs 8, 16, 17 |
+| IncSFA (CCIPCA + CIMCA on the whitened derivative) | ``incsfa`` | Algorithm 1, eq 2 |
+| ROC-Amnesic robust online clustering, one clusterer per state | ``roc`` | Algorithm 3, eqs 3, 10 |
+| model-based LSPI | ``lspi`` | section 2.8 |
+| the learning-cost measure Ω | ``omega`` | eqs 15, 40 |
+| exact batch SFA (the reference) | ``sfa_batch`` | eqs 4–7 |
+
+The sequential per-sample loops are compiled with numba in ``_kernels`` and
+``_roc_kernels``; the classes validate input and call them once per block.
+"""
+
+from .ccipca import CCIPCA, AmnesicSchedule
+from .incsfa import IncSFA
+from .lspi import lspi, value_iteration
+from .mca import MCA
+from .omega import derivative_eigenvalues, omega
+from .roc import ROCBank
+from .sfa_batch import BatchSFA, batch_sfa
+
+__all__ = [
+    "AmnesicSchedule",
+    "BatchSFA",
+    "CCIPCA",
+    "IncSFA",
+    "MCA",
+    "ROCBank",
+    "batch_sfa",
+    "derivative_eigenvalues",
+    "lspi",
+    "omega",
+    "value_iteration",
+]

@@ -1,0 +1,182 @@
+"""Incremental slow feature analysis (Kompella, Luciw & Schmidhuber 2012; Algorithm 1).
+
+IncSFA solves linear SFA (paper eqs 4–7) online with two incremental PCAs: CCIPCA
+(Algorithm 2) whitens the input, and CIMCA (eqs 8, 16, 17) finds the minor components
+of the whitened derivative ż, which are the slow features. The output is
+y = Wᵀ Sᵀ (x − ū) (eq 2 with the combined matrix ``projection_`` = S W).
+
+Choices the paper leaves open (see also ``ccipca`` and ``mca``):
+
+* Derivative: ż(t) = Sᵀ(x(t) − x(t−1)) with the whitening matrix S *current at t*,
+  i.e. both samples whitened by the same matrix. Differencing z(t) − z(t−1) taken
+  with two different matrices would add the change of S to ż while the whitening
+  still moves. The mean cancels in the difference. One ``partial_fit`` call is one
+  episode: the derivative never spans two calls unless ``continues=True``.
+* Inactive whitened components (eigenvalue below ``eig_cutoff`` × the largest, or
+  outside ``var_fraction``) have ż = 0, and the CIMCA vectors are restricted to the
+  active coordinates (zeroed elsewhere, renormalised); otherwise CIMCA converges onto
+  the zero-variance directions.
+* MCA runs from the first derivative, with no warm-up: CIMCA forgets its start at rate
+  η, and the whitening of a stationary source settles within a few hundred samples.
+* γ: for exact whitening every eigenvalue of E[ż żᵀ] is at most 4, so the default
+  γ = 4 is safe. ``gamma="auto"`` uses ``AUTO_GAMMA_FACTOR`` × an online estimate of
+  the largest eigenvalue of E[ż żᵀ] (one-component CCIPCA on ż, same amnesic rate).
+
+The whole per-episode loop (mean, CCIPCA, whitening, derivative, CIMCA) is one
+compiled call (``_kernels.incsfa_fit``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._estimator import Estimator, NotFittedError
+from ._kernels import incsfa_fit
+from ._validation import check_block, check_nonconstant, check_positive_int, check_random_state
+from .ccipca import amnesic_params, check_cutoffs, init_directions
+from .mca import AUTO_GAMMA_FACTOR, check_gamma, check_rate, init_weights
+
+
+class IncSFA(Estimator):
+    """Online linear slow feature analysis.
+
+    Parameters
+    ----------
+    n_components : J, the number of slow features (J ≤ n_pca).
+    n_pca : K, the number of CCIPCA components used for whitening (K ≤ input dims).
+    amnesic : CCIPCA's amnesic parameter, a constant l or an ``AmnesicSchedule``; the
+        mean is tracked with the same rate.
+    var_fraction, eig_cutoff : which whitened components are active (see ``CCIPCA``).
+    mca_rate : CIMCA's learning rate η in (0, 0.5].
+    gamma : CIMCA's lateral weight, a number > 0 (4 is safe for whitened input) or "auto".
+    random_state : seed of the initial CCIPCA directions and CIMCA vectors.
+
+    Attributes (after ``partial_fit``): ``mean_`` (D,); ``projection_`` (D, J) with
+    ``transform(X) == (X − mean_) @ projection_``; ``n_samples_seen_``; ``n_active_``
+    (whitened components in use); ``eigenvalues_`` (K,) CCIPCA's estimates, descending;
+    ``gamma_`` (the γ in use).
+    """
+
+    def __init__(
+        self,
+        n_components=2,
+        n_pca=3,
+        *,
+        amnesic=2.0,
+        var_fraction=None,
+        eig_cutoff=1e-3,
+        mca_rate=0.05,
+        gamma=4.0,
+        random_state=None,
+    ):
+        self.n_components = n_components
+        self.n_pca = n_pca
+        self.amnesic = amnesic
+        self.var_fraction = var_fraction
+        self.eig_cutoff = eig_cutoff
+        self.mca_rate = mca_rate
+        self.gamma = gamma
+        self.random_state = random_state
+        self._validate_params()
+
+    def _validate_params(self) -> None:
+        j = check_positive_int(self.n_components, "n_components")
+        k = check_positive_int(self.n_pca, "n_pca")
+        if j > k:
+            raise ValueError(f"n_components={j} must not exceed n_pca={k}")
+        amnesic_params(self.amnesic)
+        check_cutoffs(self.var_fraction, self.eig_cutoff)
+        check_rate(self.mca_rate, "mca_rate")
+        check_gamma(self.gamma)
+        if hasattr(self, "_W") and (j, k) != self._W.shape:
+            raise ValueError("n_components and n_pca cannot change after the first partial_fit; make a new IncSFA")
+
+    def _start(self, n_features: int) -> None:
+        j, k = self.n_components, self.n_pca
+        if k > n_features:
+            raise ValueError(f"n_pca={k} exceeds the number of features ({n_features})")
+        rng = check_random_state(self.random_state)
+        self._dirs = init_directions(rng, k, n_features)
+        self._W = init_weights(rng, j, k)
+        self._gdir = init_weights(rng, 1, k)
+        self._lam = np.zeros(k)
+        self._glam = np.zeros(1)
+        self._total = 0.0
+        self._mask = np.zeros(k, dtype=np.bool_)
+        self._prev = np.zeros(n_features)
+        self._has_prev = False
+        self.mean_ = np.zeros(n_features)
+        self.n_samples_seen_ = 0
+        self.n_active_ = 0
+        # u, dx (D,); ż, ż copy for the γ tracker (K,); lateral couplings (J,); new w (K,)
+        self._work = (
+            np.empty(n_features), np.empty(n_features),
+            np.empty(k), np.empty(k), np.empty(j), np.empty(k),
+        )
+
+    def partial_fit(self, X, *, continues: bool = False):
+        """Learn from one episode ``X`` (rows are consecutive time steps); returns ``self``.
+
+        The derivative is taken only between rows of ``X``; with ``continues=True`` the
+        first row is also differenced against the last row of the previous call. The
+        first call needs at least two rows that are not all equal.
+        """
+        fitted = hasattr(self, "_W")
+        X = check_block(X, n_features=self.mean_.shape[0] if fitted else None, min_rows=1 if fitted else 2)
+        if not fitted:
+            check_nonconstant(X)
+            self._start(X.shape[1])
+        t1, t2, c, r = amnesic_params(self.amnesic)
+        frac, cut = check_cutoffs(self.var_fraction, self.eig_cutoff)
+        gamma = check_gamma(self.gamma)
+        u, dx, zdot, gres, coup, new = self._work
+        self.n_samples_seen_, self._total, self.n_active_ = incsfa_fit(
+            X, self.n_samples_seen_, self._total, bool(continues and self._has_prev),
+            self.mean_, self._dirs, self._lam, self._prev, self._W, self._gdir, self._glam,
+            t1, t2, c, r, cut, frac, check_rate(self.mca_rate, "mca_rate"), gamma,
+            AUTO_GAMMA_FACTOR if gamma < 0 else 0.0,
+            self._mask, u, dx, zdot, gres, coup, new,
+        )
+        self._has_prev = True
+        return self
+
+    def _check_fitted(self) -> None:
+        if not hasattr(self, "_W"):
+            raise NotFittedError("this IncSFA is not fitted yet; call partial_fit first")
+
+    @property
+    def projection_(self) -> np.ndarray:
+        """S W, shape (D, J): whitening by the active CCIPCA components, then CIMCA."""
+        self._check_fitted()
+        m = self._mask
+        return (self._dirs[m].T / np.sqrt(self._lam[m])) @ self._W[:, m].T
+
+    @property
+    def eigenvalues_(self) -> np.ndarray:
+        self._check_fitted()
+        return np.sort(self._lam)[::-1].copy()
+
+    @property
+    def gamma_(self) -> float:
+        """The γ in use: the given one, or AUTO_GAMMA_FACTOR × the current λ̂_1(ż)."""
+        gamma = check_gamma(self.gamma)
+        if gamma > 0:
+            return gamma
+        self._check_fitted()
+        return AUTO_GAMMA_FACTOR * float(self._glam[0])
+
+    def transform(self, X) -> np.ndarray:
+        """Slow features (X − mean_) @ projection_, shape (T, n_components), slowest first."""
+        self._check_fitted()
+        X = check_block(X, n_features=self.mean_.shape[0])
+        return (X - self.mean_) @ self.projection_
+
+    def delta(self, X) -> np.ndarray:
+        """Slowness Δ_j = ⟨ẏ_j²⟩ (eq 4) of each output on ``X``, outputs scaled to unit variance."""
+        self._check_fitted()
+        X = check_block(X, n_features=self.mean_.shape[0], min_rows=2)
+        y = self.transform(X)
+        sd = y.std(axis=0)
+        if not np.all(sd > 0):
+            raise ValueError("delta needs X on which every output varies; some output is constant on X")
+        return np.mean(np.diff(y / sd, axis=0) ** 2, axis=0)

@@ -1,0 +1,142 @@
+"""Minor components analysis by CIMCA (Peng & Yi 2006; paper eqs 8, 16, 17).
+
+The J vectors w_1..w_J converge to the eigenvectors of the *smallest* eigenvalues of
+the second-moment matrix C = E[z zᵀ] (w_1 the smallest), one sample at a time:
+
+    w_i ← (1 − η) w_i − η [(z·w_i) z + γ Σ_{j<i} (w_j·w_i) w_j],   w_i ← w_i / ||w_i||
+
+updated in order i = 1..J with the already updated w_j (sequential lateral term).
+
+γ must exceed the largest eigenvalue λ_1 of C: the lateral term raises the found
+directions' eigenvalues by γ so that the next vector converges to the next minor
+component (γ > λ_{n−J+1} − λ_n is what is needed; γ > λ_1 is the safe bound).
+Convergence also needs 0 < η ≤ 0.5 and η λ_1 < 0.5 (eq 20).
+
+``gamma="auto"`` estimates λ_1 online (a one-component CCIPCA on z with rate 1/t)
+and uses γ = ``AUTO_GAMMA_FACTOR`` × λ̂_1.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ._estimator import Estimator, NotFittedError
+from ._kernels import cimca_fit
+from ._validation import check_block, check_positive_int, check_random_state
+
+#: Safety factor over the online estimate of λ_1 when ``gamma="auto"``.
+AUTO_GAMMA_FACTOR = 2.0
+
+
+def check_gamma(gamma) -> float:
+    """The kernels' γ encoding: a given γ > 0 as itself, ``"auto"`` as −1."""
+    if isinstance(gamma, str):
+        if gamma == "auto":
+            return -1.0
+        raise ValueError(f'gamma must be a positive number or "auto"; got {gamma!r}')
+    if isinstance(gamma, bool) or not isinstance(gamma, (int, float, np.integer, np.floating)):
+        raise ValueError(f'gamma must be a positive number or "auto"; got {gamma!r}')
+    if not (math.isfinite(gamma) and gamma > 0):
+        raise ValueError(f'gamma must be a finite number > 0 or "auto"; got {gamma!r}')
+    return float(gamma)
+
+
+def check_rate(rate, name: str) -> float:
+    """A CIMCA learning rate in (0, 0.5] (eq 20)."""
+    if isinstance(rate, bool) or not isinstance(rate, (int, float, np.integer, np.floating)):
+        raise ValueError(f"{name} must be a number in (0, 0.5] (eq 20); got {rate!r}")
+    if not 0.0 < rate <= 0.5:
+        raise ValueError(f"{name} must be in (0, 0.5] (eq 20); got {rate!r}")
+    return float(rate)
+
+
+def init_weights(rng: np.random.Generator, n_components: int, n_features: int) -> np.ndarray:
+    """Random unit rows, shape (n_components, n_features), the CIMCA start."""
+    w = rng.standard_normal((n_components, n_features))
+    return w / np.linalg.norm(w, axis=1, keepdims=True)
+
+
+class MCA(Estimator):
+    """Online minor components (CIMCA) of the second moment of the rows of ``Z``.
+
+    Parameters
+    ----------
+    n_components : J, the number of minor components.
+    learning_rate : η in (0, 0.5].
+    gamma : the lateral weight γ > λ_1, or ``"auto"``. A given γ is checked against the
+        online estimate λ̂_1 after each ``partial_fit``: if γ ≤ λ̂_1 the call is undone
+        and raises ``ValueError``.
+    random_state : seed of the initial vectors.
+
+    Attributes (after ``partial_fit``): ``components_`` (J, D), unit rows, the first
+    the estimate of the minor eigenvector; ``gamma_`` (the γ in use);
+    ``n_samples_seen_``.
+    """
+
+    def __init__(self, n_components, *, learning_rate=0.05, gamma=4.0, random_state=None):
+        self.n_components = n_components
+        self.learning_rate = learning_rate
+        self.gamma = gamma
+        self.random_state = random_state
+        self._validate_params()
+
+    def _validate_params(self) -> None:
+        j = check_positive_int(self.n_components, "n_components")
+        check_rate(self.learning_rate, "learning_rate")
+        check_gamma(self.gamma)
+        if hasattr(self, "_W") and j != self._W.shape[0]:
+            raise ValueError("n_components cannot change after the first partial_fit; make a new MCA")
+
+    def _start(self, n_features: int) -> None:
+        j = self.n_components
+        if j > n_features:
+            raise ValueError(f"n_components={j} exceeds the number of features ({n_features})")
+        rng = check_random_state(self.random_state)
+        self._W = init_weights(rng, j, n_features)
+        self._gdir = init_weights(rng, 1, n_features)
+        self._glam = np.zeros(1)
+        self.n_samples_seen_ = 0
+        self._work = (np.ones(n_features, dtype=np.bool_), np.empty(j), np.empty(n_features), np.empty(n_features))
+
+    def partial_fit(self, Z):
+        """Update the minor components with the rows of ``Z``; returns ``self``."""
+        fitted = hasattr(self, "_W")
+        Z = check_block(Z, name="Z", n_features=self._W.shape[1] if fitted else None)
+        gamma = check_gamma(self.gamma)
+        rate = check_rate(self.learning_rate, "learning_rate")
+        if not fitted:
+            self._start(Z.shape[1])
+        saved = (self._W.copy(), self._gdir.copy(), self._glam.copy(), self.n_samples_seen_)
+        mask, coup, new, res = self._work
+        self.n_samples_seen_ = cimca_fit(
+            Z, self._W, rate, gamma, AUTO_GAMMA_FACTOR if gamma < 0 else 0.0,
+            self._gdir, self._glam, self.n_samples_seen_, mask, coup, new, res,
+        )
+        if 0 < gamma <= self._glam[0]:
+            lam1 = float(self._glam[0])
+            self._W, self._gdir, self._glam, self.n_samples_seen_ = saved
+            if not fitted:
+                del self._W
+            raise ValueError(
+                f"gamma={gamma} must exceed the largest eigenvalue of Z's second moment "
+                f"(estimated λ_1 = {lam1:.4g}); use a larger gamma or gamma='auto'"
+            )
+        return self
+
+    @property
+    def components_(self) -> np.ndarray:
+        if not hasattr(self, "_W"):
+            raise NotFittedError("this MCA is not fitted yet; call partial_fit first")
+        return self._W.copy()
+
+    @property
+    def gamma_(self) -> float:
+        """The γ in use: the given one, or AUTO_GAMMA_FACTOR × the current λ̂_1."""
+        gamma = check_gamma(self.gamma)
+        if gamma > 0:
+            return gamma
+        if not hasattr(self, "_W"):
+            raise NotFittedError("this MCA is not fitted yet; call partial_fit first")
+        return AUTO_GAMMA_FACTOR * float(self._glam[0])
