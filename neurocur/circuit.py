@@ -1,0 +1,376 @@
+"""Circuits: regions wired by signal edges, declared in TOML, validated and ordered once.
+
+A circuit file declares regions and edges::
+
+    [regions.VTA]
+    type = "vta.learning_progress"          # a registered region type
+    params = { boredom = -100.0 }
+
+    [[edges]]
+    from = "HPC"                             # producing region
+    signal = "familiar"                      # one of its outputs
+    to = "VTA"                               # consuming region
+    # input = "familiar"                     # the consumer's input (default: same name)
+    # delayed = true                         # read the previous pass's value
+
+A variant file ``extends = "cd_misfa.toml"`` (a path relative to itself) and adds
+``[[lesion]]`` tables (``region``, ``how``), ``[replace.NAME]`` tables (``type``,
+``params``), ``[regions.NAME.params]`` overrides or more edges.
+
+Semantics (one scheduler pass = one episode):
+
+- step phase, in topological order of the *step graph*: the edges into step inputs
+  that are not delayed. A delayed edge delivers the previous pass's value (the
+  output's ``initial`` on the first pass), so it may close a loop;
+- learn phase, after every step: edges into ``learn_inputs`` deliver this pass's
+  values and never constrain the order, so a later region may gate an earlier one's
+  learning without a cycle;
+- a step-graph cycle without a delayed edge is a build error naming the cycle.
+
+Validation errors are :class:`~neurocur.config.ConfigError` naming the file and key.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Mapping
+
+import networkx as nx
+
+from . import registry
+from .config import ConfigError, check_keys, deep_merge, describe, load_toml, make_params, params_to_dict, require
+from .regions.base import Region
+
+__all__ = ["Circuit", "RegionSpec", "Link"]
+
+PY = "<python>"
+
+
+@dataclass(frozen=True)
+class RegionSpec:
+    """A declared region: its class and parameters, or a prebuilt (not yet reset) instance."""
+
+    name: str
+    cls: type
+    params: object
+    instance: Region | None = None
+    origin: str = PY
+
+    @property
+    def type_name(self) -> str:
+        return self.cls.type_name or self.cls.__qualname__
+
+    def make(self) -> Region:
+        if self.instance is not None:
+            region = copy.deepcopy(self.instance)
+            region.name = self.name
+            return region
+        return self.cls(self.name, self.params)
+
+
+@dataclass(frozen=True)
+class Link:
+    """One edge: ``src.signal -> dst.input``."""
+
+    src: str
+    signal: str
+    dst: str
+    input: str
+    delayed: bool = False
+    origin: str = PY
+    key: str = "edges"
+
+    def __str__(self) -> str:
+        return f"{self.src}.{self.signal} -> {self.dst}.{self.input}"
+
+
+class Circuit:
+    """A validated, ordered circuit of regions. Immutable: lesions and replacements return new circuits."""
+
+    def __init__(self, regions, links, *, source: str = PY, lesions=()):
+        self.source = str(source)
+        self.specs: dict[str, RegionSpec] = dict(regions)
+        self.links: tuple[Link, ...] = tuple(links)
+        self.lesions: tuple[tuple[str, str], ...] = tuple(lesions)
+        self.graph = nx.DiGraph()
+        self._validate()
+
+    # ------------------------------------------------------------------ construction
+
+    @classmethod
+    def from_toml(cls, path, overrides: Mapping | None = None, *, overrides_source: str = "overrides") -> "Circuit":
+        """Load a circuit file (following ``extends``); ``overrides`` maps ``"REGION.param"`` to a value."""
+        path = Path(path)
+        data = _read_file(path, ())
+        regions = {}
+        for name, table in data["regions"].items():
+            regions[name] = _spec_from_table(name, table, prefix=f"regions.{name}")
+        for name, table in data["replace"].items():
+            if name not in regions:
+                raise ConfigError(table["_origin"], f"replace.{name}", f"the name of a declared region ({', '.join(regions)})",
+                                  "an unknown region")
+            regions[name] = _spec_from_table(name, table, prefix=f"replace.{name}")
+        links = [_link_from_table(t) for t in data["edges"]]
+        regions = _apply_overrides(regions, overrides or {}, overrides_source)
+        lesions = []
+        for table in data["lesion"]:
+            name, how = table["region"], table["how"]
+            if name not in regions:
+                raise ConfigError(table["_origin"], f"{table['_key']}.region", f"a declared region ({', '.join(regions)})",
+                                  describe(name))
+            regions[name] = _lesioned(regions[name], how, source=table["_origin"], key=f"{table['_key']}.how")
+            lesions.append((name, how))
+        return cls(regions, links, source=path, lesions=lesions)
+
+    def lesion(self, name: str, how: str) -> "Circuit":
+        """A new circuit with region ``name`` lesioned (``how`` is one of its class's ``lesions``)."""
+        self._check_region(name)
+        specs = dict(self.specs)
+        specs[name] = _lesioned(specs[name], how, source=PY, key=f"lesion.{name}.how")
+        return Circuit(specs, self.links, source=self.source, lesions=self.lesions + ((name, how),))
+
+    def replace(self, name: str, region) -> "Circuit":
+        """A new circuit with region ``name`` replaced by a Region object or a spec mapping
+        ``{"type": "vta.novelty", "params": {...}}``."""
+        self._check_region(name)
+        specs = dict(self.specs)
+        if isinstance(region, Region):
+            specs[name] = RegionSpec(name, type(region), region.params, instance=region)
+        elif isinstance(region, Mapping):
+            table = dict(region)
+            table["_origin"] = PY
+            specs[name] = _spec_from_table(name, table, prefix=f"replace.{name}")
+        else:
+            raise ValueError(f"replace() expects a Region object or a mapping with 'type' and 'params'; "
+                             f"got {type(region).__name__}")
+        return Circuit(specs, self.links, source=self.source, lesions=self.lesions)
+
+    def with_params(self, overrides: Mapping, *, source: str = "overrides") -> "Circuit":
+        """A new circuit with ``"REGION.param"`` overrides applied."""
+        return Circuit(_apply_overrides(self.specs, overrides, source), self.links, source=self.source,
+                       lesions=self.lesions)
+
+    def build(self, world, seed, record_frames: bool = False):
+        """A ready-to-run :class:`~neurocur.scheduler.Simulator` on ``world``."""
+        from .scheduler import Simulator
+
+        return Simulator(self, world, seed, record_frames=record_frames)
+
+    # ------------------------------------------------------------------ inspection
+
+    def to_dict(self) -> dict:
+        """The fully resolved circuit (lesions folded into the parameters) as plain data."""
+        return {
+            "regions": {name: {"type": s.type_name, "params": params_to_dict(s.params)} for name, s in self.specs.items()},
+            "edges": [
+                {"from": k.src, "signal": k.signal, "to": k.dst, "input": k.input, "delayed": k.delayed}
+                for k in self.links
+            ],
+            "lesions": [{"region": r, "how": h} for r, h in self.lesions],
+        }
+
+    def schedule(self) -> str:
+        """Printable text: step order, learn order, delayed edges and learn-phase edges."""
+        lines = ["step order:"]
+        for i, name in enumerate(self.step_order, 1):
+            s = self.specs[name]
+            ins = ", ".join(
+                f"{k.input}<-{k.src}.{k.signal}{' (delayed)' if k.delayed else ''}"
+                for k in self.links if k.dst == name and k.input in self._step_inputs(name))
+            lines.append(f"  {i}. {name} [{s.type_name}]" + (f"  reads {ins}" if ins else ""))
+        lines.append("learn order: " + (", ".join(self.learn_order) or "(none)"))
+        lines.append("delayed edges (previous pass):")
+        lines += [f"  {k}" for k in self.links if k.delayed] or ["  (none)"]
+        lines.append("learn-phase edges (this pass, after all steps):")
+        lines += [f"  {k}" for k in self.links if not k.delayed and k.input not in self._step_inputs(k.dst)] or ["  (none)"]
+        if self.lesions:
+            lines.append("lesions: " + ", ".join(f"{r} ({h})" for r, h in self.lesions))
+        return "\n".join(lines)
+
+    def __repr__(self) -> str:
+        return f"Circuit({self.source!r}, regions={list(self.specs)})"
+
+    # ------------------------------------------------------------------ validation
+
+    def _check_region(self, name):
+        if name not in self.specs:
+            raise ValueError(f"no region named {name!r} in this circuit (regions: {', '.join(self.specs)})")
+
+    def _step_inputs(self, name) -> dict:
+        return {s.name: s for s in _ports(self.specs[name], "inputs")}
+
+    def _validate(self) -> None:
+        specs, src = self.specs, self.source
+        if not specs:
+            raise ConfigError(src, "regions", "at least one region", "none")
+        for name, spec in specs.items():
+            self.graph.add_node(name, type=spec.type_name, params=spec.params)
+        fed: dict[tuple[str, str], Link] = {}
+        used_outputs = set()
+        for link in self.links:
+            for end, field_ in ((link.src, "from"), (link.dst, "to")):
+                if end not in specs:
+                    raise ConfigError(link.origin, f"{link.key}.{field_}", f"a declared region ({', '.join(specs)})",
+                                      describe(end))
+            outs = {s.name: s for s in _ports(specs[link.src], "outputs")}
+            if link.signal not in outs:
+                raise ConfigError(link.origin, f"{link.key}.signal", f"an output of region '{link.src}' ({', '.join(outs) or 'none'})",
+                                  describe(link.signal))
+            ins = {s.name: s for s in _ports(specs[link.dst], "inputs") + _ports(specs[link.dst], "learn_inputs")}
+            if link.input not in ins:
+                raise ConfigError(link.origin, f"{link.key}.input", f"an input of region '{link.dst}' ({', '.join(ins) or 'none'})",
+                                  describe(link.input))
+            out_sig, in_sig = outs[link.signal], ins[link.input]
+            if not out_sig.compatible(in_sig):
+                raise ConfigError(link.origin, link.key,
+                                  f"{link.dst}.{link.input} as {in_sig.describe()}",
+                                  f"{link.src}.{link.signal} as {out_sig.describe()}")
+            if (link.dst, link.input) in fed:
+                raise ConfigError(link.origin, link.key, f"a single edge into input '{link.dst}.{link.input}'",
+                                  f"a second one (the first is {fed[(link.dst, link.input)]})")
+            fed[(link.dst, link.input)] = link
+            used_outputs.add((link.src, link.signal))
+            if self.graph.has_edge(link.src, link.dst):
+                self.graph.edges[link.src, link.dst]["links"].append(link)
+            else:
+                self.graph.add_edge(link.src, link.dst, links=[link])
+        for name, spec in specs.items():
+            for sig in _ports(spec, "inputs") + _ports(spec, "learn_inputs"):
+                if (name, sig.name) not in fed:
+                    raise ConfigError(spec.origin if spec.origin != PY else src, f"regions.{name}",
+                                      f"an edge into its input '{sig.name}' ({sig.describe()})", "no edge")
+            for sig in _ports(spec, "outputs"):
+                if (name, sig.name) not in used_outputs:
+                    raise ConfigError(spec.origin if spec.origin != PY else src, f"regions.{name}",
+                                      f"an edge from its output '{sig.name}' ({sig.describe()})", "an output that goes nowhere")
+        step_graph = nx.DiGraph()
+        step_graph.add_nodes_from(specs)
+        for link in self.links:
+            if not link.delayed and link.input in self._step_inputs(link.dst):
+                step_graph.add_edge(link.src, link.dst)
+        try:
+            cycle = nx.find_cycle(step_graph, source=list(specs))
+        except nx.NetworkXNoCycle:
+            cycle = None
+        if cycle:
+            names = [u for u, _ in cycle] + [cycle[0][0]]
+            raise ConfigError(src, "edges", "a delayed = true edge on every loop of step inputs",
+                              f"cycle {' -> '.join(names)} has no delayed edge")
+        rank = {name: i for i, name in enumerate(specs)}
+        self.step_order: tuple[str, ...] = tuple(nx.lexicographical_topological_sort(step_graph, key=rank.__getitem__))
+        self.learn_order: tuple[str, ...] = tuple(n for n in self.step_order if specs[n].cls.learn is not Region.learn)
+
+
+# ---------------------------------------------------------------------- helpers
+
+
+def _ports(spec: RegionSpec, kind: str):
+    """The declared signals of a region; instance-level when they depend on parameters."""
+    holder = spec.instance if spec.instance is not None else spec.cls
+    value = getattr(holder, kind)
+    if isinstance(value, property) or callable(value):  # parameter-dependent ports
+        value = getattr(spec.make(), kind)
+    return tuple(value)
+
+
+def _spec_from_table(name: str, table: Mapping, *, prefix: str) -> RegionSpec:
+    origin = table["_origin"]
+    body = {k: v for k, v in table.items() if not k.startswith("_")}
+    check_keys(body, ("type", "params"), source=origin, prefix=prefix, required=("type",))
+    type_name = require(body, "type", str, source=origin, prefix=prefix, expected="a region type name (string)")
+    try:
+        cls = registry.get(type_name)
+    except registry.UnknownRegionType:
+        raise ConfigError(origin, f"{prefix}.type", f"a registered region type ({', '.join(registry.names())})",
+                          describe(type_name)) from None
+    params_table = require(body, "params", dict, source=origin, prefix=prefix, expected="a table of parameters",
+                           default={})
+    params = make_params(cls.Params, params_table, source=origin, prefix=f"{prefix}.params")
+    return RegionSpec(name, cls, params, origin=origin)
+
+
+def _link_from_table(table: Mapping) -> Link:
+    origin, key = table["_origin"], table["_key"]
+    body = {k: v for k, v in table.items() if not k.startswith("_")}
+    check_keys(body, ("from", "to", "signal", "input", "delayed"), source=origin, prefix=key,
+               required=("from", "to", "signal"))
+    words = {f: require(body, f, str, source=origin, prefix=key, expected="a name (string)") for f in ("from", "to", "signal")}
+    inp = require(body, "input", str, source=origin, prefix=key, expected="an input name (string)", default=words["signal"])
+    delayed = require(body, "delayed", bool, source=origin, prefix=key, expected="true or false", default=False)
+    return Link(words["from"], words["signal"], words["to"], inp, delayed, origin=origin, key=key)
+
+
+def _apply_overrides(specs: Mapping[str, RegionSpec], overrides: Mapping, source) -> dict[str, RegionSpec]:
+    specs = dict(specs)
+    grouped: dict[str, dict] = {}
+    for dotted, value in overrides.items():
+        name, dot, pname = str(dotted).partition(".")
+        if not dot or name not in specs:
+            raise ConfigError(source, str(dotted), f"'REGION.param' with REGION one of {', '.join(specs)}",
+                              "an unknown region" if dot else "no dot")
+        grouped.setdefault(name, {})[pname] = value
+    for name, table in grouped.items():
+        spec = specs[name]
+        merged = {**params_to_dict(spec.params), **table}
+        params = make_params(spec.cls.Params, merged, source=source, prefix=name)
+        specs[name] = RegionSpec(name, spec.cls, params, instance=None if spec.instance is None else
+                                 _with_params(spec.instance, params), origin=spec.origin)
+    return specs
+
+
+def _with_params(instance: Region, params) -> Region:
+    region = copy.deepcopy(instance)
+    region.params = params
+    return region
+
+
+def _lesioned(spec: RegionSpec, how, *, source, key) -> RegionSpec:
+    options = spec.cls.lesions
+    if how not in options:
+        raise ConfigError(source, key, f"a lesion of {spec.type_name} ({', '.join(options) or 'none defined'})",
+                          describe(how))
+    params = dataclasses.replace(spec.params, **options[how])
+    instance = None if spec.instance is None else _with_params(spec.instance, params)
+    return RegionSpec(spec.name, spec.cls, params, instance=instance, origin=spec.origin)
+
+
+def _read_file(path: Path, chain: tuple) -> dict:
+    """Read a circuit file, resolving ``extends``; tag every table with its file and key."""
+    path = path.resolve()
+    if path in chain:
+        raise ConfigError(path, "extends", "a chain of files without a loop",
+                          " -> ".join(p.name for p in chain + (path,)))
+    raw = load_toml(path)
+    check_keys(raw, ("description", "extends", "regions", "edges", "lesion", "replace"), source=path)
+    if "extends" in raw:
+        base_name = require(raw, "extends", str, source=path, expected="a circuit file path (string)")
+        data = _read_file(path.parent / base_name, chain + (path,))
+    else:
+        data = {"regions": {}, "edges": [], "lesion": [], "replace": {}}
+    regions = require(raw, "regions", dict, source=path, expected="a table of regions", default={})
+    for name, table in regions.items():
+        if not isinstance(table, dict):
+            raise ConfigError(path, f"regions.{name}", "a table with 'type' and 'params'", describe(table))
+        merged = deep_merge(data["regions"].get(name, {}), table)
+        merged["_origin"] = path
+        data["regions"][name] = merged
+    for field_, kind in (("edges", "edge"), ("lesion", "lesion")):
+        items = require(raw, field_, list, source=path, expected=f"an array of {kind} tables ([[{field_}]])", default=[])
+        for i, table in enumerate(items):
+            key = f"{field_}[{i}]"
+            if not isinstance(table, dict):
+                raise ConfigError(path, key, f"a {kind} table", describe(table))
+            if field_ == "lesion":
+                check_keys(table, ("region", "how"), source=path, prefix=key, required=("region", "how"))
+                for f in ("region", "how"):
+                    require(table, f, str, source=path, prefix=key, expected="a name (string)")
+            data[field_].append({**table, "_origin": path, "_key": key})
+    replace = require(raw, "replace", dict, source=path, expected="a table of replacements", default={})
+    for name, table in replace.items():
+        if not isinstance(table, dict):
+            raise ConfigError(path, f"replace.{name}", "a table with 'type' and 'params'", describe(table))
+        data["replace"][name] = {**table, "_origin": path}
+    return data

@@ -1,0 +1,134 @@
+"""The Region base class, signal specs and probe specs.
+
+A region is one brain area. It declares
+
+- ``Params``: a frozen dataclass of parameters (fields made with
+  :func:`neurocur.config.param`, validated on construction);
+- ``inputs``: signals read in the step phase, ``learn_inputs``: signals read only in
+  the learn phase, ``outputs``: signals it produces in the step phase (all
+  :class:`Signal`, in the order of the arguments of ``step``/``learn`` and of the
+  tuple ``step`` returns);
+- ``probes``: per-episode recordable quantities (:class:`Probe`, returned in order by
+  ``record()``) and ``frame_probes``: per-frame quantities (``record_frames()``
+  returns a (T, n) array), recorded only on request;
+- ``lesions``: named lesions, each a dict of parameter overrides.
+
+Life cycle, driven by the scheduler: ``bind(world)`` once (sizes from the world),
+``reset(rng)`` once, then per pass (= one episode) ``step(*inputs) -> tuple`` in
+topological order, then ``learn(*learn_inputs)`` for plastic regions, then
+``record()``. A region may append event dicts to ``self.events`` (the scheduler
+collects and clears them after each pass).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+
+from ..config import check_params
+
+__all__ = ["Signal", "Probe", "Region", "NoParams"]
+
+
+@dataclass(frozen=True)
+class Signal:
+    """A named port. ``dtype`` is a string (``"float64"``, ``"int64"``, ``"bool"``,
+    ``"Episode"``); ``shape`` a tuple of ints (fixed sizes) or strings (named sizes
+    that vary, e.g. ``"T"`` frames); ``()`` is a scalar. ``initial`` is the value a
+    delayed edge delivers on the first pass."""
+
+    name: str
+    dtype: str
+    shape: tuple = ()
+    doc: str = ""
+    initial: object = None
+
+    def describe(self) -> str:
+        return f"{self.dtype} shape {tuple(self.shape)}"
+
+    def compatible(self, other: "Signal") -> bool:
+        """Same dtype and rank; fixed sizes equal; a named size matches the same name or any fixed size."""
+        if self.dtype != other.dtype or len(self.shape) != len(other.shape):
+            return False
+        for a, b in zip(self.shape, other.shape):
+            if isinstance(a, int) and isinstance(b, int) and a != b:
+                return False
+            if isinstance(a, str) and isinstance(b, str) and a != b:
+                return False
+        return True
+
+
+@dataclass(frozen=True)
+class Probe:
+    """A recordable quantity. ``kind``: ``"float"``, ``"int"``, ``"bool"`` or
+    ``"category"`` (stored as the index into ``categories``)."""
+
+    name: str
+    kind: str
+    unit: str
+    doc: str = ""
+    categories: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class NoParams:
+    """Parameters of a region that has none."""
+
+    def __post_init__(self):
+        check_params(self)
+
+
+class Region:
+    """Base class of all regions. Subclasses are registered with ``@register(name)``."""
+
+    type_name: ClassVar[str] = ""
+    Params: ClassVar[type] = NoParams
+    inputs: ClassVar[tuple[Signal, ...]] = ()
+    learn_inputs: ClassVar[tuple[Signal, ...]] = ()
+    outputs: ClassVar[tuple[Signal, ...]] = ()
+    probes: ClassVar[tuple[Probe, ...]] = ()
+    frame_probes: tuple[Probe, ...] = ()
+    lesions: ClassVar[dict[str, dict]] = {}
+    #: The region that produces the episode: the scheduler counts frames from its ``n_frames``.
+    is_clock: ClassVar[bool] = False
+
+    def __init__(self, name: str = "", params=None, **kwargs):
+        if params is not None and kwargs:
+            raise ValueError("pass either a Params object or keyword parameters, not both")
+        self.name = name or type(self).__name__
+        self.params = params if params is not None else self.Params(**kwargs)
+        if not isinstance(self.params, self.Params):
+            raise ValueError(f"{type(self).__name__} expects params of type {self.Params.__name__}; "
+                             f"got {type(self.params).__name__}")
+        self.events: list[dict] = []
+
+    @property
+    def plastic(self) -> bool:
+        """True when the region overrides :meth:`learn`."""
+        return type(self).learn is not Region.learn
+
+    def bind(self, world) -> None:
+        """Take sizes from the world (number of contexts, states, pixels). Called once."""
+
+    def reset(self, rng: np.random.Generator) -> None:
+        """Start from scratch, drawing all randomness from ``rng``."""
+
+    def step(self, *inputs) -> tuple:
+        """Read ``inputs`` (in declared order) and return the outputs (in declared order)."""
+        return ()
+
+    def learn(self, *learn_inputs) -> None:
+        """Plasticity, run after every region has stepped."""
+
+    def record(self) -> tuple:
+        """Values of ``probes`` for this pass, in order."""
+        return ()
+
+    def record_frames(self) -> np.ndarray:
+        """A (T, len(frame_probes)) array of per-frame values for this pass."""
+        return np.empty((0, 0))
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}(name={self.name!r}, params={self.params!r})"

@@ -1,0 +1,108 @@
+"""EC: the entorhinal slow-feature layer — the adaptive IncSFA module and the library (eqs 1-2)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..config import ConfigError, check_params, param
+from ..learn.incsfa import IncSFA
+from ..registry import register
+from .base import Probe, Region, Signal
+
+
+@dataclass(frozen=True)
+class ECParams:
+    n_components: int = param(2, int, low=1, doc="J, slow features per module")
+    n_pca: int = param(3, int, low=1, doc="K, whitened dimensions kept by CCIPCA")
+    amnesic: float = param(2.0, float, low=0.0, doc="CCIPCA amnesic parameter l")
+    var_fraction: float | None = param(None, float, low=0.0, high=1.0, low_open=True, optional=True,
+                                       doc="keep the fewest components explaining this variance fraction")
+    eig_cutoff: float = param(1e-3, float, low=0.0, doc="relative eigenvalue below which a component is dropped")
+    mca_rate: float = param(0.05, float, low=0.0, high=1.0, low_open=True, high_open=True, doc="MCA learning rate")
+    gamma: float | str = param(4.0, float, low=0.0, low_open=True, choices=("auto",), doc="MCA deflation gamma")
+
+    def __post_init__(self):
+        check_params(self)
+        if self.n_components > self.n_pca:
+            raise ConfigError(type(self).__name__, "n_components", f"at most n_pca = {self.n_pca}", repr(self.n_components))
+
+
+@register("ec.incsfa")
+class ECIncSFA(Region):
+    """Slow-feature encoding by every module of the library plus the adaptive one.
+
+    Step: ``y^i = (x - mean_i) W^i`` (eq 2; ``W^i`` = whitening x MCA = ``projection_``)
+    for every frame of the episode, one matrix product for all frozen modules (their
+    projections stacked) and one for the adaptive module (its projection is cached
+    after each update; a fresh module outputs zeros until its first update).
+    Learn (runs after HPC has stepped):
+
+    - on HPC's module-learned event: the adaptive module, exactly as it encoded this
+      episode, is copied into the library (long-term memory, section 2.6) and a fresh
+      adaptive module starts with a seed drawn from this region's generator;
+    - else, unless the episode is familiar (gating, section 2.6):
+      ``IncSFA.partial_fit`` on each independent segment of the episode.
+    """
+
+    Params = ECParams
+    inputs = (Signal("episode", "Episode", ()),)
+    learn_inputs = (
+        Signal("familiar", "bool", (), "some frozen module's error is below threshold: do not learn"),
+        Signal("module_learned", "bool", (), "freeze the adaptive module now"),
+    )
+    outputs = (
+        Signal("features", "float64", ("T", "J"), "adaptive module's slow features per frame"),
+        Signal("library_features", "float64", ("T", "M", "J"), "every frozen module's slow features per frame"),
+    )
+
+    @property
+    def frame_probes(self):
+        return tuple(Probe(f"y{j}", "float", "a.u. (unit variance)", f"adaptive slow feature {j}")
+                     for j in range(self.params.n_components))
+
+    def reset(self, rng) -> None:
+        self.rng = rng
+        self.library: list[IncSFA] = []
+        self._lib_proj = None
+        self._lib_offset = None
+        self.adaptive = self._new_module()
+        self.features = None
+
+    def _new_module(self) -> IncSFA:
+        p = self.params
+        self._proj = self._offset = None
+        return IncSFA(p.n_components, p.n_pca, amnesic=p.amnesic, var_fraction=p.var_fraction,
+                      eig_cutoff=p.eig_cutoff, mca_rate=p.mca_rate, gamma=p.gamma,
+                      random_state=int(self.rng.integers(2**63)))
+
+    def step(self, episode):
+        X = episode.frames
+        T, J = len(X), self.params.n_components
+        if self._proj is None:  # a fresh module encodes nothing yet
+            y = np.zeros((T, J))
+        else:
+            y = X @ self._proj - self._offset
+        if self.library:
+            lib = (X @ self._lib_proj - self._lib_offset).reshape(T, len(self.library), J)
+        else:
+            lib = np.empty((T, 0, J))
+        self.episode, self.features = episode, y
+        return y, lib
+
+    def learn(self, familiar, module_learned) -> None:
+        if module_learned:
+            self.library.append(self.adaptive.copy())
+            self._lib_proj = np.concatenate([m.projection_ for m in self.library], axis=1)
+            self._lib_offset = np.concatenate([m.mean_ @ m.projection_ for m in self.library])
+            self.adaptive = self._new_module()
+        elif not familiar:
+            a = self.adaptive
+            for frames, _ in self.episode.segments():
+                a.partial_fit(frames)
+            self._proj = a.projection_
+            self._offset = a.mean_ @ self._proj
+
+    def record_frames(self):
+        return self.features

@@ -1,0 +1,174 @@
+"""HPC: the hippocampal competitive layer — ROC clusterers, estimation errors, familiarity and storage."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..config import check_params, param
+from ..learn.roc import ROCBank
+from ..registry import register
+from .base import Probe, Region, Signal
+
+FREEZE_RULES = ("context_mean", "context_sum", "episode_mean")
+
+
+@dataclass(frozen=True)
+class HPCParams:
+    threshold: float = param(0.3, float, low=0.0, low_open=True, doc="familiarity and freeze threshold")
+    n_states: int = param(1000, int, low=1, doc="context-states per context (>= the world's)")
+    max_clusters: int = param(2, int, low=2, doc="xi, clusters per context-state (Algorithm 3 merges pairs)")
+    amnesic: float = param(0.01, float, low=0.0, high=1.0, doc="phi, ROC weight leak per update")
+    width: float = param(1.0, float, low=0.0, low_open=True, doc="sigma of the Gaussian ROC response")
+    prune_min_weight: float = param(0.5, float, low=0.0, doc="clusters lighter than this are pruned at storage")
+    freeze: str = param("context_mean", str, choices=FREEZE_RULES, doc="module storage rule")
+    reward_error: str = param("context", str, choices=("context", "episode"), doc="error sent to VTA")
+    clusterers: str = param("context_state", str, choices=("context_state", "state"),
+                            doc="one clusterer per (context, state) or per state shared by all contexts")
+    gating: bool = param(True, bool, doc="familiar episodes gate learning (False: never familiar)")
+
+    def __post_init__(self):
+        check_params(self)
+
+
+@register("hpc.roc")
+class HPCROC(Region):
+    """ROC clusterers on the slow features (eq 3, Algorithm 3) and the estimation errors.
+
+    Step, for the episode's frames with context-states ``s`` and context ``c``:
+
+    - every frozen module m: eq 10 error ``min_j ||y^m(t) - c^m_j(s_t)||`` per frame,
+      averaged over the frames whose state has a cluster; ``min_frozen_error`` is the
+      smallest average, ``gating_module`` its module; ``familiar`` =
+      ``gating and min_frozen_error < threshold`` (section 2.6);
+    - the adaptive module: eq 10 error per frame against the current clusters
+      (``episode_error`` = their mean); the stored error ``e^i`` of each visited
+      (context, state) is overwritten with it (eq 10: "updated whenever the agent
+      visits that state"); the context error ``error`` is the mean of the context's
+      stored errors (eq 11 divided by M; NaN until a state has one);
+    - ``module_learned`` = freeze rule and not familiar. Rules: ``context_mean``
+      (every state of the context has a stored error and their mean < threshold),
+      ``context_sum`` (same, eq 11's literal sum < threshold), ``episode_mean``
+      (``episode_error`` < threshold, the literal reading of section 4.1.2);
+    - ``reward_error`` (to VTA): the context error (``"context"``) or ``episode_error``.
+
+    Learn: unless familiar, ``ROCBank.partial_fit`` on the adaptive features of this
+    pass (computed before EC's update). On module-learned the bank is then pruned
+    (``prune_min_weight``; never a state's latest-sample cluster), stored with the
+    frozen EC module, and a fresh bank and stored-error table start.
+    With ``clusterers = "context_state"`` clusterer ``c * n_states + s`` serves state s
+    of context c; with ``"state"`` all contexts share clusterer s (the paper's "1000
+    clusterers"), so a frozen module also gates other contexts showing its source.
+    """
+
+    Params = HPCParams
+    inputs = (
+        Signal("episode", "Episode", ()),
+        Signal("features", "float64", ("T", "J")),
+        Signal("library_features", "float64", ("T", "M", "J")),
+    )
+    outputs = (
+        Signal("familiar", "bool", (), "a frozen module's error is below threshold"),
+        Signal("module_learned", "bool", (), "the adaptive module is stored at this pass"),
+        Signal("reward_error", "float64", (), "adaptive module's error used for the intrinsic reward"),
+    )
+    probes = (
+        Probe("familiar", "bool", "", "gated: a frozen module's mean error < threshold"),
+        Probe("gating_module", "int", "index", "frozen module that gates this episode; -1 if none"),
+        Probe("error", "float", "feature distance", "adaptive context error: mean of stored eq-10 errors (eq 11 / M)"),
+        Probe("episode_error", "float", "feature distance", "mean eq-10 error of this episode's frames"),
+        Probe("min_frozen_error", "float", "feature distance", "smallest frozen module's mean eq-10 error; NaN if none"),
+        Probe("module_learned", "bool", "", "the freeze rule fired on an unfamiliar episode"),
+        Probe("n_modules", "int", "modules", "library size after this episode"),
+    )
+    frame_probes = (Probe("frame_error", "float", "feature distance", "adaptive eq-10 error per frame (NaN: no cluster)"),)
+    lesions = {"no_gating": {"gating": False}}
+
+    @property
+    def threshold(self) -> float:
+        """The familiarity and freeze threshold."""
+        return self.params.threshold
+
+    def bind(self, world) -> None:
+        p = self.params
+        if world.n_states > p.n_states:
+            raise ValueError(f"{self.name}: n_states = {p.n_states} is smaller than the world's {world.n_states} context-states")
+        self.n_contexts, self.m = world.n_contexts, world.n_states
+        self.n_clusterers = p.n_states * (self.n_contexts if p.clusterers == "context_state" else 1)
+
+    def reset(self, rng) -> None:
+        self.library: list[ROCBank] = []
+        self._new_bank()
+
+    def _new_bank(self) -> None:
+        self.bank = None  # created at the first step, when the feature dimension is known
+        self.stored = np.full((self.n_contexts, self.m), np.nan)
+
+    def step(self, episode, features, library_features):
+        p = self.params
+        c = episode.context
+        idx = episode.states + c * p.n_states if p.clusterers == "context_state" else episode.states
+        min_err, gating = np.nan, -1
+        for m, bank in enumerate(self.library):
+            err, known = bank.error(idx, library_features[:, m, :])
+            e = _known_mean(err, known)
+            if e < min_err or (e == e and min_err != min_err):
+                min_err, gating = e, m
+        familiar = bool(p.gating and min_err < p.threshold)
+        if not familiar:
+            gating = -1
+        if self.bank is None:
+            self.bank = ROCBank(self.n_clusterers, features.shape[1], max_clusters=p.max_clusters,
+                                amnesic=p.amnesic, width=p.width)
+        err, known = self.bank.error(idx, features)
+        ep_err = _known_mean(err, known)
+        row = self.stored[c]
+        row[episode.states[known]] = err[known]
+        missing = np.isnan(row)
+        n_missing = np.count_nonzero(missing)
+        if n_missing == self.m:
+            ctx_err = total = np.nan
+        elif n_missing:
+            total = np.nan
+            ctx_err = float(row[~missing].sum()) / (self.m - n_missing)
+        else:
+            total = float(row.sum())
+            ctx_err = total / self.m
+        if p.freeze == "context_mean":
+            rule = ctx_err < p.threshold and n_missing == 0
+        elif p.freeze == "context_sum":
+            rule = total < p.threshold
+        else:
+            rule = ep_err < p.threshold
+        learned = bool(rule and not familiar)
+        self._frame_err, self._known = err, known
+        self._idx, self._features, self._context = idx, features, c
+        self.familiar, self.module_learned = familiar, learned
+        self._rec = (familiar, gating, ctx_err, ep_err, min_err, learned)
+        return familiar, learned, float(ctx_err if p.reward_error == "context" else ep_err)
+
+    def learn(self) -> None:
+        if self.familiar:
+            return
+        self.bank.partial_fit(self._idx, self._features)
+        if self.module_learned:
+            self.bank.prune(self.params.prune_min_weight)
+            self.library.append(self.bank)
+            self.events.append({"event": "module_stored", "module": len(self.library) - 1,
+                                "context": int(self._context), "n_clusters": int(self.bank.n_clusters_.sum())})
+            self._new_bank()
+
+    def record(self):
+        return self._rec + (len(self.library),)
+
+    def record_frames(self):
+        return np.where(self._known, self._frame_err, np.nan)[:, None]
+
+
+def _known_mean(err: np.ndarray, known: np.ndarray) -> float:
+    """Mean of ``err`` over the frames whose state has a cluster; NaN if none has."""
+    n = np.count_nonzero(known)
+    if n == len(err):
+        return float(err.sum()) / n
+    return float(err[known].sum()) / n if n else np.nan

@@ -1,0 +1,101 @@
+"""LC: locus coeruleus — the engage/disengage decision and tonic/phasic norepinephrine."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from ..config import check_params, param
+from ..registry import register
+from .base import Probe, Region, Signal
+from .pfc import ACTIONS, DISENGAGE, ENGAGE
+
+
+@dataclass(frozen=True)
+class LCParams:
+    epsilon0: float = param(0.6, float, low=0.0, high=1.0, doc="epsilon after reset")
+    decay: float = param(0.995, float, low=0.0, high=1.0, low_open=True, doc="epsilon factor per episode")
+
+    def __post_init__(self):
+        check_params(self)
+
+
+@register("lc.epsilon_greedy")
+class EpsilonGreedyLC(Region):
+    """Decaying epsilon-greedy engage/disengage (section 2.8.1) with NE read-outs.
+
+    Per pass: on a module-learned event epsilon is reset to ``epsilon0``; with
+    probability epsilon the action is drawn uniformly from {engage, disengage},
+    otherwise it is ``argmax Q`` (a tie is broken uniformly); then epsilon is
+    multiplied by ``decay``. Engage stays in the context; disengage draws the next
+    context uniformly from the others (eq 13). The recorded ``epsilon`` is the one used.
+
+    NE, with g = 1 if Q_dis > Q_eng, 1/2 on a tie, 0 otherwise:
+
+    - tonic NE = P(disengage | Q, epsilon) = epsilon/2 + (1 - epsilon) g, in [0, 1]: the
+      current drive to disengage, high when exploring or when staying is not worth it;
+    - phasic NE = 1 at a module-learned event; else, on an engage decision,
+      max(0, tanh(Q_eng - Q_dis)) (the burst that commits to the task, growing with
+      the advantage of staying); else 0.
+
+    Lesion ``random``: epsilon = 1 forever, so contexts switch at random (section 4.3).
+    """
+
+    Params = LCParams
+    inputs = (
+        Signal("context", "int64", ()),
+        Signal("q", "float64", (2,)),
+        Signal("module_learned", "bool", ()),
+    )
+    outputs = (
+        Signal("action", "int64", (), "0 engage, 1 disengage", initial=None),
+        Signal("next_context", "int64", (), "context of the next episode", initial=None),
+    )
+    probes = (
+        Probe("action", "category", "", "decision at the end of this episode", categories=ACTIONS),
+        Probe("next_context", "int", "index", "context of the next episode"),
+        Probe("epsilon", "float", "probability", "exploration rate used for this decision"),
+        Probe("ne_tonic", "float", "probability", "P(disengage | Q, epsilon)"),
+        Probe("ne_phasic", "float", "[0, 1]", "event-locked burst (1 at module storage, engage advantage)"),
+    )
+    lesions = {"random": {"epsilon0": 1.0, "decay": 1.0}}
+
+    def bind(self, world) -> None:
+        if world.n_contexts < 2:
+            raise ValueError(f"{self.name}: engage/disengage needs at least 2 contexts; got {world.n_contexts}")
+        self.n_contexts = world.n_contexts
+
+    def reset(self, rng) -> None:
+        self.rng = rng
+        self.epsilon = self.params.epsilon0
+        self._rec = (ENGAGE, 0, self.epsilon, 0.5, 0.0)
+
+    def step(self, context, q, module_learned):
+        rng = self.rng
+        if module_learned:
+            self.epsilon = self.params.epsilon0
+        eps = self.epsilon
+        q_eng, q_dis = float(q[ENGAGE]), float(q[DISENGAGE])
+        g = 1.0 if q_dis > q_eng else (0.5 if q_dis == q_eng else 0.0)
+        if rng.random() < eps or g == 0.5:
+            action = int(rng.integers(2))
+        else:
+            action = DISENGAGE if g == 1.0 else ENGAGE
+        if action == ENGAGE:
+            nxt = int(context)
+        else:
+            k = int(rng.integers(self.n_contexts - 1))
+            nxt = k if k < context else k + 1
+        tonic = 0.5 * eps + (1.0 - eps) * g
+        if module_learned:
+            phasic = 1.0
+        elif action == ENGAGE:
+            phasic = max(0.0, math.tanh(q_eng - q_dis))
+        else:
+            phasic = 0.0
+        self.epsilon = eps * self.params.decay
+        self._rec = (action, nxt, eps, tonic, phasic)
+        return action, nxt
+
+    def record(self):
+        return self._rec

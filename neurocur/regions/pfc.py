@@ -1,0 +1,86 @@
+"""PFC: the prefrontal value estimator — reward model (eq 14), transitions (eqs 12-13), LSPI."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..config import check_params, param
+from ..learn.lspi import lspi
+from ..registry import register
+from .base import Probe, Region, Signal
+
+ENGAGE, DISENGAGE = 0, 1
+ACTIONS = ("engage", "disengage")
+
+
+def transition_model(n_contexts: int) -> np.ndarray:
+    """P[o, a, o'] of eqs 12-13: engage stays; disengage goes uniformly to another context."""
+    P = np.empty((n_contexts, 2, n_contexts))
+    P[:, ENGAGE] = np.eye(n_contexts)
+    P[:, DISENGAGE] = (1.0 - np.eye(n_contexts)) / (n_contexts - 1)
+    return P
+
+
+@dataclass(frozen=True)
+class PFCParams:
+    alpha: float = param(0.2, float, low=0.0, high=1.0, low_open=True, doc="eq 14 learning rate")
+    discount: float = param(0.9, float, low=0.0, high=1.0, high_open=True, doc="LSPI discount factor")
+
+    def __post_init__(self):
+        check_params(self)
+
+
+@register("pfc.lspi")
+class PFCLSPI(Region):
+    """Model-based values of engaging or disengaging in each context (sections 2.7-2.8).
+
+    Step (the paper updates the reward model and the policy after every episode, before
+    the next decision): with the previous context ``o``, the previous action ``a``
+    (delayed edge from LC) and the current context ``o'``, eq 14
+    ``R[o, a, o'] <- (1 - alpha) R[o, a, o'] + alpha * DA``; then the expected reward
+    ``R(o, a) = sum_o' P[o, a, o'] R[o, a, o']`` and model-based LSPI on (P, R) give
+    ``Q``; output ``Q[o']`` = (Q_engage, Q_disengage) of the current context.
+    """
+
+    Params = PFCParams
+    inputs = (
+        Signal("context", "int64", ()),
+        Signal("da", "float64", ()),
+        Signal("action", "int64", (), "previous decision (0 engage, 1 disengage)"),
+    )
+    outputs = (Signal("q", "float64", (2,), "(Q_engage, Q_disengage) of the current context"),)
+    probes = (
+        Probe("q_engage", "float", "discounted DA", "Q(current context, engage)"),
+        Probe("q_disengage", "float", "discounted DA", "Q(current context, disengage)"),
+    )
+
+    def bind(self, world) -> None:
+        if world.n_contexts < 2:
+            raise ValueError(f"{self.name}: engage/disengage needs at least 2 contexts; got {world.n_contexts}")
+        self.n_contexts = world.n_contexts
+
+    def reset(self, rng) -> None:
+        n = self.n_contexts
+        self.P = transition_model(n)
+        self.R3 = np.zeros((n, 2, n))
+        self.Q = np.zeros((n, 2))
+        self.previous_context = None
+        self.q = self.Q[0].copy()
+
+    def step(self, context, da, action):
+        if self.previous_context is not None and action is not None:
+            prev = self.previous_context
+            r = self.R3[prev, action, context]
+            new = r + self.params.alpha * (da - r)
+            if new != r:  # an unchanged model keeps its Q
+                self.R3[prev, action, context] = new
+                R = np.einsum("oas,oas->oa", self.P, self.R3)
+                self.Q = lspi(self.P, R, self.params.discount)[0]
+        self.previous_context = context
+        self.q = self.Q[context].copy()
+        return (self.q,)
+
+    def record(self):
+        return (self.q[ENGAGE], self.q[DISENGAGE])

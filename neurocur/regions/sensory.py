@@ -1,0 +1,90 @@
+"""The sensory world as a region: the context the agent is in, delivered one episode per pass."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..config import check_params, param
+from ..contexts.base import Episode
+from ..registry import register
+from .base import Probe, Region, Signal
+
+
+@dataclass(frozen=True)
+class SensoryParams:
+    episodes_on_engage: int = param(1, int, low=1, doc="episodes delivered when the agent stays (2 on the iCub)")
+    initial_context: int = param(-1, int, low=-1, doc="context of the first episode; -1 draws it uniformly")
+
+    def __post_init__(self):
+        check_params(self)
+
+
+@register("sensory.world")
+class SensoryWorld(Region):
+    """Wraps a :class:`~neurocur.contexts.base.World` (section 2.2.1).
+
+    Step: visit the context chosen by LC at the end of the previous pass (a delayed
+    input; ``None`` on the first pass, which returns the world's first episode). When
+    the agent stayed (``next_context`` equals the current context) and
+    ``episodes_on_engage`` > 1, that many episodes are concatenated into one block
+    whose ``starts`` mark the independent segments (iCub experiment, section 4.2).
+    """
+
+    Params = SensoryParams
+    is_clock = True
+    inputs = (Signal("next_context", "int64", (), "context chosen by LC at the previous pass"),)
+    outputs = (
+        Signal("episode", "Episode", (), "frames (T, n_pixels) in [0, 1], context-states (T,), segment starts"),
+        Signal("context", "int64", (), "index of the context of this episode"),
+    )
+    probes = (
+        Probe("context", "int", "index", "context of this episode"),
+        Probe("n_frames", "int", "frames", "frames in this episode (block)"),
+    )
+    frame_probes = (Probe("state", "int", "index", "context-state (local time step) of each frame"),)
+
+    def bind(self, world) -> None:
+        if world.n_contexts < 1:
+            raise ValueError("the world has no context")
+        if self.params.initial_context >= world.n_contexts:
+            raise ValueError(f"{self.name}: initial_context must be < {world.n_contexts} (the world's contexts); "
+                             f"got {self.params.initial_context}")
+        self.world = world
+
+    def reset(self, rng) -> None:
+        c0 = self.params.initial_context
+        if c0 < 0:
+            c0 = int(rng.integers(self.world.n_contexts))
+        self._first, _ = self.world.reset(seed=int(rng.integers(2**63)), context=c0)
+        self.episode = None
+        self.context = c0
+        self.n_frames = 0
+
+    def step(self, next_context):
+        if next_context is None:
+            ep = self._first
+        elif next_context == self.context and self.params.episodes_on_engage > 1:
+            ep = _concatenate([self.world.step(next_context)[0] for _ in range(self.params.episodes_on_engage)])
+        else:
+            ep = self.world.step(next_context)[0]
+        self.episode, self.context, self.n_frames = ep, ep.context, len(ep.frames)
+        return ep, self.context
+
+    def record(self):
+        return (self.context, self.n_frames)
+
+    def record_frames(self):
+        return self.episode.states[:, None]
+
+
+def _concatenate(episodes) -> Episode:
+    """One block from consecutive episodes of a context; ``starts`` marks every segment."""
+    offsets = np.cumsum([0] + [len(e.frames) for e in episodes[:-1]])
+    return Episode(
+        frames=np.concatenate([e.frames for e in episodes]),
+        states=np.concatenate([e.states for e in episodes]),
+        context=episodes[0].context,
+        starts=np.concatenate([e.starts + o for e, o in zip(episodes, offsets)]).astype(np.int64),
+    )

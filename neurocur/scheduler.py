@@ -1,0 +1,148 @@
+"""The simulator: runs a built circuit pass by pass (one pass = one episode).
+
+Everything that depends on names is resolved once, in the constructor: each region's
+outputs get a contiguous range of slots in one value list, each input an index into
+it (a delayed edge reads a separate slot that holds the previous pass's value), and
+the step phase, the learn phase and the recording are lists of bound methods with
+their index tuples. A pass is then::
+
+    for step, in_slots, a, b in step_plan:  values[a:b] = step(*values[in_slots])
+    for learn, in_slots in learn_plan:     learn(*values[in_slots])
+    for src, dst in delayed:               values[dst] = values[src]
+    record probes (one numpy row), frames (if asked), events
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from .recording import Recorder
+
+__all__ = ["Simulator"]
+
+MODULE_COLUMNS = ["module", "step", "episode", "context", "n_clusters"]
+
+
+class Simulator:
+    """A circuit instantiated on a world with a seed; see :meth:`neurocur.circuit.Circuit.build`.
+
+    ``regions``: name -> region instance. Random generators come from
+    ``SeedSequence(seed).spawn(n_regions)``, one per region in declaration order.
+    """
+
+    def __init__(self, circuit, world, seed, *, record_frames: bool = False):
+        self.circuit = circuit
+        self.world = world
+        self.seed_sequence = seed if isinstance(seed, np.random.SeedSequence) else np.random.SeedSequence(seed)
+        names = list(circuit.specs)
+        self.regions = {name: circuit.specs[name].make() for name in names}
+        for name, child in zip(names, self.seed_sequence.spawn(len(names))):
+            region = self.regions[name]
+            region.bind(world)
+            region.reset(np.random.default_rng(child))
+
+        slot: dict[tuple[str, str], int] = {}
+        values: list = []
+        self._step_plan = []
+        for name in circuit.step_order:
+            region = self.regions[name]
+            a = len(values)
+            for sig in region.outputs:
+                slot[(name, sig.name)] = len(values)
+                values.append(None)
+            self._step_plan.append([region.step, None, a, len(values), name])
+        delayed_slot: dict[tuple[str, str], int] = {}
+        self._delayed = []
+        for link in circuit.links:
+            if link.delayed and (link.src, link.signal) not in delayed_slot:
+                sig = next(s for s in self.regions[link.src].outputs if s.name == link.signal)
+                delayed_slot[(link.src, link.signal)] = len(values)
+                self._delayed.append((slot[(link.src, link.signal)], len(values)))
+                values.append(sig.initial)
+        feeding = {(k.dst, k.input): k for k in circuit.links}
+
+        def slots_of(name, signals):
+            out = []
+            for sig in signals:
+                k = feeding[(name, sig.name)]
+                out.append(delayed_slot[(k.src, k.signal)] if k.delayed else slot[(k.src, k.signal)])
+            return tuple(out)
+
+        for entry in self._step_plan:
+            entry[1] = slots_of(entry[4], self.regions[entry[4]].inputs)
+        self._step_plan = [tuple(e) for e in self._step_plan]
+        self._learn_plan = [(self.regions[n].learn, slots_of(n, self.regions[n].learn_inputs)) for n in circuit.learn_order]
+        self._values = values
+
+        recorded = [(n, self.regions[n].probes, self.regions[n].frame_probes) for n in circuit.step_order]
+        self.recorder = Recorder(recorded, record_frames=record_frames)
+        self._record_fns = [self.regions[n].record for n in circuit.step_order if self.regions[n].probes]
+        self._frame_fns = [(i, self.regions[n].record_frames) for i, n in enumerate(circuit.step_order)
+                           if record_frames and self.regions[n].frame_probes]
+        self._event_regions = [(n, self.regions[n]) for n in circuit.step_order]
+        clocks = [r for r in self.regions.values() if r.is_clock]
+        if len(clocks) > 1:
+            raise ValueError(f"a circuit has at most one clock region (the episode source); got {len(clocks)}")
+        self._clock = clocks[0] if clocks else None
+        self.n_frames = 0
+        self.n_episodes = 0
+
+    def run(self, n_steps: int, progress=None) -> "Simulator":
+        """Run whole episodes until ``n_steps`` more frames have been seen (at least one episode
+        when ``n_steps`` > 0). ``progress(frames_done)`` is called after every episode."""
+        if isinstance(n_steps, bool) or not isinstance(n_steps, (int, np.integer)) or n_steps < 0:
+            raise ValueError(f"n_steps must be a non-negative integer (frames); got {n_steps!r}")
+        target = self.n_frames + int(n_steps)
+        v = self._values
+        step_plan, learn_plan, delayed = self._step_plan, self._learn_plan, self._delayed
+        record_fns, frame_fns, events = self._record_fns, self._frame_fns, self._event_regions
+        rec, clock = self.recorder, self._clock
+        while self.n_frames < target:
+            start = self.n_frames
+            for step, idx, a, b, name in step_plan:
+                out = step(*[v[i] for i in idx])
+                if len(out) != b - a:
+                    raise ValueError(f"region {name!r} step() returned {len(out)} values for {b - a} declared outputs")
+                v[a:b] = out
+            for learn, idx in learn_plan:
+                learn(*[v[i] for i in idx])
+            for src, dst in delayed:
+                v[dst] = v[src]
+            for i, fn in frame_fns:
+                rec.append_frames(start, i, fn())
+            for name, region in events:
+                if region.events:
+                    for ev in region.events:
+                        rec.append_event(start, name, ev)
+                    region.events.clear()
+            row = ()
+            for fn in record_fns:
+                row += fn()
+            rec.append(start, row)
+            self.n_frames = start + (clock.n_frames if clock is not None else 1)
+            self.n_episodes += 1
+            if progress is not None:
+                progress(self.n_frames)
+        return self
+
+    # ------------------------------------------------------------------ tables
+
+    def episodes(self) -> pd.DataFrame:
+        """Wide table, one row per episode (columns documented in docs/regions.md)."""
+        return self.recorder.episodes()
+
+    def probes(self) -> pd.DataFrame:
+        """Tidy long table ``episode, step, region, signal, value``."""
+        return self.recorder.probes()
+
+    def events(self, kind: str | None = None) -> pd.DataFrame:
+        """Every event emitted by a region (optionally of one ``kind``)."""
+        return self.recorder.events(kind)
+
+    def modules(self) -> pd.DataFrame:
+        """One row per stored module: ``module, step, episode, context, n_clusters``."""
+        table = self.recorder.events("module_stored")
+        if table.empty:
+            return pd.DataFrame({c: np.empty(0, np.int64) for c in MODULE_COLUMNS})
+        return table[MODULE_COLUMNS].astype(np.int64)
