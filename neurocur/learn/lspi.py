@@ -78,40 +78,64 @@ def greedy(Q: np.ndarray, tol: float = 0.0) -> np.ndarray:
     return np.argmax(Q >= Q.max(axis=1, keepdims=True) - atol, axis=1).astype(np.int64)
 
 
-def lspi(P, R, discount=0.9, *, features=None, max_iter=100, tol=1e-10) -> tuple[np.ndarray, np.ndarray]:
-    """Model-based LSPI: ``(Q (S, A), policy (S,) int64)``.
+class LSPI:
+    """Model-based LSPI for a fixed transition model: validate and factor once, solve often.
 
-    ``features`` is None for tabular one-hot φ(s, a), or an array (S, A, k). The loop
-    starts from the policy greedy in R and stops when the policy is unchanged or the
-    weights move by less than ``tol`` (max-norm); it warns if ``max_iter`` is reached.
-    A singular A (redundant features) is solved in the least-squares, minimum-norm sense.
+    ``LSPI(P, discount, features=None, tol=1e-10).solve(R, policy=None)`` returns
+    ``(Q (S, A), policy (S,) int64)``. ``features`` is None for tabular one-hot
+    φ(s, a), or an array (S, A, k). The loop starts from ``policy`` (by default the
+    policy greedy in R; any start is valid for policy iteration, so a caller that solves
+    a slowly changing R can warm-start from the previous answer) and stops when the
+    policy is unchanged or the weights move by less than ``tol`` (max-norm); it warns
+    if ``max_iter`` is reached. A singular A (redundant features) is solved in the
+    least-squares, minimum-norm sense.
     """
-    P, R, gamma = _check_mdp(P, R, discount)
-    S, A = R.shape
-    max_iter = check_positive_int(max_iter, "max_iter")
-    tol = _check_tol(tol)
-    if features is None:
-        phi = np.eye(S * A).reshape(S, A, S * A)
-    else:
-        phi = _as_finite(features, "features", 3, f"(S, A, k) = ({S}, {A}, k)")
-        if phi.shape[:2] != (S, A) or phi.shape[2] == 0:
-            raise ValueError(f"features must have shape (S, A, k) = ({S}, {A}, k ≥ 1); got {phi.shape}")
-    Phi = phi.reshape(S * A, -1)
-    P_flat = P.reshape(S * A, S)
-    b = Phi.T @ R.ravel()
-    policy = greedy(R, tol)
-    w = None
-    for _ in range(max_iter):
-        next_phi = P_flat @ phi[np.arange(S), policy]  # E[φ(s', π(s')) | s, a]
-        w_new = np.linalg.lstsq(Phi.T @ (Phi - gamma * next_phi), b, rcond=None)[0]
-        Q = (Phi @ w_new).reshape(S, A)
-        new_policy = greedy(Q, tol)
-        done = np.array_equal(new_policy, policy) or (w is not None and np.max(np.abs(w_new - w)) < tol)
-        w, policy = w_new, new_policy
-        if done:
-            return Q, policy
-    warnings.warn(f"lspi did not converge in max_iter={max_iter} iterations", RuntimeWarning, stacklevel=2)
-    return Q, policy
+
+    def __init__(self, P, discount=0.9, *, features=None, max_iter=100, tol=1e-10):
+        P, _, gamma = _check_mdp(P, np.zeros(np.shape(P)[:2]), discount)
+        S, A, _ = P.shape
+        self.max_iter = check_positive_int(max_iter, "max_iter")
+        self.tol = _check_tol(tol)
+        if features is None:
+            phi = np.eye(S * A).reshape(S, A, S * A)
+        else:
+            phi = _as_finite(features, "features", 3, f"(S, A, k) = ({S}, {A}, k)")
+            if phi.shape[:2] != (S, A) or phi.shape[2] == 0:
+                raise ValueError(f"features must have shape (S, A, k) = ({S}, {A}, k ≥ 1); got {phi.shape}")
+        self.shape, self.gamma, self.phi = (S, A), gamma, phi
+        self.Phi = phi.reshape(S * A, -1)
+        self.P_flat = P.reshape(S * A, S)
+        self._states = np.arange(S)
+
+    def solve(self, R, policy=None) -> tuple[np.ndarray, np.ndarray]:
+        """``(Q, greedy policy)`` for the expected reward ``R`` (S, A)."""
+        R = _as_finite(R, "R", 2, f"(S, A) = {self.shape}")
+        if R.shape != self.shape:
+            raise ValueError(f"R must have shape (S, A) = {self.shape} to match P; got {R.shape}")
+        Phi, gamma = self.Phi, self.gamma
+        b = Phi.T @ R.ravel()
+        policy = greedy(R, self.tol) if policy is None else np.asarray(policy, dtype=np.int64)
+        w = None
+        for _ in range(self.max_iter):
+            next_phi = self.P_flat @ self.phi[self._states, policy]  # E[φ(s', π(s')) | s, a]
+            A_mat = Phi.T @ (Phi - gamma * next_phi)
+            try:
+                w_new = np.linalg.solve(A_mat, b)
+            except np.linalg.LinAlgError:
+                w_new = np.linalg.lstsq(A_mat, b, rcond=None)[0]
+            Q = (Phi @ w_new).reshape(self.shape)
+            new_policy = greedy(Q, self.tol)
+            done = np.array_equal(new_policy, policy) or (w is not None and np.max(np.abs(w_new - w)) < self.tol)
+            w, policy = w_new, new_policy
+            if done:
+                return Q, policy
+        warnings.warn(f"lspi did not converge in max_iter={self.max_iter} iterations", RuntimeWarning, stacklevel=2)
+        return Q, policy
+
+
+def lspi(P, R, discount=0.9, *, features=None, max_iter=100, tol=1e-10) -> tuple[np.ndarray, np.ndarray]:
+    """Model-based LSPI: ``(Q (S, A), policy (S,) int64)``; see :class:`LSPI`."""
+    return LSPI(P, discount, features=features, max_iter=max_iter, tol=tol).solve(R)
 
 
 def value_iteration(P, R, discount, tol=1e-12, max_iter=100000) -> np.ndarray:

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..config import check_params, param
-from ..learn.lspi import lspi
+from ..learn.lspi import LSPI
 from ..registry import register
 from .base import Probe, Region, Signal
 
@@ -40,7 +40,7 @@ class PFCLSPI(Region):
     the next decision): with the previous context ``o``, the previous action ``a``
     (delayed edge from LC) and the current context ``o'``, eq 14
     ``R[o, a, o'] <- (1 - alpha) R[o, a, o'] + alpha * DA``; then the expected reward
-    ``R(o, a) = sum_o' P[o, a, o'] R[o, a, o']`` and model-based LSPI on (P, R) give
+    ``R(o, a) = sum_o' P[o, a, o'] R[o, a, o']`` and model-based LSPI on (P, R), warm-started from the previous policy, give
     ``Q``; output ``Q[o']`` = (Q_engage, Q_disengage) of the current context.
     """
 
@@ -64,8 +64,10 @@ class PFCLSPI(Region):
     def reset(self, rng) -> None:
         n = self.n_contexts
         self.P = transition_model(n)
+        self.planner = LSPI(self.P, self.params.discount)
         self.R3 = np.zeros((n, 2, n))
         self.Q = np.zeros((n, 2))
+        self.policy = None
         self.previous_context = None
         self.q = self.Q[0].copy()
 
@@ -77,7 +79,7 @@ class PFCLSPI(Region):
             if new != r:  # an unchanged model keeps its Q
                 self.R3[prev, action, context] = new
                 R = np.einsum("oas,oas->oa", self.P, self.R3)
-                self.Q = lspi(self.P, R, self.params.discount)[0]
+                self.Q, self.policy = self.planner.solve(R, self.policy)
         self.previous_context = context
         self.q = self.Q[context].copy()
         return (self.q,)
