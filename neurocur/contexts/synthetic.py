@@ -1,0 +1,355 @@
+"""The synthetic multi-context world of the paper's first experiment (section 4.1).
+
+Each context shows one hidden driving force (a *source*, see :mod:`.sources`) through
+a random linear mixing: a source of shape (n_steps, n_dims) is multiplied by a random
+``(400, n_dims)`` matrix (one per source, drawn per run), each 400-vector is a 20×20
+frame, and the values are scaled to [0, 1]. Five contexts by default: C1 and C2 share
+S-A (the very same frames), C3, C4 and C5 show S-B, S-C and S-D.
+
+Choices the paper leaves open (all options of :class:`SyntheticWorld`):
+
+* ``normalise`` — ``"global"`` (default): one min–max scaling over all frames of a
+  source. The mixing stays affine, so the frames are exactly a linear process of the
+  source ("hide each of these sources within a different high-dimensional process,
+  albeit linearly, so that linear IncSFA will be able to extract them") and each
+  context's Ω is its source's Ω (0.9933, 0.9988, 0.9997; 1 for S-D).
+  ``"image"``: each frame min–max scaled on its own (the literal reading of
+  "value-normalized from zero to one ... for each image"). This is a non-linear,
+  scale-free map of the source: the frames span exactly three dimensions (the two
+  mixing columns and a constant image), the order of Ω among S-A < S-B < S-C is
+  kept but the values shift, and S-D's Ω drops below 1. A frame whose pixels are all
+  equal (a zero source sample) becomes uniform 0.5.
+* ``clock_offsets`` — each context has its own local clock (the context-state, in
+  ``range(n_steps)``), which picks up where it left off and wraps at the end of the
+  source. ``"random"`` (default): each clock starts at a uniform random step drawn per
+  run, so C1 and C2, which share frames, are not replaying the same frames at the
+  same states from the start. ``"zero"``: all clocks start at 0 (then C1 and C2 are
+  indistinguishable until the agent's visits put them out of step). Or a list of
+  one start step per context.
+* ``nonstationary`` — ``True`` (default): a random source (S-D) is drawn afresh, with
+  the same mixing matrix, each time the clock of a context showing it wraps, so S-D
+  "changes irregularly" from one epoch to the next (Figure 4A) instead of replaying
+  one fixed random walk. ``False``: one walk per run, replayed like the learnable
+  sources. With a fixed walk the per-state cluster error of section 2.5 measures only
+  how far the features move between visits, and a module whose features have stopped
+  moving on S-D (they have no unique slowest direction to move to, Ω = 1) passes the
+  freeze threshold: S-D would be "learned".
+
+Per run (:meth:`SyntheticWorld.reset`), the world's generator draws, for each distinct
+source in order of first appearance: the source itself if it is random (S-D), then
+its mixing matrix (standard normal entries); then the clock offsets.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from neurocur.learn._validation import check_block, check_nonconstant, check_positive_int
+
+from .base import Episode, World
+from .sources import LEARNABLE, N_STEPS, SLOW_DIM, UNLEARNABLE, paper_source
+
+__all__ = [
+    "SyntheticWorld",
+    "PAPER_CONTEXTS",
+    "NORMALISATIONS",
+    "mix_frames",
+    "InvarianceDemo",
+    "invariance_demo",
+]
+
+PAPER_CONTEXTS = ("S-A", "S-A", "S-B", "S-C", "S-D")
+"""The source of each of the paper's five contexts C1..C5."""
+
+NORMALISATIONS = ("global", "image")
+_BUILTIN = LEARNABLE + UNLEARNABLE
+
+
+def mix_frames(signal: np.ndarray, mixing: np.ndarray, normalise: str, *, limits=None):
+    """Frames ``signal @ mixing.T`` scaled to [0, 1]; returns ``(frames, (low, high))``.
+
+    ``normalise="global"`` maps ``[low, high]`` (the min and max over all frames, or
+    the given ``limits``) to [0, 1]; ``"image"`` scales each frame (row) by its own
+    min and max (``limits`` is then ignored and ``(0.0, 1.0)`` returned).
+    """
+    raw = signal @ mixing.T
+    if normalise == "global":
+        low, high = (float(raw.min()), float(raw.max())) if limits is None else map(float, limits)
+        if not high > low:
+            raise ValueError("cannot normalise frames: every pixel of every frame has the same value")
+        return (raw - low) / (high - low), (low, high)
+    if normalise == "image":
+        low = raw.min(axis=1, keepdims=True)
+        span = raw.max(axis=1, keepdims=True) - low
+        flat = span[:, 0] == 0.0
+        frames = (raw - low) / np.where(flat[:, None], 1.0, span)
+        frames[flat] = 0.5
+        return frames, (0.0, 1.0)
+    raise ValueError(f"normalise must be one of {', '.join(map(repr, NORMALISATIONS))}; got {normalise!r}")
+
+
+class SyntheticWorld(World):
+    """Contexts that each show one driving force through a random linear mixing (section 4.1).
+
+    Parameters
+    ----------
+    contexts:
+        The source of each context, by name (default: the paper's
+        ``("S-A", "S-A", "S-B", "S-C", "S-D")``). The built-in names are S-A, S-B, S-C
+        (sinusoid pairs) and S-D (an isotropic random walk drawn per run); any other
+        name must be a key of ``sources``.
+    sources:
+        User driving forces ``{name: array (n_steps, n_dims)}``, rows are time,
+        column :data:`~neurocur.contexts.sources.SLOW_DIM` the slow dimension (a name
+        equal to a built-in replaces it). All sources used must have the same
+        ``n_steps``, which is the number of context-states; built-in sources have 1000.
+    visit_length:
+        Frames per visit (100 in the paper).
+    normalise:
+        ``"global"`` or ``"image"`` (see the module docstring).
+    clock_offsets:
+        ``"random"``, ``"zero"`` or one start step per context.
+    frame_shape:
+        The frame's (height, width); 20×20 in the paper.
+    context_names:
+        Defaults to ``C1``, ``C2``, ...
+    nonstationary:
+        Redraw random sources (S-D) at every wrap of their clock (see the module docstring).
+
+    After :meth:`reset`, :meth:`source_of`, :meth:`source_signal` and
+    :meth:`context_frames` expose the run's hidden sources for analysis.
+    """
+
+    def __init__(
+        self,
+        contexts: Sequence[str] = PAPER_CONTEXTS,
+        *,
+        sources: Mapping[str, np.ndarray] | None = None,
+        visit_length: int = 100,
+        normalise: str = "global",
+        clock_offsets: str | Sequence[int] = "random",
+        frame_shape: Sequence[int] = (20, 20),
+        context_names: Sequence[str] | None = None,
+        nonstationary: bool = True,
+    ) -> None:
+        super().__init__()
+        user = {}
+        for name, signal in (sources or {}).items():
+            if not isinstance(name, str) or not name:
+                raise ValueError(f"source names must be non-empty strings; got {name!r}")
+            try:
+                arr = check_block(signal, name=f"source {name!r}", min_rows=2)
+                check_nonconstant(arr, name=f"source {name!r}")
+            except ValueError as err:
+                raise ValueError(f"{err} (expected an array of shape (n_steps, n_dims), rows are time)") from None
+            user[name] = arr.copy()
+        if isinstance(contexts, str) or len(contexts) == 0:
+            raise ValueError(f"contexts must be a non-empty list of source names; got {contexts!r}")
+        for name in contexts:
+            if name not in user and name not in _BUILTIN:
+                known = sorted(set(_BUILTIN) | set(user))
+                raise ValueError(f"context source {name!r} is neither a built-in nor a given source; known: {', '.join(known)}")
+        lengths = {name: (user[name].shape[0] if name in user else N_STEPS) for name in contexts}
+        if len(set(lengths.values())) != 1:
+            detail = ", ".join(f"{k}: {v}" for k, v in lengths.items())
+            raise ValueError(f"all sources of a world must have the same number of time steps (rows); got {detail}")
+        if normalise not in NORMALISATIONS:
+            raise ValueError(f"normalise must be one of {', '.join(map(repr, NORMALISATIONS))}; got {normalise!r}")
+        shape = tuple(check_positive_int(s, "frame_shape entries") for s in frame_shape)
+        if len(shape) != 2:
+            raise ValueError(f"frame_shape must be (height, width); got {tuple(frame_shape)!r}")
+        names = tuple(context_names) if context_names is not None else tuple(f"C{i + 1}" for i in range(len(contexts)))
+        if len(names) != len(contexts) or len(set(names)) != len(names):
+            raise ValueError(f"context_names must be {len(contexts)} distinct names; got {names!r}")
+
+        self.context_names = names
+        self.source_names = tuple(contexts)
+        self.n_states = next(iter(lengths.values()))
+        self.frame_shape = shape
+        self.visit_length = check_positive_int(visit_length, "visit_length")
+        self.normalise = normalise
+        self.clock_offsets = self._check_offsets(clock_offsets)
+        if not isinstance(nonstationary, (bool, np.bool_)):
+            raise ValueError(f"nonstationary must be true or false; got {nonstationary!r}")
+        self.nonstationary = bool(nonstationary)
+        self._user_sources = user
+        self._signals: dict[str, np.ndarray] = {}
+        self._mixing: dict[str, np.ndarray] = {}
+        self._limits: dict[str, tuple[float, float]] = {}
+        self._frames: dict[str, np.ndarray] = {}
+        self._clocks = np.zeros(self.n_contexts, dtype=np.int64)
+
+    @classmethod
+    def from_sources(cls, sources: Mapping[str, np.ndarray], contexts: Sequence[str] | None = None, **kwargs):
+        """A world of user driving forces ``{name: (n_steps, n_dims) array}``.
+
+        ``contexts`` lists the source of each context (default: one context per
+        source, in the given order); other keyword arguments as for the constructor.
+        """
+        if not sources:
+            raise ValueError("from_sources needs at least one source")
+        return cls(list(sources) if contexts is None else contexts, sources=sources, **kwargs)
+
+    # -- World API ---------------------------------------------------------------------------
+
+    def _check_offsets(self, offsets):
+        if isinstance(offsets, str):
+            if offsets not in ("random", "zero"):
+                raise ValueError(f"clock_offsets must be 'random', 'zero' or a list of ints; got {offsets!r}")
+            return offsets
+        offsets = list(offsets)
+        ok = len(offsets) == self.n_contexts and all(
+            isinstance(o, (int, np.integer)) and not isinstance(o, bool) and 0 <= o < self.n_states for o in offsets
+        )
+        if not ok:
+            raise ValueError(
+                f"clock_offsets must be 'random', 'zero' or a list of {self.n_contexts} ints in "
+                f"[0, {self.n_states}); got {offsets!r}"
+            )
+        return tuple(int(o) for o in offsets)
+
+    def _reset(self) -> None:
+        rng = self.np_random
+        for table in (self._signals, self._mixing, self._limits, self._frames):
+            table.clear()
+        for name in dict.fromkeys(self.source_names):
+            signal = self._user_sources.get(name)
+            if signal is None:
+                signal = paper_source(name, rng, self.n_states)
+            self._mixing[name] = rng.standard_normal((self.n_pixels, signal.shape[1]))
+            self._mixing[name].flags.writeable = False
+            self._show(name, signal)
+        if self.clock_offsets == "random":
+            self._clocks = rng.integers(0, self.n_states, size=self.n_contexts).astype(np.int64)
+        elif self.clock_offsets == "zero":
+            self._clocks = np.zeros(self.n_contexts, dtype=np.int64)
+        else:
+            self._clocks = np.array(self.clock_offsets, dtype=np.int64)
+
+    def _show(self, name: str, signal: np.ndarray) -> None:
+        """Make ``signal`` the current driving force of source ``name`` and render its frames."""
+        frames, limits = mix_frames(signal, self._mixing[name], self.normalise)
+        for arr in (signal, frames):
+            arr.flags.writeable = False
+        self._signals[name], self._limits[name], self._frames[name] = signal, limits, frames
+
+    def _visit(self, context: int) -> Episode:
+        name = self.source_names[context]
+        self._require(name, self._frames)
+        start = self._clocks[context]
+        states = (start + np.arange(self.visit_length, dtype=np.int64)) % self.n_states
+        frames = self._frames[name][states]
+        wrap = self.n_states - start  # rows from here on belong to the next epoch
+        if self.nonstationary and name in UNLEARNABLE and name not in self._user_sources:
+            for first in range(wrap, self.visit_length + 1, self.n_states):  # a wrap at the end counts too
+                self._show(name, paper_source(name, self.np_random, self.n_states))
+                frames[first:] = self._frames[name][states[first:]]
+        self._clocks[context] = (start + self.visit_length) % self.n_states
+        return Episode(frames=frames, states=states, context=context)
+
+    # -- hidden sources, for analysis ----------------------------------------------------------
+
+    def source_of(self, context) -> str:
+        """Name of the source shown by ``context`` (index or context name)."""
+        return self.source_names[self._index(context)]
+
+    def source_signal(self, name: str) -> np.ndarray:
+        """This run's driving force ``name``, shape (n_steps, n_dims), read-only."""
+        return self._require(name, self._signals)
+
+    def mixing(self, name: str) -> np.ndarray:
+        """This run's mixing matrix of source ``name``, shape (n_pixels, n_dims), read-only."""
+        return self._require(name, self._mixing)
+
+    def normalisation_limits(self, name: str) -> tuple[float, float]:
+        """The raw (low, high) mapped to [0, 1] under ``normalise="global"``."""
+        return self._require(name, self._limits)
+
+    def context_frames(self, context) -> np.ndarray:
+        """All frames of ``context`` in local-time order, (n_steps, n_pixels), read-only."""
+        return self._require(self.source_of(context), self._frames)
+
+    def clock(self, context) -> int:
+        """The local time step at which the next visit of ``context`` starts."""
+        return int(self._clocks[self._index(context)])
+
+    def _index(self, context) -> int:
+        if isinstance(context, str):
+            if context not in self.context_names:
+                raise ValueError(f"unknown context {context!r}; expected one of {', '.join(self.context_names)}")
+            return self.context_names.index(context)
+        return self._check_context(context)
+
+    def _require(self, name, table):
+        if not self._frames:
+            raise RuntimeError("the world has not been reset yet: call world.reset(seed=...) first")
+        if name not in table:
+            raise ValueError(f"unknown source {name!r}; this world shows {', '.join(dict.fromkeys(self.source_names))}")
+        return table[name]
+
+
+@dataclass(frozen=True)
+class InvarianceDemo:
+    """Result of :func:`invariance_demo` (paper Figure 5), arrays of length n_steps.
+
+    ``source``/``frames``: the learned driving force and its frames (5A, 5B);
+    ``output``: the first (slowest) feature on them (5C); ``noisy_source``/
+    ``noisy_frames``: the same with dimension 1 replaced by noise (5D, 5E);
+    ``noisy_output``: the first feature on the noisy frames (5F); ``corr``: their
+    correlation; ``quality``: |corr| of ``output`` with the slow source dimension.
+    """
+
+    source: np.ndarray
+    frames: np.ndarray
+    output: np.ndarray
+    noisy_source: np.ndarray
+    noisy_frames: np.ndarray
+    noisy_output: np.ndarray
+    corr: float
+    quality: float
+
+
+def invariance_demo(source: str = "S-A", *, epochs: int = 30, seed=0, normalise: str = "global",
+                    **incsfa_params) -> InvarianceDemo:
+    """Section 4.1.5 / Figure 5: a learned slow feature is invariant to the other source dimension.
+
+    IncSFA (``n_components=2`` by default, other parameters as given) learns from
+    ``epochs`` passes over one context's frames; then source dimension 1 (the fast one)
+    is replaced by uniform noise over its range and the frames are rendered again
+    with the *same* mixing (and, globally normalised, the same limits, so a few noisy
+    pixels may leave [0, 1] slightly). The first feature's output should not change.
+
+    Global normalisation is the default: per-image scaling (``normalise="image"``)
+    divides every pixel by a quantity that depends on both source dimensions, so the
+    frames are no longer linear in the source and the invariance is only approximate.
+    """
+    from neurocur.learn.incsfa import IncSFA
+
+    epochs = check_positive_int(epochs, "epochs")
+    world = SyntheticWorld([source], normalise=normalise, clock_offsets="zero")
+    world.reset(seed=seed)
+    frames = world.context_frames(0)
+    params = {"n_components": 2, "random_state": np.random.default_rng(seed)} | incsfa_params
+    sfa = IncSFA(**params)
+    for epoch in range(epochs):
+        sfa.partial_fit(frames, continues=epoch > 0)
+    signal = world.source_signal(source)
+    noisy = signal.copy()
+    low, high = signal[:, 1].min(), signal[:, 1].max()
+    noisy[:, 1] = world.np_random.uniform(low, high, size=len(noisy))
+    noisy_frames, _ = mix_frames(noisy, world.mixing(source), normalise, limits=world.normalisation_limits(source))
+    output = sfa.transform(frames)[:, 0]
+    noisy_output = sfa.transform(noisy_frames)[:, 0]
+    return InvarianceDemo(
+        source=signal,
+        frames=frames,
+        output=output,
+        noisy_source=noisy,
+        noisy_frames=noisy_frames,
+        noisy_output=noisy_output,
+        corr=float(np.corrcoef(output, noisy_output)[0, 1]),
+        quality=float(abs(np.corrcoef(output, signal[:, SLOW_DIM])[0, 1])),
+    )
