@@ -11,7 +11,7 @@ from ..learn.roc import ROCBank
 from ..registry import register
 from .base import Probe, Region, Signal
 
-FREEZE_RULES = ("context_mean", "context_sum", "episode_mean")
+FREEZE_RULES = ("context_mean", "context_sum", "episode_mean", "converged")
 
 
 @dataclass(frozen=True)
@@ -50,8 +50,20 @@ class HPCROC(Region):
     - ``module_learned`` = freeze rule and not familiar. Rules: ``context_mean``
       (every state of the context has a stored error and their mean < threshold),
       ``context_sum`` (same, eq 11's literal sum < threshold), ``episode_mean``
-      (``episode_error`` < threshold, the literal reading of section 4.1.2);
+      (``episode_error`` < threshold, the literal reading of section 4.1.2), and the
+      variant ``converged`` (not in the paper; see below);
     - ``reward_error`` (to VTA): the context error (``"context"``) or ``episode_error``.
+
+    The ``converged`` rule asks that the features have converged, not merely stopped
+    moving. With the sources replayed identically each epoch, a state's error measures
+    how far the features moved since the state's previous visit; under MCA (eqs 16-23)
+    that drift shrinks geometrically by a factor rho per visit (rho ~ Omega^samples, so
+    slow-to-learn sources drift little per visit long before they have converged). The
+    rule estimates ``rho`` as the ratio of the context's summed stored errors to the
+    summed errors those states had at their previous visit, and extrapolates the drift
+    still to come, ``E / (1 - rho)`` (a geometric tail, as in Aitken's extrapolation).
+    It fires when every state has two stored errors and this extrapolated drift is
+    below the threshold; a source whose error does not shrink (rho >= 1) never fires.
 
     Learn: unless familiar, ``ROCBank.partial_fit`` on the adaptive features of this
     pass (computed before EC's update). On module-learned the bank is then pruned
@@ -104,6 +116,7 @@ class HPCROC(Region):
     def _new_bank(self) -> None:
         self.bank = None  # created at the first step, when the feature dimension is known
         self.stored = np.full((self.n_contexts, self.m), np.nan)
+        self.previous = np.full((self.n_contexts, self.m), np.nan)  # each state's error at its previous visit
 
     def step(self, episode, features, library_features):
         p = self.params
@@ -123,8 +136,10 @@ class HPCROC(Region):
                                 amnesic=p.amnesic, width=p.width)
         err, known = self.bank.error(idx, features)
         ep_err = _known_mean(err, known)
-        row = self.stored[c]
-        row[episode.states[known]] = err[known]
+        row, prev = self.stored[c], self.previous[c]
+        visited = episode.states[known]
+        prev[visited] = row[visited]
+        row[visited] = err[known]
         missing = np.isnan(row)
         n_missing = np.count_nonzero(missing)
         if n_missing == self.m:
@@ -139,8 +154,10 @@ class HPCROC(Region):
             rule = ctx_err < p.threshold and n_missing == 0
         elif p.freeze == "context_sum":
             rule = total < p.threshold
-        else:
+        elif p.freeze == "episode_mean":
             rule = ep_err < p.threshold
+        else:
+            rule = n_missing == 0 and _extrapolated_drift(row, prev) < p.threshold
         learned = bool(rule and not familiar)
         self._frame_err, self._known = err, known
         self._idx, self._features, self._context = idx, features, c
@@ -164,6 +181,16 @@ class HPCROC(Region):
 
     def record_frames(self):
         return np.where(self._known, self._frame_err, np.nan)[:, None]
+
+
+def _extrapolated_drift(row: np.ndarray, prev: np.ndarray) -> float:
+    """Mean stored error over ``1 - rho``, rho = sum(row) / sum(prev); inf unless it shrinks."""
+    if np.isnan(prev).any():
+        return np.inf
+    now, before = float(row.sum()), float(prev.sum())
+    if now >= before:
+        return np.inf
+    return now / len(row) / (1.0 - now / before)
 
 
 def _known_mean(err: np.ndarray, known: np.ndarray) -> float:

@@ -126,7 +126,7 @@ def test_hpc_pruning_gating_and_per_context_clusterers():
 
 def test_hpc_parameter_validation_and_world_size():
     with pytest.raises(ConfigError, match="HPCParams: key 'freeze': expected one of 'context_mean', 'context_sum', "
-                                          "'episode_mean', got 'sum' \\(str\\)"):
+                                          "'episode_mean', 'converged', got 'sum' \\(str\\)"):
         HPCParams(freeze="sum")
     with pytest.raises(ConfigError, match="key 'threshold': expected a number > 0"):
         HPCParams(threshold=0)
