@@ -1,0 +1,84 @@
+"""Benchmark of the simulated iCub world (neurocur.contexts.icub).
+
+Prints the frames per second of simulation + rendering in one process, the time to
+build the 2 × ``--episodes`` episode data set into an empty cache with ``--jobs``
+worker processes, the time to read it back from the cache, and (with ``--omega``) the
+learning cost Ω of each context (eq 40, η = 0.01, PCA to 98 % of the variance).
+
+    python benchmarks/icub.py [--episodes 70] [--jobs 2] [--omega]
+"""
+
+from __future__ import annotations
+
+import argparse
+import tempfile
+import time
+
+import numpy as np
+
+from neurocur.contexts.icub import (
+    EpisodeParams,
+    ICubWorld,
+    _Simulation,
+    omega_episodes,
+    pca_reduce,
+)
+from neurocur.contexts.icub_scene import OBJECTS, SceneParams
+
+
+def frames_per_second(n_episodes: int = 4) -> dict:
+    """Simulation + rendering speed of each object's scene, in one process."""
+    out = {}
+    for obj in OBJECTS:
+        sim = _Simulation(obj, SceneParams(), EpisodeParams())
+        seeds = np.random.SeedSequence(0).spawn(n_episodes)
+        start = time.perf_counter()
+        n_frames = sum(len(sim.play(np.random.default_rng(s))[0]) for s in seeds)
+        out[obj] = n_frames / (time.perf_counter() - start)
+        sim.close()
+    return out
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--episodes", type=int, default=70)
+    parser.add_argument("--jobs", type=int, default=2)
+    parser.add_argument("--omega", action="store_true", help="also compute Omega of both contexts (~1 min)")
+    args = parser.parse_args()
+
+    for obj, fps in frames_per_second().items():
+        print(f"simulate+render, {obj:6s}: {fps:7.1f} frames/s (one process)")
+
+    with tempfile.TemporaryDirectory() as cache:
+        start = time.perf_counter()
+        world = ICubWorld(n_episodes=args.episodes, seed=0, cache_dir=cache, n_jobs=args.jobs)
+        build = time.perf_counter() - start
+        start = time.perf_counter()
+        ICubWorld(n_episodes=args.episodes, seed=0, cache_dir=cache)
+        read = time.perf_counter() - start
+        size = world.cache_path.stat().st_size / 2**20
+    n_frames = sum(len(p.states) for p in world.pools.values())
+    print(f"build 2 x {args.episodes} episodes ({n_frames} frames) on {args.jobs} process(es): {build:.1f} s")
+    print(f"read from cache: {read:.2f} s ({size:.1f} MiB)")
+
+    for c, name in enumerate(world.context_names):
+        lengths = np.diff(world.pools[name].offsets)
+        contact = np.mean(world.pools[name].contact >= 0)
+        moves = np.array([world.object_positions(c, i)[-1, :2] - world.object_positions(c, i)[0, :2]
+                          for i in range(world.n_episodes)])
+        dist = np.linalg.norm(moves, axis=1)
+        angle = np.degrees(np.arctan2(moves[:, 1], moves[:, 0]))
+        print(
+            f"{name:6s}: length {lengths.min()}-{lengths.max()} (mean {lengths.mean():.0f}), contact {contact:.0%}, "
+            f"final displacement {dist.mean():.3f} +- {dist.std():.3f} m, direction {angle.mean():.1f} +- {angle.std():.1f} deg"
+        )
+        if args.omega:
+            episodes = world.episodes(c)
+            start = time.perf_counter()
+            dims = pca_reduce(episodes, 0.98)[0].shape[1]
+            value = omega_episodes(episodes, 0.01)
+            print(f"        Omega = {value:.5f} (PCA 98 %: {dims} dims; {time.perf_counter() - start:.0f} s)")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,194 @@
+"""The simulated iCub world: rendering, episode protocol, cache, context API, Ω helper."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from neurocur.contexts import icub
+from neurocur.contexts.icub import EpisodeParams, ICubWorld, omega_episodes
+from neurocur.learn.omega import omega, omega_from_eigenvalues
+from neurocur.learn.sfa_batch import whiten_batch
+
+N_EPISODES = 6
+
+
+def _rendering_available() -> tuple[bool, str]:
+    try:
+        mj = icub._mujoco()
+        model = mj.MjModel.from_xml_string(
+            "<mujoco><worldbody><geom type='sphere' size='1'/></worldbody></mujoco>"
+        )
+        renderer = mj.Renderer(model, 8, 8)
+        renderer.update_scene(mj.MjData(model))
+        renderer.render()
+        renderer.close()
+        return True, ""
+    except Exception as exc:  # any import or GL failure means: no offscreen rendering here
+        return False, f"MuJoCo offscreen rendering unavailable (MUJOCO_GL=egl/osmesa): {exc}"
+
+
+_OK, _WHY = _rendering_available()
+needs_gl = pytest.mark.skipif(not _OK, reason=_WHY)
+
+
+@pytest.fixture(scope="module")
+def world(tmp_path_factory):
+    """Six episodes per context, generated in two worker processes."""
+    return ICubWorld(n_episodes=N_EPISODES, seed=0, cache_dir=tmp_path_factory.mktemp("icub"), n_jobs=2)
+
+
+def _final_directions(w, context):
+    """Final displacement (m) and its direction (deg) of the object in every episode."""
+    moves = np.array([w.object_positions(context, i)[-1, :2] - w.object_positions(context, i)[0, :2]
+                      for i in range(w.n_episodes)])
+    return np.linalg.norm(moves, axis=1), np.degrees(np.arctan2(moves[:, 1], moves[:, 0]))
+
+
+@needs_gl
+def test_generation_is_deterministic_and_independent_of_workers(world, tmp_path):
+    again = ICubWorld(n_episodes=N_EPISODES, seed=0, cache_dir=tmp_path, n_jobs=1)
+    for c in range(2):
+        for i in range(N_EPISODES):
+            a, b = world.episode(c, i), again.episode(c, i)
+            assert a.frames.shape == b.frames.shape
+            np.testing.assert_allclose(a.frames.mean(), b.frames.mean(), atol=1e-12)
+            np.testing.assert_allclose(a.frames.std(), b.frames.std(), atol=1e-12)
+            np.testing.assert_allclose(world.displacement(c, i), again.displacement(c, i), atol=1e-9)
+            np.testing.assert_array_equal(a.states, b.states)
+    other = ICubWorld(n_episodes=2, seed=1, cache_dir=tmp_path, n_jobs=1)
+    assert not np.array_equal(other.episode(0, 0).states, world.episode(0, 0).states)
+
+
+@needs_gl
+def test_frames_states_and_lengths(world):
+    p = EpisodeParams()
+    for c in range(2):
+        for i in range(N_EPISODES):
+            ep = world.episode(c, i)
+            T = len(ep.frames)
+            assert ep.frames.shape == (T, 75 * 100) and ep.frames.dtype == np.float64
+            assert 0.0 <= ep.frames.min() and ep.frames.max() <= 1.0 and ep.frames.std() > 0.05
+            assert 50 <= T <= 250
+            assert ep.states.dtype == np.int64 and ep.states.min() >= 0 and ep.states.max() <= 19
+            assert ep.states[0] == p.start_state
+            np.testing.assert_array_equal(np.abs(np.diff(ep.states)), 1)
+            k = world.contact_frame(c, i)
+            expected = 250 if k < 0 else min(max(k + 1 + p.post_contact, p.min_frames), p.max_frames)
+            assert T == expected
+            assert world.displacement(c, i).shape == (T,) and world.displacement(c, i)[0] == 0.0
+
+
+@needs_gl
+def test_contact_in_most_episodes_and_the_object_moves(world):
+    for c in range(2):
+        contact = np.array([world.contact_frame(c, i) >= 0 for i in range(N_EPISODES)])
+        assert contact.mean() >= 0.8
+        before = [world.displacement(c, i)[: world.contact_frame(c, i)].max() for i in range(N_EPISODES) if contact[i]]
+        assert max(before) < 0.005  # nothing moves the object before the hand touches it
+    dist, _ = _final_directions(world, 0)
+    assert np.all(dist > 0.08)  # every cup toppled and lies ~11 cm away
+
+
+@needs_gl
+def test_topple_is_alike_and_roll_directions_vary(world):
+    d_top, a_top = _final_directions(world, 0)
+    d_roll, a_roll = _final_directions(world, 1)
+    # measured with seed 0: topple direction sd 2.8 deg, distance sd 1.3 cm; roll 15.5 deg, 8.3 cm
+    assert a_top.std() < 5.0 and d_top.std() < 0.02
+    assert a_roll.std() > 10.0 and d_roll.std() > 0.05
+    assert a_roll.std() > 3 * a_top.std() and d_roll.std() > 3 * d_top.std()
+    # a fallen cup lies (its centre at the cup's radius above the table); the ball stays on the table
+    z_top = np.array([world.object_positions(0, i)[-1, 2] for i in range(N_EPISODES)])
+    np.testing.assert_allclose(z_top, world.scene.cup_radius, atol=0.005)
+
+
+@needs_gl
+def test_second_construction_reads_the_cache(world, monkeypatch):
+    def boom(*args, **kwargs):
+        raise AssertionError("episodes were simulated again instead of read from the cache")
+
+    monkeypatch.setattr(icub, "_generate", boom)
+    again = ICubWorld(n_episodes=N_EPISODES, seed=0, cache_dir=world.cache_path.parent)
+    for c in range(2):
+        np.testing.assert_array_equal(again.episode(c, 3).frames, world.episode(c, 3).frames)
+    with pytest.raises(AssertionError, match="simulated again"):
+        ICubWorld(n_episodes=N_EPISODES, seed=5, cache_dir=world.cache_path.parent)
+
+
+@needs_gl
+def test_reset_and_step_cycle_through_the_pool(world):
+    assert world.context_names == ("topple", "roll") and world.source_names == ("topple", "roll")
+    assert world.n_states == 20 and world.frame_shape == (75, 100) and world.n_pixels == 7500
+
+    def draw(seed):
+        ep, info = world.reset(seed=seed, context=1)
+        order = [(1, info["episode_index"])]
+        assert info["contact_frame"] == world.contact_frame(1, info["episode_index"])
+        np.testing.assert_array_equal(ep.frames, world.episode(1, info["episode_index"]).frames)
+        for c in [0] * 2 * N_EPISODES + [1] * (N_EPISODES - 1):
+            ep, reward, term, trunc, info = world.step(c)
+            assert (reward, term, trunc, ep.context) == (0.0, False, False, c)
+            order.append((c, info["episode_index"]))
+        return order
+
+    order = draw(3)
+    assert order == draw(3) and order != draw(4)
+    topple = [i for c, i in order if c == 0]
+    assert sorted(topple[:N_EPISODES]) == sorted(topple[N_EPISODES:]) == list(range(N_EPISODES))
+    assert sorted(i for c, i in order if c == 1) == list(range(N_EPISODES))
+
+
+@needs_gl
+def test_bad_arguments_raise(world, tmp_path):
+    with pytest.raises(ValueError, match="context"):
+        world.step(2)
+    with pytest.raises(ValueError, match="episode_index"):
+        world.displacement(0, N_EPISODES)
+    with pytest.raises(ValueError, match="min_frames"):
+        EpisodeParams(min_frames=20)
+    with pytest.raises(ValueError, match="n_episodes"):
+        ICubWorld(n_episodes=0, cache_dir=tmp_path)
+    with pytest.raises(ValueError, match="seed"):
+        ICubWorld(n_episodes=2, seed=-1, cache_dir=tmp_path)
+
+
+def _sources(T, rng, D=6):
+    t = np.arange(T)
+    S = np.column_stack([np.sin(2 * np.pi * t / T), np.sin(2 * np.pi * 9 * t / T), rng.standard_normal((T, 2))])
+    return S @ rng.standard_normal((4, D))
+
+
+def test_omega_episodes_matches_omega_on_one_episode():
+    X = _sources(600, np.random.default_rng(0))
+    np.testing.assert_allclose(omega_episodes([X], 0.01, var_fraction=1.0), omega(X, 0.01), rtol=0, atol=1e-10)
+
+
+def test_omega_episodes_never_differences_across_episodes():
+    rng = np.random.default_rng(1)
+    a, b = _sources(300, rng), _sources(300, rng) + 5.0  # a jump between the two episodes
+    glued = omega_episodes([np.vstack([a, b])], 0.01, var_fraction=1.0)
+    split = omega_episodes([a, b], 0.01, var_fraction=1.0)
+    # reference: whiten the concatenation, difference inside each episode only
+    Z, _, _ = whiten_batch(np.vstack([a, b]))
+    dZ = np.vstack([np.diff(Z[:300], axis=0), np.diff(Z[300:], axis=0)])
+    ref = omega_from_eigenvalues(np.linalg.eigvalsh(dZ.T @ dZ / len(dZ)), 0.01)
+    np.testing.assert_allclose(split, ref, atol=1e-10)
+    assert abs(glued - split) > 1e-6
+
+
+def test_omega_episodes_pca_keeps_the_variance_fraction():
+    rng = np.random.default_rng(2)
+    X = rng.standard_normal((400, 3)) * [10.0, 3.0, 1.0] @ np.linalg.qr(rng.standard_normal((50, 50)))[0][:3]
+    reduced = icub.pca_reduce([X[:200], X[200:]], 0.95)  # variances ~100, 9, 1: two keep > 95 %
+    assert [r.shape for r in reduced] == [(200, 2), (200, 2)]
+    with pytest.raises(ValueError, match="episodes"):
+        omega_episodes([X[:1]])
+
+
+def test_importing_neurocur_does_not_import_mujoco():
+    code = "import sys, neurocur, neurocur.contexts.icub; assert 'mujoco' not in sys.modules"
+    subprocess.run([sys.executable, "-c", code], check=True)
