@@ -27,6 +27,10 @@ class HPCParams:
     clusterers: str = param("context_state", str, choices=("context_state", "state"),
                             doc="one clusterer per (context, state) or per state shared by all contexts")
     gating: bool = param(True, bool, doc="familiar episodes gate learning (False: never familiar)")
+    min_spread: float = param(0.0, float, low=0.0,
+                              doc="a module whose output spread on an episode is below this neither gates nor is stored")
+    error_scale: str = param("absolute", str, choices=("absolute", "spread"),
+                             doc="eq 10 as a feature distance, or divided by the episode's feature spread")
 
     def __post_init__(self):
         check_params(self)
@@ -64,6 +68,18 @@ class HPCROC(Region):
     still to come, ``E / (1 - rho)`` (a geometric tail, as in Aitken's extrapolation).
     It fires when every state has two stored errors and this extrapolated drift is
     below the threshold; a source whose error does not shrink (rho >= 1) never fires.
+
+    ``error_scale = "spread"`` (a variant, not in the paper) divides every frame's eq-10
+    error by the module's output spread on the episode, sqrt(mean_t ||y_t - mean(y)||^2).
+    Eq 10 is a distance in feature units, so a module whose features barely respond to
+    a context's input (its whitening was fitted to other sources) has a tiny error
+    there and would count as having learned, or as gating, that context; divided by
+    the spread, such a module's error is of order one.
+
+    ``min_spread`` (a variant, not in the paper; 0 turns it off) keeps the errors in
+    feature units but asks a module to respond before its small error counts: a frozen
+    module gates an episode only if its output spread there is at least ``min_spread``,
+    and the adaptive module is stored only on an episode where its spread is.
 
     Learn: unless familiar, ``ROCBank.partial_fit`` on the adaptive features of this
     pass (computed before EC's update). On module-learned the bank is then pruned
@@ -124,8 +140,9 @@ class HPCROC(Region):
         idx = episode.states + c * p.n_states if p.clusterers == "context_state" else episode.states
         min_err, gating = np.nan, -1
         for m, bank in enumerate(self.library):
-            err, known = bank.error(idx, library_features[:, m, :])
-            e = _known_mean(err, known)
+            y = library_features[:, m, :]
+            err, known = bank.error(idx, y)
+            e = _known_mean(self._scaled(err, y), known) if _spread(y) >= p.min_spread else np.nan
             if e < min_err or (e == e and min_err != min_err):
                 min_err, gating = e, m
         familiar = bool(p.gating and min_err < p.threshold)
@@ -135,6 +152,7 @@ class HPCROC(Region):
             self.bank = ROCBank(self.n_clusterers, features.shape[1], max_clusters=p.max_clusters,
                                 amnesic=p.amnesic, width=p.width)
         err, known = self.bank.error(idx, features)
+        err = self._scaled(err, features)
         ep_err = _known_mean(err, known)
         row, prev = self.stored[c], self.previous[c]
         visited = episode.states[known]
@@ -158,12 +176,19 @@ class HPCROC(Region):
             rule = ep_err < p.threshold
         else:
             rule = n_missing == 0 and _extrapolated_drift(row, prev) < p.threshold
-        learned = bool(rule and not familiar)
+        learned = bool(rule and not familiar and _spread(features) >= p.min_spread)
         self._frame_err, self._known = err, known
         self._idx, self._features, self._context = idx, features, c
         self.familiar, self.module_learned = familiar, learned
         self._rec = (familiar, gating, ctx_err, ep_err, min_err, learned)
         return familiar, learned, float(ctx_err if p.reward_error == "context" else ep_err)
+
+    def _scaled(self, err: np.ndarray, y: np.ndarray) -> np.ndarray:
+        """Eq-10 errors, divided by the episode's feature spread under ``error_scale = "spread"``."""
+        if self.params.error_scale == "absolute":
+            return err
+        spread = _spread(y)
+        return err / spread if spread > 0 else np.full_like(err, np.inf)
 
     def learn(self) -> None:
         if self.familiar:
@@ -181,6 +206,11 @@ class HPCROC(Region):
 
     def record_frames(self):
         return np.where(self._known, self._frame_err, np.nan)[:, None]
+
+
+def _spread(y: np.ndarray) -> float:
+    """The features' spread on an episode: sqrt(mean_t ||y_t - mean(y)||^2)."""
+    return float(np.sqrt(((y - y.mean(axis=0)) ** 2).sum(axis=1).mean()))
 
 
 def _extrapolated_drift(row: np.ndarray, prev: np.ndarray) -> float:

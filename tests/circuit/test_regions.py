@@ -264,3 +264,38 @@ def test_sensory_concatenates_episodes_when_staying(make_world):
     assert c == 0 and len(move.frames) == 5 and list(move.starts) == [0]
     with pytest.raises(ValueError, match="initial_context must be < 3"):
         make(SensoryWorld, world, initial_context=3)
+
+
+def test_hpc_converged_rule_extrapolates_the_remaining_drift():
+    hpc = make(HPCROC, small_world(), n_states=4, threshold=0.3, freeze="converged", prune_min_weight=0.0)
+    hpc_pass(hpc, ep([0, 1, 2, 3]), Y)  # clusters, no errors yet
+    out, rec = hpc_pass(hpc, ep([0, 1, 2, 3]), Y + [0.2, 0.0])  # every error 0.2, no previous: no freeze
+    assert rec["error"] == pytest.approx(0.2) and out[1] is False
+    # errors shrink 0.2 -> 0.15: rho = 0.75, remaining drift 0.15 / 0.25 = 0.6 > 0.3
+    out, rec = hpc_pass(hpc, ep([0, 1, 2, 3]), Y + [0.2, 0.0] + [0.15, 0.0])
+    assert rec["error"] == pytest.approx(0.15) and out[1] is False
+    # a context_mean freeze would fire here (0.15 < 0.3); 0.15 -> 0.03: rho = 0.2, 0.03 / 0.8 < 0.3
+    out, rec = hpc_pass(hpc, ep([0, 1, 2, 3]), Y + [0.38, 0.0])
+    assert rec["error"] == pytest.approx(0.03) and out[1] is True
+
+
+def test_hpc_converged_rule_never_fires_when_errors_do_not_shrink():
+    hpc = make(HPCROC, small_world(), n_states=4, threshold=0.3, freeze="converged")
+    rng = np.random.default_rng(0)
+    hpc_pass(hpc, ep([0, 1, 2, 3]), Y)
+    fired = [hpc_pass(hpc, ep([0, 1, 2, 3]), Y + 0.05 * (k + 1) * rng.standard_normal((4, 2)))[0][1]
+             for k in range(20)]
+    assert not any(fired)
+
+
+def test_hpc_spread_scale_divides_errors_by_the_feature_spread():
+    for scale in (1.0, 0.01):  # the same geometry, features shrunk 100 times
+        a = make(HPCROC, small_world(), n_states=4, threshold=0.3)
+        s = make(HPCROC, small_world(), n_states=4, threshold=0.3, error_scale="spread")
+        for hpc in (a, s):
+            hpc_pass(hpc, ep([0, 1, 2, 3]), scale * Y)
+        _, ra = hpc_pass(a, ep([0, 1, 2, 3]), scale * (Y + [0.2, 0.0]))
+        _, rs = hpc_pass(s, ep([0, 1, 2, 3]), scale * (Y + [0.2, 0.0]))
+        assert ra["episode_error"] == pytest.approx(0.2 * scale)
+        # spread of Y about its mean: sqrt(mean ||y - (0.5, 0.5)||^2) = sqrt(0.5)
+        assert rs["episode_error"] == pytest.approx(0.2 / math.sqrt(0.5))
