@@ -1,7 +1,8 @@
-"""The ``neurocur`` command: run experiments, draw their figures, measure Ω.
+"""The ``neurocur`` command: run experiments, draw their figures, measure Ω, show invariance.
 
 A thin layer: it parses arguments and calls :mod:`neurocur.experiment`,
-:mod:`neurocur.parallel`, :mod:`neurocur.analysis` and :mod:`neurocur.learn.omega`.
+:mod:`neurocur.parallel`, :mod:`neurocur.analysis` (and
+:mod:`neurocur.analysis.invariance`) and :mod:`neurocur.learn.omega`.
 Errors in arguments or configuration are printed as one line naming the key and
 what was expected, with exit status 2.
 """
@@ -22,6 +23,7 @@ examples:
   neurocur figures results/synthetic                       write the figures into results/synthetic/figures/
   neurocur omega source.npy --eta 0.05                     learning cost of a signal (rows are time)
   neurocur omega --experiment experiments/synthetic.toml   Omega of every context's frames
+  neurocur invariance experiments/invariance.toml          Figure 5: invariance of a learned slow feature
 
 Running again into the same results folder resumes: finished runs are kept.
 """
@@ -102,6 +104,16 @@ def build_parser() -> argparse.ArgumentParser:
     omega.add_argument("--set", dest="sets", action="extend", nargs="+", default=[], metavar="KEY=VALUE",
                        help="override a setting of the experiment, e.g. world.normalise=image")
     omega.add_argument("--eta", type=_eta, default=0.05, help="MCA learning rate (default 0.05)")
+
+    invariance = sub.add_parser(
+        "invariance", help="Figure 5: a learned slow feature is invariant to the other source dimension",
+        description="Train IncSFA on one source's frames, replace the source's second dimension by noise and "
+        "compare the first feature's output before and after (section 4.1.5). Writes OUT/invariance.png "
+        "(Figure 5 A-F) and OUT/invariance.json (the settings, corr and quality).",
+        epilog="example:\n  neurocur invariance experiments/invariance.toml --out results/fig5\n",
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    invariance.add_argument("experiment", metavar="EXPERIMENT", help="invariance TOML file (experiments/invariance.toml)")
+    invariance.add_argument("--out", metavar="DIR", help="output folder (default: results/<name in the file>)")
     return parser
 
 
@@ -174,11 +186,25 @@ def _cmd_omega(args) -> int:
     return 0
 
 
+def _cmd_invariance(args) -> int:
+    from neurocur.analysis.invariance import load_invariance, write_invariance
+
+    spec = load_invariance(args.experiment)
+    out = Path(args.out) if args.out else Path("results") / spec.name
+    demo, paths = write_invariance(spec, out)
+    print(f"{spec.source}: corr = {demo.corr:.5f} (first feature before/after the swap), "
+          f"quality = {demo.quality:.5f} (|corr| with the slow source dimension)")
+    for path in paths:
+        print(path)
+    return 0
+
+
 def main(argv=None) -> int:
     """Entry point of the ``neurocur`` command; returns the exit status."""
     parser = build_parser()
     args = parser.parse_args(argv)
-    command = {"run": _cmd_run, "figures": _cmd_figures, "omega": _cmd_omega}[args.command]
+    command = {"run": _cmd_run, "figures": _cmd_figures, "omega": _cmd_omega,
+               "invariance": _cmd_invariance}[args.command]
     try:
         return command(args)
     except ValueError as exc:  # ConfigError is a ValueError: one line naming the key, no traceback

@@ -1,4 +1,4 @@
-"""The analysis notebook runs end to end on a small results folder."""
+"""The analysis notebook runs end to end on a small real results folder (neurocur run)."""
 
 from __future__ import annotations
 
@@ -9,11 +9,30 @@ import nbclient
 import nbformat
 import pytest
 
-NOTEBOOK = Path(__file__).resolve().parents[2] / "analysis" / "synthetic.ipynb"
+from neurocur.analysis.io import load
+from neurocur.cli import main
+
+ROOT = Path(__file__).resolve().parents[2]
+NOTEBOOK = ROOT / "analysis" / "synthetic.ipynb"
+SYNTHETIC = ROOT / "experiments" / "synthetic.toml"
 
 
-def test_notebook_executes(results_dir, monkeypatch):
-    monkeypatch.setenv("NEUROCUR_RESULTS", str(results_dir))  # the kernel inherits the environment
+@pytest.fixture(scope="module")
+def real_results(tmp_path_factory):
+    """The curious and random-switching conditions of experiments/synthetic.toml, 2 runs x 2e4 frames."""
+    out = tmp_path_factory.mktemp("notebook") / "synthetic"
+    argv = ["run", str(SYNTHETIC), "--runs", "2", "--steps", "20000", "--jobs", "1", "--out", str(out),
+            "--condition", "curious", "--condition", "random_switching", "--no-progress"]
+    assert main(argv) == 0
+    return out
+
+
+def test_notebook_executes(real_results, monkeypatch):
+    episodes, modules = load(real_results)
+    assert set(episodes["condition"]) == {"curious", "random_switching"}
+    assert episodes.groupby("condition")["step"].max().min() >= 19_900
+
+    monkeypatch.setenv("NEUROCUR_RESULTS", str(real_results))  # the kernel inherits the environment
     nb = nbformat.read(NOTEBOOK, as_version=4)
     nb.cells.append(nbformat.v4.new_code_cell("import sys\nprint(sys.executable)"))
     client = nbclient.NotebookClient(nb, kernel_name="python3", timeout=120,
@@ -26,7 +45,12 @@ def test_notebook_executes(results_dir, monkeypatch):
     text = "".join(o.get("text", "") for o in outputs if o.output_type == "stream")
     # the kernel is this interpreter (jupyter_client starts "python" as sys.executable)
     assert text.strip().splitlines()[-1] == sys.executable
-    assert str(results_dir) in text
-    assert "S-A first" in text and "4/4" in text
+    assert str(real_results) in text
+    # the order table counts this folder's runs: "k/2" for each condition
+    n_first = modules[modules["module"] == 0].groupby("condition")["source"].apply(lambda s: (s == "S-A").sum())
+    assert "S-A first" in text
+    for condition in ("curious", "random_switching"):
+        assert f"{n_first.get(condition, 0)}/2" in text
+    assert "needs the conditions" not in text  # the comparison ran
     images = [o for o in outputs if "image/png" in o.get("data", {})]
     assert len(images) == 6  # Figures 4D-G, the order counts and the neuromodulator traces

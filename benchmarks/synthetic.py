@@ -1,0 +1,169 @@
+"""Wall time, peak memory and a per-component profile of the synthetic experiment (a script, not a test).
+
+    python benchmarks/synthetic.py                          # 25 runs x 3.5e5 frames of 'curious', all cores
+    python benchmarks/synthetic.py --runs 4 --steps 50000 --condition random_switching --jobs 2
+
+1. The sweep: ``neurocur run experiments/synthetic.toml`` for one condition, in a
+   child process, into a temporary folder (deleted afterwards). Reported: wall time,
+   seconds per run, the peak resident memory (VmHWM) of the command's process and of
+   its largest worker, and the largest summed resident memory of all of them at
+   once (sampled from /proc every 0.1 s; Linux), plus ``getrusage(RUSAGE_CHILDREN)``.
+   Workers are started by a forkserver, so they are the command's grandchildren:
+   their usage reaches RUSAGE_CHILDREN only through the forkserver, which is why the
+   /proc sampling is the figure to read.
+2. The breakdown: one run of the condition in this process under cProfile (after a
+   short warm-up run, so numba's compilation is not counted), the cumulative time of
+   the learners and of the world, and the rest (regions' own code, the scheduler,
+   recording, tables).
+"""
+
+from __future__ import annotations
+
+import argparse
+import cProfile
+import os
+import pstats
+import resource
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from pathlib import Path
+
+EXPERIMENT = Path(__file__).resolve().parents[1] / "experiments" / "synthetic.toml"
+
+#: (label, file suffix, function name): top-level calls whose cumulative times do not nest.
+COMPONENTS = (
+    ("IncSFA partial_fit (EC learn)", "neurocur/learn/incsfa.py", "partial_fit"),
+    ("ROC error (HPC step)", "neurocur/learn/roc.py", "error"),
+    ("ROC partial_fit (HPC learn)", "neurocur/learn/roc.py", "partial_fit"),
+    ("ROC prune (storage)", "neurocur/learn/roc.py", "prune"),
+    ("LSPI solve (PFC step)", "neurocur/learn/lspi.py", "solve"),
+    ("world: visits, frames (sensory step)", "neurocur/contexts/base.py", "step"),
+    ("EC encoding: matrix products (EC step)", "neurocur/regions/ec.py", "step"),
+    ("tables: episodes(), modules()", "neurocur/scheduler.py", "episodes"),
+)
+
+
+class MemorySampler(threading.Thread):
+    """Samples VmHWM / VmRSS (kB) of a process and all its descendants from /proc."""
+
+    def __init__(self, root_pid: int, interval: float = 0.1):
+        super().__init__(daemon=True)
+        self.root, self.interval = root_pid, interval
+        self.hwm: dict[int, int] = {}
+        self.peak_total = 0
+        self._halt = threading.Event()
+
+    def run(self) -> None:
+        while not self._halt.is_set():
+            self.sample()
+            self._halt.wait(self.interval)
+
+    def stop(self) -> None:
+        self._halt.set()
+        self.join()
+
+    def sample(self) -> None:
+        status = {}
+        for entry in os.listdir("/proc"):
+            if entry.isdigit():
+                try:
+                    text = Path(f"/proc/{entry}/status").read_text()
+                except OSError:
+                    continue
+                fields = dict(line.split(":", 1) for line in text.splitlines() if ":" in line)
+                status[int(entry)] = fields
+        family, frontier = set(), {self.root}
+        while frontier:
+            family |= frontier
+            frontier = {pid for pid, f in status.items() if int(f.get("PPid", "0")) in frontier} - family
+        total = 0
+        for pid in family & status.keys():
+            fields = status[pid]
+            if "VmHWM" in fields:
+                self.hwm[pid] = max(self.hwm.get(pid, 0), int(fields["VmHWM"].split()[0]))
+                total += int(fields["VmRSS"].split()[0])
+        self.peak_total = max(self.peak_total, total)
+
+
+def sweep(runs: int, steps: int, condition: str, jobs: int) -> dict:
+    with tempfile.TemporaryDirectory(prefix="neurocur-bench-") as out:
+        argv = [sys.executable, "-m", "neurocur.cli", "run", str(EXPERIMENT), "--runs", str(runs), "--steps",
+                str(steps), "--jobs", str(jobs), "--condition", condition, "--out", out, "--no-progress"]
+        start = time.perf_counter()
+        child = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        sampler = MemorySampler(child.pid)
+        sampler.start()
+        output, _ = child.communicate()
+        wall = time.perf_counter() - start
+        sampler.stop()
+        if child.returncode != 0:
+            raise SystemExit(f"neurocur run failed (exit {child.returncode}):\n{output}")
+    command = sampler.hwm.pop(child.pid, 0)
+    return {
+        "wall": wall,
+        "command_kb": command,
+        "worker_kb": max(sampler.hwm.values(), default=0),
+        "processes": len(sampler.hwm) + 1,
+        "total_kb": sampler.peak_total,
+        "rusage_children_kb": resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss,
+        "output": output,
+    }
+
+
+def profile_one(steps: int, condition: str) -> tuple[float, list[tuple[str, float]], dict]:
+    from neurocur.experiment import load_experiment, run_one
+
+    exp = load_experiment(EXPERIMENT)
+    cond = exp.select([condition])[0]
+    run_one(cond, 0, 2000, exp.run_seed(0))  # warm-up: numba compilation and caches
+    profiler = cProfile.Profile()
+    start = time.perf_counter()
+    profiler.enable()
+    result = run_one(cond, 0, steps, exp.run_seed(0))
+    profiler.disable()
+    total = time.perf_counter() - start
+    table = pstats.Stats(profiler).stats
+    rows = []
+    for label, suffix, name in COMPONENTS:
+        seconds = sum(ct for (file, _, func), (_, _, _, ct, _) in table.items()
+                      if func == name and file.replace(os.sep, "/").endswith(suffix))
+        rows.append((label, seconds))
+    rows.append(("rest: other regions, scheduler, recording", total - sum(s for _, s in rows)))
+    return total, rows, result.summary
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--runs", type=int, default=25, help="runs of the sweep (default 25)")
+    parser.add_argument("--steps", type=int, default=350_000, help="frames per run (default 3.5e5)")
+    parser.add_argument("--condition", default="curious", help="condition of experiments/synthetic.toml")
+    parser.add_argument("--jobs", type=int, default=os.cpu_count(), help="worker processes (default: all cores)")
+    parser.add_argument("--no-profile", dest="profile", action="store_false", help="skip the per-component profile")
+    args = parser.parse_args(argv)
+
+    print(f"sweep: {args.runs} runs x {args.steps} frames of {args.condition!r}, {args.jobs} jobs "
+          f"({os.cpu_count()} cores, load average {os.getloadavg()[0]:.2f})")
+    s = sweep(args.runs, args.steps, args.condition, args.jobs)
+    print(f"  wall time              {s['wall']:8.1f} s   ({s['wall'] * args.jobs / args.runs:.2f} s per run per job)")
+    print(f"  peak RSS, command      {s['command_kb'] / 1024:8.1f} MB")
+    print(f"  peak RSS, largest worker {s['worker_kb'] / 1024:6.1f} MB   ({s['processes']} processes)")
+    print(f"  peak RSS, all at once  {s['total_kb'] / 1024:8.1f} MB")
+    print(f"  getrusage children     {s['rusage_children_kb'] / 1024:8.1f} MB   (largest reaped descendant)")
+    print("  " + "\n  ".join(line for line in s["output"].splitlines() if line.strip()))
+    if args.profile:
+        total, rows, summary = profile_one(args.steps, args.condition)
+        print(f"\nprofile of one run in this process: {summary['frames']} frames, {summary['n_episodes']} episodes, "
+              f"{summary['n_modules']} modules, {total:.2f} s under cProfile")
+        width = max(len(label) for label, _ in rows)
+        print(f"  {'component':<{width}}  {'seconds':>8}  {'share':>6}")
+        for label, seconds in rows:
+            print(f"  {label:<{width}}  {seconds:8.2f}  {seconds / total:6.1%}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,154 @@
+"""The invariance demonstration of section 4.1.5 (paper Figure 5), from a TOML file to a figure.
+
+An invariance file (``experiments/invariance.toml``)::
+
+    name = "invariance"
+    source = "S-A"            # a built-in source (S-A, S-B, S-C, S-D)
+    epochs = 30               # passes of IncSFA over the source's frames
+    seed = 2013
+    normalise = "global"      # or "image"
+    [incsfa]                  # neurocur.learn.incsfa.IncSFA parameters (not random_state)
+    n_components = 2
+    mca_rate = 0.05
+
+:func:`load_invariance` validates it (a :class:`~neurocur.config.ConfigError` names the
+file and key), :meth:`InvarianceSpec.run` calls
+:func:`neurocur.contexts.synthetic.invariance_demo`, :func:`fig_invariance` draws
+Figure 5 A–F and :func:`write_invariance` saves ``invariance.png`` and
+``invariance.json`` (the spec, ``corr`` and ``quality``).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from neurocur.analysis.figures import _figure, _style
+from neurocur.config import ConfigError, check_keys, describe, load_toml, require
+from neurocur.contexts.sources import LEARNABLE, SLOW_DIM, UNLEARNABLE
+from neurocur.contexts.synthetic import NORMALISATIONS, InvarianceDemo, invariance_demo
+from neurocur.learn.incsfa import IncSFA
+
+__all__ = ["InvarianceSpec", "load_invariance", "fig_invariance", "write_invariance"]
+
+KEYS = ("name", "description", "source", "epochs", "seed", "normalise", "incsfa")
+INCSFA_KEYS = tuple(k for k in IncSFA().get_params() if k != "random_state")
+FIGURE, RESULT = "invariance.png", "invariance.json"
+
+
+@dataclass(frozen=True)
+class InvarianceSpec:
+    """A validated invariance file: the arguments of :func:`invariance_demo`."""
+
+    name: str
+    description: str
+    source: str
+    epochs: int
+    seed: int
+    normalise: str
+    incsfa: dict
+
+    def run(self) -> InvarianceDemo:
+        return invariance_demo(self.source, epochs=self.epochs, seed=self.seed, normalise=self.normalise,
+                               **self.incsfa)
+
+
+def load_invariance(path) -> InvarianceSpec:
+    """Read and validate an invariance file (see the module docstring)."""
+    path = Path(path)
+    data = load_toml(path)
+    check_keys(data, KEYS, source=path, required=("source",))
+    text = dict(source=path, expected="a string")
+    name = require(data, "name", str, default=path.stem, **text)
+    description = require(data, "description", str, default="", **text)
+    sources = LEARNABLE + UNLEARNABLE
+    source = require(data, "source", str, source=path, expected=f"one of {', '.join(sources)}")
+    if source not in sources:
+        raise ConfigError(path, "source", f"one of the built-in sources {', '.join(sources)}", describe(source))
+    epochs = require(data, "epochs", int, source=path, expected="a positive integer", default=30)
+    if epochs < 1:
+        raise ConfigError(path, "epochs", "a positive integer", describe(epochs))
+    seed = require(data, "seed", int, source=path, expected="an integer >= 0", default=0)
+    if seed < 0:
+        raise ConfigError(path, "seed", "an integer >= 0", describe(seed))
+    normalise = require(data, "normalise", str, source=path, default="global",
+                        expected=" or ".join(map(repr, NORMALISATIONS)))
+    if normalise not in NORMALISATIONS:
+        raise ConfigError(path, "normalise", " or ".join(map(repr, NORMALISATIONS)), describe(normalise))
+    incsfa = require(data, "incsfa", dict, source=path, default={}, expected="a table of IncSFA parameters")
+    check_keys(incsfa, INCSFA_KEYS, source=path, prefix="incsfa")
+    for key, value in incsfa.items():
+        try:
+            IncSFA(**{key: value})
+        except (TypeError, ValueError) as exc:
+            raise ConfigError(path, f"incsfa.{key}", f"a valid IncSFA parameter ({exc})", describe(value)) from None
+    try:
+        IncSFA(**incsfa)
+    except ValueError as exc:
+        raise ConfigError(path, "incsfa", "consistent IncSFA parameters", f"an error: {exc}") from None
+    return InvarianceSpec(name, description, source, epochs, seed, normalise, dict(incsfa))
+
+
+def fig_invariance(demo: InvarianceDemo, *, frame_shape=None, n_frames: int = 4) -> Figure:
+    """Figure 5 A–F: source, frames, first feature; noisy source, noisy frames, feature after the swap.
+
+    ``frame_shape`` (height, width) defaults to the square the frames' pixel count
+    makes; ``n_frames`` evenly spaced frames are shown side by side in B and E.
+    """
+    T, n_pixels = demo.frames.shape
+    if frame_shape is None:
+        side = math.isqrt(n_pixels)
+        if side * side != n_pixels:
+            raise ValueError(f"frames of {n_pixels} pixels are not square; give frame_shape=(height, width)")
+        frame_shape = (side, side)
+    if int(np.prod(frame_shape)) != n_pixels:
+        raise ValueError(f"frame_shape {tuple(frame_shape)} does not hold {n_pixels} pixels")
+    if not 1 <= n_frames <= T:
+        raise ValueError(f"n_frames must be between 1 and {T}; got {n_frames}")
+    shown = np.linspace(0, T - 1, n_frames + 2).round().astype(int)[1:-1]
+    t = np.arange(T)
+    with _style():
+        fig, axes = _figure(2, 3, figsize=(11.0, 5.5), gridspec_kw={"width_ratios": [1.0, 1.2, 1.0]})
+        for row, (source, frames, output, label) in enumerate((
+            (demo.source, demo.frames, demo.output, "learned"),
+            (demo.noisy_source, demo.noisy_frames, demo.noisy_output, "dimension 1 replaced by noise"),
+        )):
+            ax_s, ax_f, ax_y = axes[row]
+            ax_s.plot(t, source[:, 0], color="tab:blue", lw=1.0, label="dimension 0 (slow)")
+            ax_s.plot(t, source[:, 1], color="tab:red", lw=0.8, ls=":", label="dimension 1")
+            ax_s.set_title(f"{'AD'[row]}  source ({label})", loc="left")
+            tiles = [np.pad(frames[i].reshape(frame_shape), ((0, 0), (0, 1)), constant_values=np.nan) for i in shown]
+            ax_f.imshow(np.hstack(tiles)[:, :-1], cmap="gray", vmin=0.0, vmax=1.0, interpolation="nearest")
+            ax_f.set_xticks([(i + 0.5) * (frame_shape[1] + 1) - 1 for i in range(n_frames)], [f"t={i}" for i in shown])
+            ax_f.set_yticks([])
+            ax_f.grid(False)
+            ax_f.set_title(f"{'BE'[row]}  frames", loc="left")
+            if row == 1:
+                ax_y.plot(t, demo.output, color="0.6", lw=2.5, label="before the swap (C)")
+            ax_y.plot(t, output, color="tab:green", lw=1.0, label="first feature")
+            ax_y.set_title(f"{'CF'[row]}  first (slowest) feature", loc="left")
+        axes[0, 0].legend(loc="upper right", fontsize="x-small")
+        axes[1, 2].legend(loc="upper right", fontsize="x-small")
+        axes[0, 2].text(0.02, 0.04, f"|corr| with source dim {SLOW_DIM}: {demo.quality:.4f}", fontsize="small",
+                        transform=axes[0, 2].transAxes)
+        axes[1, 2].text(0.02, 0.04, f"corr with C: {demo.corr:.4f}", fontsize="small", transform=axes[1, 2].transAxes)
+        for ax in (axes[1, 0], axes[1, 2]):
+            ax.set_xlabel("local time step")
+    return fig
+
+
+def write_invariance(spec: InvarianceSpec, out_dir, *, dpi: int = 120) -> tuple[InvarianceDemo, list[Path]]:
+    """Run ``spec`` and write ``invariance.png`` (Figure 5) and ``invariance.json`` into ``out_dir``."""
+    demo = spec.run()
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    figure, result = out / FIGURE, out / RESULT
+    fig_invariance(demo).savefig(figure, dpi=dpi)
+    payload = {**asdict(spec), "corr": demo.corr, "quality": demo.quality}
+    result.write_text(json.dumps(payload, indent=2) + "\n", encoding="utf-8")
+    return demo, [figure, result]
