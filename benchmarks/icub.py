@@ -3,16 +3,21 @@
 Prints the frames per second of simulation + rendering in one process, the time to
 build the 2 × ``--episodes`` episode data set into an empty cache with ``--jobs``
 worker processes, the time to read it back from the cache, and (with ``--omega``) the
-learning cost Ω of each context (eq 40, η = 0.01, PCA to 98 % of the variance).
+learning cost Ω of each context (eq 40, η = 0.01, PCA to 98 % of the variance), and
+(with ``--experiment``) the wall time of the whole iCub experiment
+(``experiments/icub.toml``: both conditions × 15 runs, into a temporary folder, the data
+set already cached) and of one run.
 
-    python benchmarks/icub.py [--episodes 70] [--jobs 2] [--omega]
+    python benchmarks/icub.py [--episodes 70] [--jobs 2] [--omega] [--experiment [--runs 15] [--run-jobs 1]]
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import tempfile
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -24,6 +29,8 @@ from neurocur.contexts.icub import (
     pca_reduce,
 )
 from neurocur.contexts.icub_scene import OBJECTS, SceneParams
+
+EXPERIMENT = Path(__file__).resolve().parents[1] / "experiments" / "icub.toml"
 
 
 def frames_per_second(n_episodes: int = 4) -> dict:
@@ -39,11 +46,35 @@ def frames_per_second(n_episodes: int = 4) -> dict:
     return out
 
 
+def experiment_time(runs: int, jobs: int) -> tuple[float, list[float], int]:
+    """Wall time of ``experiments/icub.toml`` (both conditions, ``runs`` runs each, ``jobs`` workers).
+
+    The data set is built (or read from the default cache) before the clock starts.
+    Returns (total seconds, each run's own seconds from its run.json, frames per run).
+    """
+    from neurocur.experiment import load_experiment, prepare_world
+    from neurocur.parallel import run_experiment
+
+    exp = load_experiment(EXPERIMENT, runs=runs)
+    for condition in exp.conditions.values():
+        prepare_world(condition.world)
+    with tempfile.TemporaryDirectory() as out:
+        start = time.perf_counter()
+        run_experiment(exp, out, jobs=jobs, progress=False)
+        total = time.perf_counter() - start
+        per_run = [json.loads(p.read_text())["seconds"] for p in sorted(Path(out).glob("runs/*/*/run.json"))]
+    return total, per_run, exp.steps
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--episodes", type=int, default=70)
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--omega", action="store_true", help="also compute Omega of both contexts (~1 min)")
+    parser.add_argument("--experiment", action="store_true",
+                        help="also time experiments/icub.toml, both conditions (~20 min at 15 runs, 1 job)")
+    parser.add_argument("--runs", type=int, default=15, help="runs per condition for --experiment")
+    parser.add_argument("--run-jobs", type=int, default=1, help="worker processes for --experiment")
     args = parser.parse_args()
 
     for obj, fps in frames_per_second().items():
@@ -78,6 +109,12 @@ def main() -> None:
             dims = pca_reduce(episodes, 0.98)[0].shape[1]
             value = omega_episodes(episodes, 0.01)
             print(f"        Omega = {value:.5f} (PCA 98 %: {dims} dims; {time.perf_counter() - start:.0f} s)")
+
+    if args.experiment:
+        total, per_run, steps = experiment_time(args.runs, args.run_jobs)
+        print(f"experiment icub.toml, 2 conditions x {args.runs} runs x {steps} frames on {args.run_jobs} "
+              f"process(es): {total:.0f} s ({total / 60:.1f} min); one run {np.mean(per_run):.0f} +- "
+              f"{np.std(per_run):.0f} s ({1e3 * np.mean(per_run) / steps:.2f} ms/frame)")
 
 
 if __name__ == "__main__":

@@ -23,6 +23,18 @@ runs and steps, the root seed, parameter overrides and, optionally, conditions::
     params = { "LC.epsilon0" = 1.0 }          # merged over the top-level [params]
     # world = { normalise = "image" }         # merged over the top-level [world]
 
+World types (``world.type``): ``"synthetic"`` (the default;
+:class:`~neurocur.contexts.synthetic.SyntheticWorld`, keys ``contexts``, ``context_names``,
+``sources``, ``visit_length``, ``normalise``, ``clock_offsets``, ``frame_shape``,
+``learnable``, ``nonstationary``) and ``"icub"`` (:class:`~neurocur.contexts.icub.ICubWorld`,
+keys ``n_episodes``, ``dataset_seed`` (the seed of the cached episode data set, not of the
+runs), ``cache_dir`` (relative to the experiment file; default ``$NEUROCUR_CACHE/icub`` or
+``~/.cache/neurocur/icub``), ``n_jobs`` (processes that simulate the data set) and the
+tables ``scene`` (:class:`~neurocur.contexts.icub_scene.SceneParams` fields) and
+``protocol`` (:class:`~neurocur.contexts.icub.EpisodeParams` fields)). A key of the other
+type is an error. Validating an iCub experiment never simulates; the runner builds the
+data set once, before its workers start.
+
 Without a ``[conditions]`` table there is one condition, ``default``. Command-line
 ``--set KEY=VALUE`` settings (values are TOML literals; a bare word is a string) win
 over the file and over every condition: ``runs``, ``steps``, ``seed``, ``circuit``,
@@ -45,6 +57,7 @@ import math
 import time
 import tomllib
 from collections.abc import Mapping, Sequence
+import dataclasses
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -54,6 +67,9 @@ import pandas as pd
 import neurocur
 from neurocur.circuit import Circuit
 from neurocur.config import ConfigError, check_keys, describe, load_toml, require
+from neurocur.contexts.base import World
+from neurocur.contexts.icub import EpisodeParams, ICubWorld
+from neurocur.contexts.icub_scene import SceneParams
 from neurocur.contexts.sources import LEARNABLE, SLOW_DIM, UNLEARNABLE
 from neurocur.contexts.synthetic import NORMALISATIONS, PAPER_CONTEXTS, SyntheticWorld
 from neurocur.learn._validation import check_block, check_nonconstant
@@ -65,19 +81,28 @@ __all__ = [
     "load_experiment",
     "parse_set",
     "build_world",
+    "prepare_world",
     "source_spec",
     "run_one",
     "module_quality",
+    "icub_module_report",
     "dumps_toml",
     "first_difference",
 ]
 
 TOP_KEYS = ("name", "description", "circuit", "runs", "steps", "seed", "world", "params", "conditions")
 SCALAR_KEYS = ("name", "description", "circuit", "runs", "steps", "seed")
-WORLD_KEYS = ("type", "contexts", "context_names", "sources", "visit_length", "normalise", "clock_offsets",
-              "frame_shape", "learnable", "nonstationary")
+SYNTHETIC_KEYS = ("contexts", "context_names", "sources", "visit_length", "normalise", "clock_offsets",
+                  "frame_shape", "learnable", "nonstationary")
+ICUB_KEYS = ("n_episodes", "dataset_seed", "cache_dir", "n_jobs", "scene", "protocol")
+WORLD_KEYS = ("type", *SYNTHETIC_KEYS, *ICUB_KEYS)
 CONDITION_KEYS = ("description", "circuit", "params", "world")
-WORLD_TYPES = ("synthetic",)
+WORLD_TYPES = ("synthetic", "icub")
+TYPE_KEYS = {"synthetic": SYNTHETIC_KEYS, "icub": ICUB_KEYS}
+#: dataclass of each nested table of the iCub world table
+ICUB_TABLES = {"scene": SceneParams, "protocol": EpisodeParams}
+#: reference episodes (pool indices, both contexts) whose slow-feature outputs each iCub run stores
+ICUB_REFERENCE_EPISODES = (0, 1, 2)
 DEFAULT_CONDITION = "default"
 
 
@@ -97,7 +122,11 @@ class Condition:
     def load_circuit(self) -> Circuit:
         return Circuit.from_toml(self.circuit, overrides=self.params, overrides_source=f"condition {self.name!r}")
 
-    def make_world(self) -> SyntheticWorld:
+    @property
+    def world_type(self) -> str:
+        return self.world.get("type", "synthetic")
+
+    def make_world(self) -> World:
         return build_world(self.world)
 
 
@@ -342,6 +371,21 @@ def _check_world(table: Mapping, source, prefix: str, base_dir: Path, *, label_k
         if not (isinstance(v, list) and len(v) == 2 and all(isinstance(s, int) and not isinstance(s, bool) and s > 0
                                                              for s in v)):
             raise err("frame_shape", "[height, width] (two positive integers)", describe(v))
+    for key, expected, low in (("n_episodes", "a positive integer", 1), ("n_jobs", "a positive integer", 1),
+                               ("dataset_seed", "an integer >= 0", 0)):
+        if key in table:
+            v = table[key]
+            if isinstance(v, bool) or not isinstance(v, int) or v < low:
+                raise err(key, expected, describe(v))
+    if "cache_dir" in table:
+        v = table["cache_dir"]
+        if not isinstance(v, str) or not v:
+            raise err("cache_dir", "a folder path (string)", describe(v))
+        out["cache_dir"] = str((base_dir / Path(v).expanduser()).resolve())
+    for key, cls in ICUB_TABLES.items():
+        if key in table:
+            _check_dataclass_table(table[key], cls, lambda sub, expected, got, key=key: err(
+                f"{key}.{sub}" if sub else key, expected, got))
     if "sources" in table:
         if not isinstance(table["sources"], dict):
             raise err("sources", "a table of source name = \".npy file path\"", describe(table["sources"]))
@@ -373,16 +417,64 @@ def _load_source(path: Path, err) -> np.ndarray:
     return arr
 
 
+def _check_dataclass_table(table, cls, err) -> None:
+    """Check a table of ``cls`` fields (types from the defaults), then build ``cls`` once.
+
+    ``err(sub_key, expected, got)`` builds the ConfigError (``sub_key`` None: the whole table).
+    """
+    if not isinstance(table, dict):
+        raise err(None, f"a table of {cls.__name__} fields", describe(table))
+    defaults = {f.name: f.default for f in dataclasses.fields(cls)}
+    for key, value in table.items():
+        if key not in defaults:
+            raise err(key, f"one of the keys {list(defaults)}", "an unknown key")
+        default = defaults[key]
+        number = (int, float) if isinstance(default, float) else (int,)
+        if isinstance(default, tuple):
+            ok = (isinstance(value, list) and len(value) == len(default)
+                  and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value))
+            expected = f"a list of {len(default)} numbers"
+        else:
+            ok = isinstance(value, number) and not isinstance(value, bool)
+            expected = "an integer" if number == (int,) else "a number"
+        if not ok:
+            raise err(key, expected, describe(value))
+    try:
+        _dataclass_from_table(cls, table)
+    except ValueError as exc:
+        raise err(None, f"consistent {cls.__name__} fields", f"an error: {exc}") from None
+
+
+def _dataclass_from_table(cls, table: Mapping):
+    """``cls(**table)`` with TOML lists turned into the tuples the dataclass holds."""
+    return cls(**{k: tuple(v) if isinstance(v, list) else v for k, v in table.items()})
+
+
 def _merge_world(*layers: Mapping) -> dict:
     out: dict = {}
     for layer in layers:
         for key, value in layer.items():
-            out[key] = {**out.get(key, {}), **value} if key == "sources" else value
+            out[key] = {**out.get(key, {}), **value} if isinstance(value, dict) else value
     return out
 
 
 def _check_world_semantics(world: dict, source) -> None:
-    """Checks across keys of the merged world table (by building the world once)."""
+    """Checks across keys of the merged world table (a synthetic world is built once).
+
+    The keys must belong to the world's type. An iCub world is not built here (that would
+    simulate its data set): its nested tables are checked as merged.
+    """
+    kind = world.get("type", "synthetic")
+    for key in world:
+        if key != "type" and key not in TYPE_KEYS[kind]:
+            raise ConfigError(source, f"world.{key}", f"a key of world type {kind!r} (one of {list(TYPE_KEYS[kind])})",
+                              "a key of another world type")
+    if kind == "icub":
+        for key, cls in ICUB_TABLES.items():
+            if key in world:
+                _check_dataclass_table(world[key], cls, lambda sub, expected, got, key=key: ConfigError(
+                    source, f"world.{key}.{sub}" if sub else f"world.{key}", expected, got))
+        return
     sources = world.get("sources", {})
     contexts = world.get("contexts", list(PAPER_CONTEXTS))
     known = set(LEARNABLE) | set(UNLEARNABLE) | set(sources)
@@ -418,8 +510,18 @@ def _check_circuit(circuit: Path, base_params: dict, cond_params: dict, set_para
 # ------------------------------------------------------------------------------ worlds
 
 
-def build_world(world: Mapping) -> SyntheticWorld:
-    """A world from a validated world table (source files given as absolute paths)."""
+def build_world(world: Mapping) -> World:
+    """A world from a validated world table (source files and cache folder as absolute paths).
+
+    An iCub world simulates its episode data set on first use and reads the cache after.
+    """
+    if world.get("type", "synthetic") == "icub":
+        return ICubWorld(
+            n_episodes=world.get("n_episodes", 70), seed=world.get("dataset_seed", 0),
+            cache_dir=world.get("cache_dir"), n_jobs=world.get("n_jobs", 2),
+            scene=_dataclass_from_table(SceneParams, world.get("scene", {})),
+            protocol=_dataclass_from_table(EpisodeParams, world.get("protocol", {})),
+        )
     kwargs = {k: world[k] for k in ("contexts", "context_names", "visit_length", "normalise", "frame_shape",
                                     "nonstationary") if k in world}
     if "clock_offsets" in world:
@@ -428,14 +530,32 @@ def build_world(world: Mapping) -> SyntheticWorld:
     return SyntheticWorld(sources=sources, **kwargs)
 
 
-def source_spec(condition: Condition, world: SyntheticWorld | None = None):
+def prepare_world(world: Mapping) -> None:
+    """Make a world table cheap to build in every run: simulate an iCub data set into its cache.
+
+    Called by the runner once, before its worker processes start (so they never simulate
+    the same data set side by side). Nothing to do for a synthetic world.
+    """
+    if world.get("type", "synthetic") == "icub":
+        build_world(world)
+
+
+def source_spec(condition: Condition, world: World | None = None):
     """The :class:`neurocur.analysis.stats.SourceSpec` of a condition's world.
 
-    Learnable sources: ``world.learnable`` if given, else the built-in learnable sources
-    shown (S-A, S-B, S-C, in Ω order) followed by the user sources in context order.
+    Synthetic world. Learnable sources: ``world.learnable`` if given, else the built-in
+    learnable sources shown (S-A, S-B, S-C, in Ω order) followed by the user sources in
+    context order.
+
+    iCub world: the contexts ``topple`` and ``roll``, each its own source, both learnable,
+    in Ω order (topple easier; docs/icub.md). The world is not built.
     """
     from neurocur.analysis.stats import SourceSpec
 
+    if condition.world_type == "icub":
+        from neurocur.analysis.icub import ICUB
+
+        return ICUB
     world = world or condition.make_world()
     shown = list(dict.fromkeys(world.source_names))
     default = [s for s in LEARNABLE if s in shown] + [s for s in shown if s in condition.world.get("sources", {})
@@ -456,15 +576,90 @@ class RunResult:
     episodes: pd.DataFrame
     modules: pd.DataFrame
     summary: dict
+    #: further per-run tables of the world type, written as ``<name>.parquet`` (iCub: ``features``)
+    tables: Mapping[str, pd.DataFrame] = dataclasses.field(default_factory=dict)
+
+
+def _abs_corr(a: np.ndarray, b: np.ndarray) -> float:
+    """|Pearson correlation| of two series; NaN when either is constant."""
+    if np.std(a) == 0.0 or np.std(b) == 0.0:
+        return math.nan
+    return float(abs(np.corrcoef(a, b)[0, 1]))
 
 
 def module_quality(module, frames: np.ndarray, source: np.ndarray) -> float:
     """|corr| of a module's slowest output on ``frames`` with the source's slow dimension (NaN if flat)."""
-    y = module.transform(frames)[:, 0]
-    s = source[:, SLOW_DIM]
-    if np.std(y) == 0.0 or np.std(s) == 0.0:
-        return math.nan
-    return float(abs(np.corrcoef(y, s)[0, 1]))
+    return _abs_corr(module.transform(frames)[:, 0], source[:, SLOW_DIM])
+
+
+def _synthetic_module_report(world: SyntheticWorld, library, modules: pd.DataFrame):
+    """Per stored module: its source and :func:`module_quality` on its context's frames."""
+    sources, quality = [], []
+    for row in modules.itertuples(index=False):
+        source = world.source_of(int(row.context))
+        sources.append(source)
+        quality.append(module_quality(library[int(row.module)], world.context_frames(int(row.context)),
+                                      world.source_signal(source)))
+    return sources, quality, {}, {}
+
+
+def icub_module_report(world: ICubWorld, library, modules: pd.DataFrame):
+    """What each stored module's slowest output y₀ encodes, over every cached episode.
+
+    Returns ``(sources, quality, columns, tables)``. Per module (a row of ``modules``,
+    learned in context ``c``), all on the pooled frames of every episode of a context:
+
+    - ``quality``: |corr(y₀, displacement)| on context ``c`` (the object's distance from
+      its start, ``world.displacement``: "object displaced or not", section 4.2.2);
+    - ``arm_corr``: |corr(y₀, arm joint state)| on context ``c`` (invariance to the arm);
+    - ``other_quality``: |corr(y₀, displacement)| on the other context;
+    - ``context_corr``: |corr(y₀, context index)| on both contexts (section 4.2.1: a module
+      learned across both contexts codes for the context).
+
+    ``tables["features"]``: every module's outputs on the reference episodes
+    ``ICUB_REFERENCE_EPISODES`` of both contexts, one row per (module, frame): module,
+    context, episode_index, frame, state, displacement, contact_frame, y0, y1, ...
+    """
+    n_modules = len(modules)
+    J = library[0].n_components if library else 0
+    columns = ["module", "context", "episode_index", "frame", "state", "displacement", "contact_frame",
+               *(f"y{j}" for j in range(J))]
+    extra = {"arm_corr": [], "other_quality": [], "context_corr": []}
+    if not library:
+        return [], [], extra, {"features": pd.DataFrame(columns=columns)}
+    proj = np.concatenate([m.projection_ for m in library], axis=1)
+    offset = np.concatenate([m.mean_ @ m.projection_ for m in library])
+    outputs, displacement, states, contexts, reference = [], [], [], [], []
+    for c in range(world.n_contexts):
+        for i in range(world.n_episodes):
+            ep = world.episode(c, i)
+            y = (ep.frames @ proj - offset).reshape(len(ep.frames), n_modules, J)
+            d = world.displacement(c, i)
+            outputs.append(y)
+            displacement.append(d)
+            states.append(ep.states)
+            contexts.append(np.full(len(d), c))
+            if i in ICUB_REFERENCE_EPISODES:
+                frame = np.arange(len(d))
+                for m in range(n_modules):
+                    reference.append(pd.DataFrame({
+                        "module": m, "context": c, "episode_index": i, "frame": frame, "state": ep.states,
+                        "displacement": d, "contact_frame": world.contact_frame(c, i),
+                        **{f"y{j}": y[:, m, j] for j in range(J)}}))
+    features = pd.concat(reference, ignore_index=True)[columns]
+    context_of = np.concatenate(contexts)
+    y0 = np.concatenate(outputs)[:, :, 0]
+    displacement, states = np.concatenate(displacement), np.concatenate(states)
+    sources, quality = [], []
+    for row in modules.itertuples(index=False):
+        m, c = int(row.module), int(row.context)
+        own, other = context_of == c, context_of != c
+        sources.append(world.source_names[c])
+        quality.append(_abs_corr(y0[own, m], displacement[own]))
+        extra["arm_corr"].append(_abs_corr(y0[own, m], states[own]))
+        extra["other_quality"].append(_abs_corr(y0[other, m], displacement[other]))
+        extra["context_corr"].append(_abs_corr(y0[:, m], context_of.astype(np.float64)))
+    return sources, quality, extra, {"features": features}
 
 
 def _gates(episodes: pd.DataFrame, modules: pd.DataFrame, names: Sequence[str]) -> list[str]:
@@ -480,8 +675,10 @@ def run_one(condition: Condition, run: int, steps: int, seed: np.random.SeedSequ
 
     Adds ``run`` and ``condition`` in front of the simulator's episodes and modules
     tables, and per module ``source`` (the source of the context it was learned in),
-    ``quality`` (:func:`module_quality` on that context's frames) and ``gates`` (the
-    names of the contexts whose episodes it gated after it was stored, comma-separated).
+    ``quality`` (synthetic: :func:`module_quality` on that context's frames; iCub: see
+    :func:`icub_module_report`, which also adds columns and the ``features`` table) and
+    ``gates`` (the names of the contexts whose episodes it gated after it was stored,
+    comma-separated).
     """
     started = time.perf_counter()
     world = condition.make_world()
@@ -491,16 +688,13 @@ def run_one(condition: Condition, run: int, steps: int, seed: np.random.SeedSequ
     modules = sim.modules()
     library = sim.regions["EC"].library
     names = world.context_names
-    sources, quality = [], []
-    for row in modules.itertuples(index=False):
-        source = world.source_of(int(row.context))
-        sources.append(source)
-        quality.append(module_quality(library[int(row.module)], world.context_frames(int(row.context)),
-                                      world.source_signal(source)))
+    report = icub_module_report if condition.world_type == "icub" else _synthetic_module_report
+    sources, quality, columns, tables = report(world, library, modules)
     modules = modules.assign(source=pd.Series(sources, dtype=object, index=modules.index),
                              quality=pd.Series(quality, dtype=np.float64, index=modules.index),
-                             gates=pd.Series(_gates(episodes, modules, names), dtype=object, index=modules.index))
-    for table in (episodes, modules):
+                             gates=pd.Series(_gates(episodes, modules, names), dtype=object, index=modules.index),
+                             **{k: pd.Series(v, dtype=np.float64, index=modules.index) for k, v in columns.items()})
+    for table in (episodes, modules, *tables.values()):
         table.insert(0, "condition", condition.name)
         table.insert(1, "run", int(run))
     summary = {
@@ -518,7 +712,7 @@ def run_one(condition: Condition, run: int, steps: int, seed: np.random.SeedSequ
         "learnable": list(source_spec(condition, world).learnable),
         "seconds": round(time.perf_counter() - started, 3),
     }
-    return RunResult(condition.name, int(run), episodes, modules, summary)
+    return RunResult(condition.name, int(run), episodes, modules, summary, tables)
 
 
 # ------------------------------------------------------------------------------ TOML out

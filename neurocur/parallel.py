@@ -7,6 +7,8 @@ Layout of a results folder::
     OUT/runs/<condition>/run-<NNN>/episodes.parquet
     OUT/runs/<condition>/run-<NNN>/modules.parquet
     OUT/runs/<condition>/run-<NNN>/run.json       the run's summary (order, seed, ...)
+    OUT/runs/<condition>/run-<NNN>/<name>.parquet  further tables of the world type
+                                                  (iCub: features.parquet, see neurocur.experiment)
 
 Every run is written into ``OUT/.partial/`` and moved into place with one
 ``os.replace`` when it is complete, so a run folder exists only when all its files
@@ -14,6 +16,10 @@ do. Running again into the same folder skips the finished runs; an interrupted s
 resumes where it stopped. A folder whose ``config.toml`` differs from the experiment
 (another seed, step count, circuit, parameter...) is refused, naming the first
 differing key.
+
+Before the workers start, each selected condition's world is prepared once
+(:func:`~neurocur.experiment.prepare_world`: an iCub episode data set is simulated
+into its cache), so that workers only read it.
 
 Runs are always computed in worker processes (``forkserver``, else ``spawn``), each
 with single-threaded BLAS, so a seed gives the same tables for any number of jobs.
@@ -34,7 +40,16 @@ from pathlib import Path
 import numpy as np
 
 from neurocur.config import ConfigError
-from neurocur.experiment import Condition, Experiment, RunResult, dumps_toml, first_difference, run_one, source_spec
+from neurocur.experiment import (
+    Condition,
+    Experiment,
+    RunResult,
+    dumps_toml,
+    first_difference,
+    prepare_world,
+    run_one,
+    source_spec,
+)
 
 __all__ = ["run_experiment", "run_dir", "completed_runs", "write_run", "write_summary"]
 
@@ -106,6 +121,8 @@ def write_run(out: Path, result: RunResult) -> Path:
     tmp.mkdir(parents=True)
     result.episodes.to_parquet(tmp / "episodes.parquet", index=False)
     result.modules.to_parquet(tmp / "modules.parquet", index=False)
+    for name, table in result.tables.items():
+        table.to_parquet(tmp / f"{name}.parquet", index=False)
     (tmp / "run.json").write_text(json.dumps(result.summary, indent=2) + "\n", encoding="utf-8")
     final.parent.mkdir(parents=True, exist_ok=True)
     os.replace(tmp, final)
@@ -164,6 +181,8 @@ def run_experiment(exp: Experiment, out, *, jobs: int | None = None, conditions=
     bar = _progress_bar(len(names) * exp.runs, len(done), progress)
     try:
         if todo:
+            for world in {json.dumps(c.world, sort_keys=True): c.world for c, _ in todo}.values():
+                prepare_world(world)
             with _single_threaded_children(), ProcessPoolExecutor(max_workers=jobs, mp_context=_mp_context()) as pool:
                 pending = {pool.submit(_worker, c, i, exp.steps, exp.run_seed(i), str(out)) for c, i in todo}
                 try:

@@ -330,8 +330,14 @@ def write_all(results_dir: str | Path, out_dir: str | Path | None = None, *, dpi
     ``learning_time.png`` and, per condition, ``cumulative_error_<condition>.png``,
     ``intrinsic_reward_<condition>.png``, ``reward_function_<condition>.png`` and
     ``neuromodulators_<condition>.png`` (the latter two for the condition's first run).
+    A results folder of the iCub world (``world.type = "icub"`` in its config.toml) gets
+    the iCub figures instead (:func:`neurocur.analysis.icub.write_icub_figures`).
     Returns the written paths.
     """
+    from neurocur.analysis.icub import results_world_type, write_icub_figures
+
+    if results_world_type(results_dir) == "icub":
+        return write_icub_figures(results_dir, out_dir, dpi=dpi)
     episodes, modules = load(results_dir)
     out = Path(results_dir) / "figures" if out_dir is None else Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
