@@ -181,8 +181,14 @@ def _cmd_omega(args) -> int:
     for name in contexts:
         if name not in world.context_names:
             raise ValueError(f"omega: --context: expected one of {', '.join(world.context_names)}, got {name!r}")
-        value = omega(world.context_frames(name), args.eta)
-        print(f"{name}  {world.source_of(name):<6} Omega = {value:.5f}")
+        index = world.context_names.index(name)
+        if hasattr(world, "context_frames"):  # a synthetic world: one frame sequence per context
+            value = omega(world.context_frames(name), args.eta)
+        else:  # an episodic world (iCub): derivatives within episodes only
+            from neurocur.contexts.icub import omega_episodes
+
+            value = omega_episodes(world.episodes(index), args.eta)
+        print(f"{name}  {world.source_names[index]:<6} Omega = {value:.5f}")
     return 0
 
 

@@ -140,7 +140,8 @@ def _ordinal_columns(spec: SourceSpec) -> list[str]:
 def _outcome_labels(spec: SourceSpec) -> dict[str, str]:
     labels = {f"{_ORDINALS[k]}_ok": f"{s} {_ORDINALS[k]}" for k, s in enumerate(spec.learnable)}
     labels["exact_order"] = "exact " + "→".join(spec.learnable)
-    labels["unlearnable_stored"] = "/".join(spec.unlearnable) + " stored"
+    if spec.unlearnable:
+        labels["unlearnable_stored"] = "/".join(spec.unlearnable) + " stored"
     return labels
 
 

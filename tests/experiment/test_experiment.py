@@ -34,12 +34,17 @@ def write(tmp_path, text, name="exp.toml"):
 def test_synthetic_experiment_has_the_papers_parameters():
     exp = load_experiment(SYNTHETIC)
     assert (exp.name, exp.runs, exp.steps) == ("synthetic", 25, 350_000)
-    assert list(exp.conditions) == ["curious", "random_switching"]
-    cur, rnd = exp.conditions["curious"], exp.conditions["random_switching"]
-    assert cur.circuit == CIRCUIT and rnd.circuit == ROOT / "circuits" / "lesion_lc_random.toml"
-    assert cur.params == rnd.params == {
-        "HPC.threshold": 0.3, "HPC.n_states": 1000, "HPC.max_clusters": 2, "LC.epsilon0": 0.6,
-        "LC.decay": 0.995, "EC.amnesic": 2.0, "EC.mca_rate": 0.05}
+    assert list(exp.conditions) == ["curious", "random_switching", "literal"]
+    cur, rnd, lit = (exp.conditions[c] for c in ("curious", "random_switching", "literal"))
+    assert cur.circuit == lit.circuit == CIRCUIT and rnd.circuit == ROOT / "circuits" / "lesion_lc_random.toml"
+    paper = {"HPC.threshold": 0.3, "HPC.n_states": 1000, "HPC.max_clusters": 2, "LC.epsilon0": 0.6,
+             "LC.decay": 0.995, "EC.amnesic": 2.0, "EC.mca_rate": 0.05}
+    chosen = {"HPC.clusterers": "state", "HPC.freeze": "converged", "HPC.reward_error": "context",
+              "HPC.min_spread": 0.2, "sensory.episodes_on_engage": 2, "EC.n_pca": 3}
+    assert cur.params == rnd.params == paper | chosen
+    assert lit.params == paper | chosen | {"HPC.freeze": "episode_mean", "HPC.reward_error": "episode",
+                                            "HPC.min_spread": 0.0, "sensory.episodes_on_engage": 1}
+    assert (lit.world["normalise"], lit.world["clock_offsets"]) == ("image", "zero")
     assert cur.world["contexts"] == ["S-A", "S-A", "S-B", "S-C", "S-D"]
     world = cur.make_world()
     assert world.n_states == 1000 and world.visit_length == 100 and world.frame_shape == (20, 20)
@@ -204,11 +209,11 @@ def test_module_quality_is_abs_corr_with_the_slow_dimension():
 
 def test_run_one_tables():
     exp = load_experiment(SYNTHETIC, steps=12_000)
-    cond = exp.conditions["curious"]
+    cond = exp.conditions["literal"]  # the single-episode freeze stores S-A early
     result = run_one(cond, 3, exp.steps, exp.run_seed(3))
     ep, mod = result.episodes, result.modules
     assert list(ep.columns[:2]) == ["condition", "run"] and list(mod.columns[:2]) == ["condition", "run"]
-    assert (ep["condition"] == "curious").all() and (ep["run"] == 3).all()
+    assert (ep["condition"] == "literal").all() and (ep["run"] == 3).all()
     assert ep["n_frames"].sum() == result.summary["frames"] >= 12_000
     for col in ("module", "step", "episode", "context", "n_clusters", "source", "quality", "gates"):
         assert col in mod.columns

@@ -26,10 +26,13 @@ def tables(out):
     }
 
 
+PAIR = ["curious", "random_switching"]
+
+
 @pytest.fixture(scope="module")
 def two_jobs(tmp_path_factory):
     out = tmp_path_factory.mktemp("jobs2")
-    run_experiment(tiny(), out, jobs=2, progress=False)
+    run_experiment(tiny(), out, jobs=2, progress=False, conditions=PAIR)
     return out
 
 
@@ -51,7 +54,7 @@ def test_folder_layout(two_jobs):
 
 
 def test_same_tables_with_one_or_two_jobs(two_jobs, tmp_path):
-    run_experiment(tiny(), tmp_path, jobs=1, progress=False)
+    run_experiment(tiny(), tmp_path, jobs=1, progress=False, conditions=PAIR)
     a, b = tables(two_jobs), tables(tmp_path)
     assert a.keys() == b.keys() and len(a) == 2 * RUNS * 2
     for key in a:
@@ -71,7 +74,7 @@ def test_resume_recomputes_only_the_missing_run(two_jobs, tmp_path):
     shutil.rmtree(victim)
     (out / PARTIAL / "curious-run-001-999").mkdir(parents=True)  # debris of an interrupted run
     before = {p: p.stat().st_mtime_ns for p in out.glob("runs/*/*/*")}
-    run_experiment(tiny(), out, jobs=2, progress=False)
+    run_experiment(tiny(), out, jobs=2, progress=False, conditions=PAIR)
     after = {p: p.stat().st_mtime_ns for p in out.glob("runs/*/*/*")}
     assert {p for p in after if p not in before} == {victim / n for n in ("episodes.parquet", "modules.parquet", "run.json")}
     assert all(after[p] == t for p, t in before.items())
