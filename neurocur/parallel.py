@@ -13,7 +13,8 @@ Layout of a results folder::
 Every run is written into ``OUT/.partial/`` and moved into place with one
 ``os.replace`` when it is complete, so a run folder exists only when all its files
 do. Running again into the same folder skips the finished runs; an interrupted sweep
-resumes where it stopped. A folder whose ``config.toml`` differs from the experiment
+resumes where it stopped. Conditions new to a folder are added to it (a study can grow
+row by row). A folder whose ``config.toml`` differs from the experiment
 (another seed, step count, circuit, parameter...) is refused, naming the first
 differing key.
 
@@ -84,10 +85,17 @@ def _prepare_folder(exp: Experiment, out: Path) -> Experiment:
         exp = Experiment(exp.name, exp.path, exp.description, exp.runs, exp.steps, seed, exp.conditions)
     config = tomllib.loads(dumps_toml(exp.resolved()))
     if existing is not None:
-        key = first_difference(existing, config)
+        # a study may grow: conditions new to the folder are added, the others must be unchanged
+        old_conditions, new_conditions = existing.get("conditions", {}), config.get("conditions", {})
+        shared = [c for c in new_conditions if c in old_conditions]
+        key = first_difference({**existing, "conditions": {c: old_conditions[c] for c in shared}},
+                               {**config, "conditions": {c: new_conditions[c] for c in shared}})
         if key is not None:
             raise ConfigError(config_path, key, f"{_lookup(config, key)!r} (this experiment) to resume into this folder",
                               f"{_lookup(existing, key)!r}; use another --out folder or remove this one")
+        if len(shared) < len(new_conditions):
+            grown = {**existing, "conditions": {**old_conditions, **new_conditions}}
+            _atomic_text(config_path, dumps_toml(grown, header=_HEADER))
         return exp
     out.mkdir(parents=True, exist_ok=True)
     _atomic_text(config_path, dumps_toml(config, header=_HEADER))

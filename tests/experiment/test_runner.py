@@ -1,6 +1,7 @@
 """The runner: worker processes, atomic run folders, resume, determinism across --jobs."""
 
 import json
+import tomllib
 import os
 from pathlib import Path
 
@@ -114,3 +115,23 @@ def test_experiment_without_seed_adopts_the_folders_seed(tmp_path):
     mtime = os.stat(run_dir(out, "curious", 0) / "run.json").st_mtime_ns
     run_experiment(exp, out, jobs=1, conditions=["curious"], progress=False)  # no "differs" error
     assert os.stat(run_dir(out, "curious", 0) / "run.json").st_mtime_ns == mtime
+
+
+def test_a_study_grows_by_new_conditions_but_old_ones_must_not_change(tmp_path):
+    base = SYNTHETIC.read_text().replace('"../circuits/', f'"{SYNTHETIC.parent.parent}/circuits/')
+    study = tmp_path / "study.toml"  # the same file, edited between the two calls
+    study.write_text(base)
+    out = tmp_path / "out"
+    run_experiment(load_experiment(study, runs=1, steps=200), out, jobs=1, conditions=["curious"], progress=False)
+    mtime = os.stat(run_dir(out, "curious", 0) / "run.json").st_mtime_ns
+    study.write_text(base + '\n[conditions.low_threshold]\nparams = { "HPC.threshold" = 0.2 }\n')
+    run_experiment(load_experiment(study, runs=1, steps=200), out, jobs=1, progress=False)
+    assert os.stat(run_dir(out, "curious", 0) / "run.json").st_mtime_ns == mtime  # kept, not recomputed
+    assert completed_runs(out, ["curious", "random_switching", "literal", "low_threshold"], 1) == {
+        ("curious", 0), ("random_switching", 0), ("literal", 0), ("low_threshold", 0)}
+    with (out / "config.toml").open("rb") as fh:
+        assert set(tomllib.load(fh)["conditions"]) == {"curious", "random_switching", "literal", "low_threshold"}
+    study.write_text(study.read_text().replace('"HPC.threshold" = 0.2', '"HPC.threshold" = 0.25'))
+    with pytest.raises(ConfigError) as info:
+        run_experiment(load_experiment(study, runs=1, steps=200), out, jobs=1, progress=False)
+    assert info.value.key == "conditions.low_threshold.params.HPC.threshold"
