@@ -14,7 +14,7 @@ Every run is written into ``OUT/.partial/`` and moved into place with one
 ``os.replace`` when it is complete, so a run folder exists only when all its files
 do. Running again into the same folder skips the finished runs; an interrupted sweep
 resumes where it stopped. Conditions new to a folder are added to it (a study can grow
-row by row). A folder whose ``config.toml`` differs from the experiment
+row by row), and descriptions may be reworded. A folder whose ``config.toml`` differs from the experiment
 (another seed, step count, circuit, parameter...) is refused, naming the first
 differing key.
 
@@ -88,18 +88,27 @@ def _prepare_folder(exp: Experiment, out: Path) -> Experiment:
         # a study may grow: conditions new to the folder are added, the others must be unchanged
         old_conditions, new_conditions = existing.get("conditions", {}), config.get("conditions", {})
         shared = [c for c in new_conditions if c in old_conditions]
-        key = first_difference({**existing, "conditions": {c: old_conditions[c] for c in shared}},
-                               {**config, "conditions": {c: new_conditions[c] for c in shared}})
+        key = first_difference(_without_descriptions({**existing, "conditions": {c: old_conditions[c] for c in shared}}),
+                               _without_descriptions({**config, "conditions": {c: new_conditions[c] for c in shared}}))
         if key is not None:
             raise ConfigError(config_path, key, f"{_lookup(config, key)!r} (this experiment) to resume into this folder",
                               f"{_lookup(existing, key)!r}; use another --out folder or remove this one")
-        if len(shared) < len(new_conditions):
-            grown = {**existing, "conditions": {**old_conditions, **new_conditions}}
+        grown = {**existing, "conditions": {**old_conditions, **new_conditions}}
+        if "description" in config:
+            grown["description"] = config["description"]
+        if grown != existing:
             _atomic_text(config_path, dumps_toml(grown, header=_HEADER))
         return exp
     out.mkdir(parents=True, exist_ok=True)
     _atomic_text(config_path, dumps_toml(config, header=_HEADER))
     return exp
+
+
+def _without_descriptions(tree):
+    """``tree`` without its ``description`` entries: prose, which does not change a result."""
+    if isinstance(tree, dict):
+        return {k: _without_descriptions(v) for k, v in tree.items() if k != "description"}
+    return tree
 
 
 def _lookup(tree, dotted: str):

@@ -131,6 +131,10 @@ def test_a_study_grows_by_new_conditions_but_old_ones_must_not_change(tmp_path):
         ("curious", 0), ("random_switching", 0), ("literal", 0), ("low_threshold", 0)}
     with (out / "config.toml").open("rb") as fh:
         assert set(tomllib.load(fh)["conditions"]) == {"curious", "random_switching", "literal", "low_threshold"}
+    study.write_text(study.read_text().replace('description = "Section 4.3 control', 'description = "The control'))
+    run_experiment(load_experiment(study, runs=1, steps=200), out, jobs=1, progress=False)  # prose may change
+    with (out / "config.toml").open("rb") as fh:
+        assert tomllib.load(fh)["conditions"]["random_switching"]["description"].startswith("The control")
     study.write_text(study.read_text().replace('"HPC.threshold" = 0.2', '"HPC.threshold" = 0.25'))
     with pytest.raises(ConfigError) as info:
         run_experiment(load_experiment(study, runs=1, steps=200), out, jobs=1, progress=False)
