@@ -350,6 +350,11 @@ def write_all(results_dir: str | Path, out_dir: str | Path | None = None, *, dpi
         figures[f"intrinsic_reward_{condition}"] = fig_intrinsic_reward(episodes, condition)
         figures[f"reward_function_{condition}"] = fig_reward_function(episodes, condition=condition)
         figures[f"neuromodulators_{condition}"] = fig_neuromodulators(episodes, condition=condition)
+    return save_figures(figures, out, dpi)
+
+
+def save_figures(figures: dict, out: Path, dpi: int) -> list[Path]:
+    """Write each ``{name: Figure}`` as ``out/<name>.png``; return the paths in order."""
     paths = []
     for name, fig in figures.items():
         path = out / f"{name}.png"

@@ -41,6 +41,7 @@ from neurocur.analysis.figures import (
     fig_neuromodulators,
     fig_order_counts,
     fig_reward_function,
+    save_figures,
 )
 from neurocur.analysis.io import load, run_dirs
 from neurocur.analysis.stats import SourceSpec, order_counts
@@ -362,9 +363,4 @@ def write_icub_figures(results_dir: str | Path, out_dir: str | Path | None = Non
             figures[f"feature_output_{condition}"] = fig_feature_output(features, modules, condition)
         figures[f"reward_function_{condition}"] = fig_reward_function(episodes, condition=condition, spec=ICUB)
         figures[f"neuromodulators_{condition}"] = fig_neuromodulators(episodes, condition=condition)
-    paths = []
-    for name, fig in figures.items():
-        path = out / f"{name}.png"
-        fig.savefig(path, dpi=dpi)
-        paths.append(path)
-    return paths
+    return save_figures(figures, out, dpi)

@@ -39,7 +39,7 @@ def test_synthetic_experiment_has_the_papers_parameters():
     assert cur.circuit == lit.circuit == CIRCUIT and rnd.circuit == ROOT / "circuits" / "lesion_lc_random.toml"
     paper = {"HPC.threshold": 0.3, "HPC.n_states": 1000, "HPC.max_clusters": 2, "LC.epsilon0": 0.6,
              "LC.decay": 0.995, "EC.amnesic": 2.0, "EC.mca_rate": 0.05}
-    chosen = {"HPC.clusterers": "state", "HPC.freeze": "converged", "HPC.reward_error": "context",
+    chosen = {"HPC.clusterers": "state", "HPC.freeze": "converged", "HPC.reward_error": "episode",
               "HPC.min_spread": 0.2, "sensory.episodes_on_engage": 2, "EC.n_pca": 3}
     assert cur.params == rnd.params == paper | chosen
     assert lit.params == paper | chosen | {"HPC.freeze": "episode_mean", "HPC.reward_error": "episode",
@@ -168,7 +168,7 @@ def test_user_sources_from_npy_files(tmp_path):
 def test_seeds_pair_runs_across_conditions_and_do_not_depend_on_the_run_count():
     exp = load_experiment(SYNTHETIC)
     short = load_experiment(SYNTHETIC, runs=3)
-    children = np.random.SeedSequence(2013).spawn(25)
+    children = np.random.SeedSequence(2026).spawn(25)
     for i in (0, 2):
         assert exp.run_seed(i).spawn_key == short.run_seed(i).spawn_key == children[i].spawn_key == (i,)
         np.testing.assert_array_equal(exp.run_seed(i).generate_state(4), children[i].generate_state(4))
@@ -208,16 +208,16 @@ def test_module_quality_is_abs_corr_with_the_slow_dimension():
 
 
 def test_run_one_tables():
-    exp = load_experiment(SYNTHETIC, steps=12_000)
-    cond = exp.conditions["literal"]  # the single-episode freeze stores S-A early
+    exp = load_experiment(SYNTHETIC, steps=30_000)
+    cond = exp.conditions["literal"]  # the single-episode freeze stores modules early
     result = run_one(cond, 3, exp.steps, exp.run_seed(3))
     ep, mod = result.episodes, result.modules
     assert list(ep.columns[:2]) == ["condition", "run"] and list(mod.columns[:2]) == ["condition", "run"]
     assert (ep["condition"] == "literal").all() and (ep["run"] == 3).all()
-    assert ep["n_frames"].sum() == result.summary["frames"] >= 12_000
+    assert ep["n_frames"].sum() == result.summary["frames"] >= 30_000
     for col in ("module", "step", "episode", "context", "n_clusters", "source", "quality", "gates"):
         assert col in mod.columns
-    assert len(mod) >= 1  # S-A is stored within 12 000 frames with this seed
+    assert len(mod) >= 1  # the literal reading stores several modules within 30 000 frames
     assert len(mod) == result.summary["n_modules"] and result.summary["order"] == mod["source"].tolist()
     for row in mod.itertuples():
         assert row.source == ("S-A", "S-A", "S-B", "S-C", "S-D")[row.context]
@@ -225,7 +225,7 @@ def test_run_one_tables():
         names = sorted({f"C{c + 1}" for c in gated["context"]})
         assert row.gates.split(",") == names if names else row.gates == ""
         assert 0.0 <= row.quality <= 1.0
-    assert result.summary["seed"] == {"entropy": 2013, "spawn_key": [3]}
+    assert result.summary["seed"] == {"entropy": 2026, "spawn_key": [3]}
     assert result.summary["contexts"][4] == {"name": "C5", "source": "S-D"}
 
 
@@ -236,7 +236,7 @@ def test_resolved_config_round_trips_through_toml():
     assert text.startswith("# a header\n# of two lines\n")
     back = tomllib.loads(text)
     assert first_difference(back, tomllib.loads(dumps_toml(back))) is None
-    assert back["seeds"] == {"entropy": 2013, "spawn_keys": [[0], [1]]}
+    assert back["seeds"] == {"entropy": 2026, "spawn_keys": [[0], [1]]}
     assert back["neurocur_version"] == __import__("neurocur").__version__
     cond = back["conditions"]["random_switching"]
     assert cond["circuit"] == str(ROOT / "circuits" / "lesion_lc_random.toml")

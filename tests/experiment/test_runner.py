@@ -1,8 +1,9 @@
 """The runner: worker processes, atomic run folders, resume, determinism across --jobs."""
 
 import json
-import tomllib
 import os
+import re
+import tomllib
 from pathlib import Path
 
 import pandas as pd
@@ -103,7 +104,7 @@ def test_refuses_to_resume_a_different_experiment(two_jobs, change, key):
 
 
 def test_experiment_without_seed_adopts_the_folders_seed(tmp_path):
-    text = SYNTHETIC.read_text().replace("seed = 2013", "")
+    text = re.sub(r"(?m)^seed = .*$", "", SYNTHETIC.read_text())
     exp_path = tmp_path / "noseed.toml"
     exp_path.write_text(text.replace('"../circuits/', f'"{SYNTHETIC.parent.parent}/circuits/'))
     exp = load_experiment(exp_path, runs=1, steps=200)
