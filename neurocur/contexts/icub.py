@@ -41,8 +41,7 @@ from pathlib import Path
 import numpy as np
 
 from ..learn._validation import check_fraction, check_positive_int
-from ..learn.omega import omega_from_eigenvalues
-from ..learn.sfa_batch import whiten_batch
+from ..learn.omega import omega
 from .base import Episode, World
 from .icub_scene import OBJECTS, SceneParams, scene_xml
 
@@ -445,11 +444,9 @@ def pca_reduce(episodes, var_fraction: float = 0.98) -> list[np.ndarray]:
 def omega_episodes(episodes, eta: float = 0.01, *, var_fraction: float = 0.98, rank_tol: float = 1e-10) -> float:
     """Ω (eqs 15, 40) of a set of episodes, the derivative taken within episodes only.
 
-    The episodes are reduced by :func:`pca_reduce`, whitened together, differenced inside
-    each episode, and Ω is computed from the two smallest eigenvalues of ``<ż żᵀ>``.
+    The episodes are reduced by :func:`pca_reduce`, then :func:`~neurocur.learn.omega.omega`
+    whitens them together and differences inside each episode.
     """
-    eta = check_fraction(eta, "eta")
     reduced = pca_reduce(episodes, var_fraction)
-    Z, _, _ = whiten_batch(np.concatenate(reduced), rank_tol)
-    dZ = np.concatenate([np.diff(z, axis=0) for z in np.split(Z, np.cumsum([len(r) for r in reduced])[:-1])])
-    return omega_from_eigenvalues(np.linalg.eigvalsh(dZ.T @ dZ / len(dZ)), eta)
+    starts = np.cumsum([0] + [len(r) for r in reduced[:-1]])
+    return omega(np.concatenate(reduced), eta, rank_tol=rank_tol, starts=starts)

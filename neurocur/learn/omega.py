@@ -15,13 +15,31 @@ from ._validation import check_block, check_fraction, check_nonconstant
 from .sfa_batch import whiten_batch
 
 
-def derivative_eigenvalues(X, *, rank_tol: float = 1e-10) -> np.ndarray:
-    """Ascending eigenvalues of ``<ż żᵀ>`` for the whitened signal ``z`` of ``X``."""
+def derivative_eigenvalues(X, *, rank_tol: float = 1e-10, starts=None) -> np.ndarray:
+    """Ascending eigenvalues of ``<ż żᵀ>`` for the whitened signal ``z`` of ``X``.
+
+    ``starts``: row indices where an independent episode begins inside ``X`` (the
+    whitening is fitted to all rows together); no derivative spans one of them.
+    """
     X = check_block(X, min_rows=3)
     check_nonconstant(X)
     Z, _, _ = whiten_batch(X, rank_tol)
     dZ = np.diff(Z, axis=0)
+    if starts is not None:
+        dZ = np.delete(dZ, _boundaries(starts, len(X)) - 1, axis=0)
     return np.linalg.eigvalsh(dZ.T @ dZ / len(dZ))
+
+
+def _boundaries(starts, n_rows: int) -> np.ndarray:
+    """The episode starts after row 0, checked: sorted, distinct ints in [0, n_rows), none within 2 of another."""
+    arr = np.asarray(starts)
+    if arr.ndim != 1 or arr.dtype.kind not in "iu":
+        raise ValueError(f"starts must be a 1-d array of row indices (ints); got {starts!r}")
+    edges = np.concatenate([[0], arr[arr > 0], [n_rows]])
+    if arr.size and (arr.min() < 0 or arr.max() >= n_rows) or np.any(np.diff(edges) < 2):
+        raise ValueError(f"starts must be increasing row indices in [0, {n_rows}) with episodes of at least 2 rows; "
+                         f"got {starts!r}")
+    return edges[1:-1]
 
 
 def omega_from_eigenvalues(lam, eta: float) -> float:
@@ -33,8 +51,11 @@ def omega_from_eigenvalues(lam, eta: float) -> float:
     return float(1.0 - eta * (lam_n1 - lam_n) / (1.0 - eta - eta * lam_n))
 
 
-def omega(X, eta: float = 0.05, *, rank_tol: float = 1e-10) -> float:
+def omega(X, eta: float = 0.05, *, rank_tol: float = 1e-10, starts=None) -> float:
     """Ω of the signal ``X`` (rows are time) for MCA learning rate ``eta`` (eq 40).
+
+    ``starts`` marks where independent episodes begin inside ``X`` (see
+    :func:`derivative_eigenvalues`).
 
     The convergence conditions of eq 20 (η λ_1 < 0.5, 0 < η ≤ 0.5) must hold for Ω to
     be meaningful; a ``ValueError`` says so when they do not.
@@ -42,7 +63,7 @@ def omega(X, eta: float = 0.05, *, rank_tol: float = 1e-10) -> float:
     eta = check_fraction(eta, "eta")
     if eta > 0.5:
         raise ValueError(f"eta must be in (0, 0.5] (eq 20); got {eta}")
-    lam = derivative_eigenvalues(X, rank_tol=rank_tol)
+    lam = derivative_eigenvalues(X, rank_tol=rank_tol, starts=starts)
     if eta * lam[-1] >= 0.5:
         raise ValueError(
             f"eta * lambda_1 = {eta * lam[-1]:.3g} must be < 0.5 for MCA to converge (eq 20); lower eta"

@@ -111,3 +111,20 @@ def test_malformed_rejected(X):
         batch_sfa(X, 1)
     with pytest.raises(ValueError):
         omega(X, 0.05)
+
+
+def test_omega_starts_never_difference_across_episodes():
+    rng = np.random.default_rng(3)
+    t = np.arange(500)
+    a = np.c_[np.sin(2 * np.pi * t / 500), np.sin(2 * np.pi * 20 * t / 500)] @ rng.standard_normal((2, 6))
+    b = a[::-1] + 5.0  # a jump at the join would dominate a derivative taken across it
+    X = np.vstack([a, b])
+    Z, _, _ = whiten_batch(X)
+    dZ = np.vstack([np.diff(Z[:500], axis=0), np.diff(Z[500:], axis=0)])
+    by_hand = np.linalg.eigvalsh(dZ.T @ dZ / len(dZ))
+    np.testing.assert_allclose(derivative_eigenvalues(X, starts=np.array([0, 500])), by_hand, rtol=1e-12, atol=1e-15)
+    assert omega(X, 0.05, starts=np.array([0, 500])) == pytest.approx(omega_from_eigenvalues(by_hand, 0.05), abs=1e-14)
+    assert not np.allclose(derivative_eigenvalues(X), by_hand)  # the join does change the answer
+    for bad in (np.array([0, 1000]), np.array([500, 200]), np.array([0, 499, 500]), np.array([0.0, 500.0])):
+        with pytest.raises(ValueError, match="starts must be"):
+            omega(X, 0.05, starts=bad)
