@@ -140,9 +140,8 @@ class HPCROC(Region):
         idx = episode.states + c * p.n_states if p.clusterers == "context_state" else episode.states
         min_err, gating = np.nan, -1
         for m, bank in enumerate(self.library):
-            y = library_features[:, m, :]
-            err, known = bank.error(idx, y)
-            e = _known_mean(self._scaled(err, y), known) if _spread(y) >= p.min_spread else np.nan
+            err, known, responds = self._errors(bank, idx, library_features[:, m, :])
+            e = _known_mean(err, known) if responds else np.nan
             if e < min_err or (e == e and min_err != min_err):
                 min_err, gating = e, m
         familiar = bool(p.gating and min_err < p.threshold)
@@ -151,8 +150,7 @@ class HPCROC(Region):
         if self.bank is None:
             self.bank = ROCBank(self.n_clusterers, features.shape[1], max_clusters=p.max_clusters,
                                 amnesic=p.amnesic, width=p.width)
-        err, known = self.bank.error(idx, features)
-        err = self._scaled(err, features)
+        err, known, responds = self._errors(self.bank, idx, features)
         ep_err = _known_mean(err, known)
         row, prev = self.stored[c], self.previous[c]
         visited = episode.states[known]
@@ -176,19 +174,28 @@ class HPCROC(Region):
             rule = ep_err < p.threshold
         else:
             rule = n_missing == 0 and _extrapolated_drift(row, prev) < p.threshold
-        learned = bool(rule and not familiar and _spread(features) >= p.min_spread)
+        learned = bool(rule and not familiar and responds)
         self._frame_err, self._known = err, known
         self._idx, self._features, self._context = idx, features, c
         self.familiar, self.module_learned = familiar, learned
         self._rec = (familiar, gating, ctx_err, ep_err, min_err, learned)
         return familiar, learned, float(ctx_err if p.reward_error == "context" else ep_err)
 
-    def _scaled(self, err: np.ndarray, y: np.ndarray) -> np.ndarray:
-        """Eq-10 errors, divided by the episode's feature spread under ``error_scale = "spread"``."""
-        if self.params.error_scale == "absolute":
-            return err
+    def _errors(self, bank: ROCBank, idx: np.ndarray, y: np.ndarray):
+        """Eq-10 errors of a module's outputs ``y`` per frame, the ``known`` mask, and whether it responds.
+
+        Errors are divided by the episode's feature spread under ``error_scale =
+        "spread"``; the module responds when that spread is at least ``min_spread``.
+        The spread is computed only when one of the two options needs it.
+        """
+        p = self.params
+        err, known = bank.error(idx, y)
+        if p.error_scale == "absolute" and p.min_spread == 0.0:
+            return err, known, True
         spread = _spread(y)
-        return err / spread if spread > 0 else np.full_like(err, np.inf)
+        if p.error_scale == "spread":
+            err = err / spread if spread > 0 else np.full_like(err, np.inf)
+        return err, known, spread >= p.min_spread
 
     def learn(self) -> None:
         if self.familiar:
