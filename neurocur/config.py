@@ -6,9 +6,13 @@ straight to the offending line. Circuits (``circuits/*.toml``) and experiments
 (``experiments/*.toml``) both use these helpers.
 
 Parameters of regions (and of anything else configured from a file) are frozen
-dataclasses whose fields are declared with :func:`param`; :func:`check_params`
-validates type and range, and :func:`make_params` builds an instance from a TOML table.
-Loading a configuration never executes code.
+dataclasses whose fields are declared with :func:`param` (or :func:`spec_param` for a
+ready :class:`ParamSpec`, e.g. a list, a table or nested parameters);
+:func:`check_params` validates type and range, and :func:`make_params` builds an
+instance from a TOML table. The learners of :mod:`neurocur.learn` declare a
+:class:`ParamSpec` per parameter (``param_specs``), checked by :func:`coerce_params`;
+a region parameter passed on to a learner is declared with :func:`learner_param`, so
+it takes the learner's spec. Loading a configuration never executes code.
 """
 
 from __future__ import annotations
@@ -16,9 +20,10 @@ from __future__ import annotations
 import dataclasses
 import math
 import tomllib
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any
 
 import numpy as np
 
@@ -26,6 +31,9 @@ __all__ = [
     "ConfigError",
     "ParamSpec",
     "param",
+    "spec_param",
+    "learner_param",
+    "coerce_params",
     "check_params",
     "make_params",
     "params_to_dict",
@@ -61,11 +69,9 @@ class ConfigError(ValueError):
         where = f"{self.source}: key '{key}'" if key else self.source
         super().__init__(f"{where}: expected {expected}, got {got}")
 
-    def relocated(self, source=None, prefix: str | None = None) -> "ConfigError":
+    def relocated(self, source=None, prefix: str | None = None) -> ConfigError:
         """The same error reported from another file and/or under a key prefix."""
-        key = self.key
-        if prefix:
-            key = f"{prefix}.{key}" if key else prefix
+        key = _join(prefix, self.key) if prefix else self.key
         return ConfigError(self.source if source is None else source, key, self.expected, self.got)
 
 
@@ -122,8 +128,11 @@ def deep_merge(base: Mapping, override: Mapping) -> dict:
     return out
 
 
-def _join(prefix: str, key: str) -> str:
-    return f"{prefix}.{key}" if prefix else key
+def _join(prefix: str, key: str | None) -> str:
+    """``prefix.key``; an index key (``[2]``) attaches without a dot; either part may be empty."""
+    if not prefix or not key:
+        return key or prefix
+    return f"{prefix}{key}" if key.startswith("[") else f"{prefix}.{key}"
 
 
 # --------------------------------------------------------------------------- parameters
@@ -136,7 +145,15 @@ class ParamSpec:
     ``kind`` is ``float``, ``int``, ``bool`` or ``str``. Numbers may be bounded by
     ``low``/``high`` (closed unless ``low_open``/``high_open``). ``choices`` lists the
     accepted strings (for ``kind=str``, or as extra accepted values of a numeric
-    parameter, e.g. ``gamma = "auto"``). ``optional`` accepts ``None``.
+    parameter, e.g. ``gamma = "auto"``). ``classes`` are extra accepted classes whose
+    instances pass unchanged (e.g. a number or an ``AmnesicSchedule``). ``optional``
+    accepts ``None``.
+
+    Composite kinds, made with :meth:`sequence`, :meth:`table` and :meth:`nested`:
+    ``kind=tuple`` (a list of ``item``-checked values, coerced to a tuple; ``length`` or
+    ``min_length`` items), ``kind=dict`` (a table from non-empty string names to
+    ``item``-checked values) and ``kind=`` a parameter dataclass (a TOML table turned
+    into that class by :func:`make_params`, or an instance of it).
     """
 
     kind: type
@@ -146,11 +163,47 @@ class ParamSpec:
     high_open: bool = False
     choices: tuple[str, ...] = ()
     optional: bool = False
+    classes: tuple[type, ...] = ()
+    item: ParamSpec | None = None
+    length: int | None = None
+    min_length: int = 0
+
+    def __post_init__(self):
+        if self.kind not in (float, int, bool, str, tuple, dict) and not dataclasses.is_dataclass(self.kind):
+            raise TypeError(f"ParamSpec kind must be float, int, bool, str, tuple, dict or a dataclass; got {self.kind!r}")
+        if (self.item is not None) != (self.kind in (tuple, dict)):
+            raise TypeError("ParamSpec needs an item spec exactly for the sequence and table kinds")
+
+    @classmethod
+    def sequence(cls, item: ParamSpec, *, length: int | None = None, min_length: int = 0,
+                 optional: bool = False) -> ParamSpec:
+        """A list (or tuple) of values each checked by ``item``, coerced to a tuple."""
+        return cls(tuple, item=item, length=length, min_length=min_length, optional=optional)
+
+    @classmethod
+    def table(cls, item: ParamSpec, *, optional: bool = False) -> ParamSpec:
+        """A table (dict) from non-empty string names to values each checked by ``item``."""
+        return cls(dict, item=item, optional=optional)
+
+    @classmethod
+    def nested(cls, params_cls: type, *, optional: bool = False) -> ParamSpec:
+        """A table of the parameters of the frozen dataclass ``params_cls`` (or an instance of it)."""
+        return cls(params_cls, optional=optional)
 
     def expected(self) -> str:
         parts = []
         if self.kind is str:
             parts.append("one of " + ", ".join(repr(c) for c in self.choices))
+        elif self.kind is tuple:
+            if self.length is not None:
+                n, count = self.length, f"{self.length} "
+            else:
+                n, count = self.min_length, f"at least {self.min_length} " if self.min_length else ""
+            parts.append(f"a list of {count}{'item' if n == 1 else 'items'}, each {self.item.expected()}")
+        elif self.kind is dict:
+            parts.append(f"a table of named items, each {self.item.expected()}")
+        elif dataclasses.is_dataclass(self.kind):
+            parts.append(f"a table of {self.kind.__name__} parameters")
         else:
             text = {float: "a number", int: "an integer", bool: "a boolean (true/false)"}[self.kind]
             bounds = []
@@ -162,46 +215,122 @@ class ParamSpec:
                 text += " " + " and ".join(bounds)
             parts.append(text)
             parts += [repr(c) for c in self.choices]
+        parts += [f"{'an' if c.__name__[0] in 'AEIOU' else 'a'} {c.__name__}" for c in self.classes]
         if self.optional:
             parts.append("None (omit the key)")
         return " or ".join(parts)
 
-    def coerce(self, value):
-        """Return the value converted to ``kind``, or raise ``ValueError`` (message: expected)."""
+    def coerce(self, value, *, source="<python>", key: str | None = None):
+        """Return the value converted to ``kind``, or raise :class:`ConfigError`.
+
+        The error names ``source`` and ``key`` (for a composite kind, the key of the
+        offending item below ``key``: ``points[2]``, ``arms.left``, ``scene.arm_length``).
+        """
         if value is None and self.optional:
             return None
         if isinstance(value, str) and value in self.choices:
             return value
+        if self.classes and isinstance(value, self.classes):
+            return value
+        if self.kind is tuple:
+            return self._coerce_sequence(value, source, key)
+        if self.kind is dict:
+            return self._coerce_table(value, source, key)
+        if dataclasses.is_dataclass(self.kind):
+            if isinstance(value, self.kind):
+                return value
+            if isinstance(value, Mapping):
+                return make_params(self.kind, value, source=source, prefix=key or "")
+            raise ConfigError(source, key, self.expected(), describe(value))
         ok = False
+        converted = value
         if self.kind is bool:
             ok = isinstance(value, (bool, np.bool_))
-            value = bool(value) if ok else value
+            converted = bool(value) if ok else value
         elif self.kind is int:
             ok = isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_))
-            value = int(value) if ok else value
+            converted = int(value) if ok else value
         elif self.kind is float:
             ok = isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, (bool, np.bool_))
-            value = float(value) if ok else value
-            ok = ok and math.isfinite(value)
+            converted = float(value) if ok else value
+            ok = ok and math.isfinite(converted)
         if ok and self.kind in (int, float):
-            if self.low is not None and (value < self.low or (self.low_open and value == self.low)):
+            if self.low is not None and (converted < self.low or (self.low_open and converted == self.low)):
                 ok = False
-            if self.high is not None and (value > self.high or (self.high_open and value == self.high)):
+            if self.high is not None and (converted > self.high or (self.high_open and converted == self.high)):
                 ok = False
         if not ok:
-            raise ValueError(self.expected())
+            raise ConfigError(source, key, self.expected(), describe(value))
+        return converted
+
+    def _coerce_sequence(self, value, source, key) -> tuple:
+        n = len(value) if isinstance(value, (list, tuple)) else -1
+        if n < 0 or (self.length is not None and n != self.length) or n < self.min_length:
+            raise ConfigError(source, key, self.expected(), describe(value))
+        return tuple(self.item.coerce(v, source=source, key=_join(key or "", f"[{i}]")) for i, v in enumerate(value))
+
+    def _coerce_table(self, value, source, key) -> dict:
+        if not isinstance(value, Mapping):
+            raise ConfigError(source, key, self.expected(), describe(value))
+        out = {}
+        for name, v in value.items():
+            if not isinstance(name, str) or not name:
+                raise ConfigError(source, key, "a table whose names are non-empty strings", f"the name {name!r}")
+            out[name] = self.item.coerce(v, source=source, key=_join(key or "", name))
+        return out
+
+    def plain(self, value):
+        """``value`` as plain data (nested parameters as dicts, sequences as lists), for TOML or JSON."""
+        if value is None:
+            return None
+        if self.kind is tuple and isinstance(value, (list, tuple)):
+            return [self.item.plain(v) for v in value]
+        if self.kind is dict and isinstance(value, Mapping):
+            return {name: self.item.plain(v) for name, v in value.items()}
+        if dataclasses.is_dataclass(self.kind) and isinstance(value, self.kind):
+            return params_to_dict(value)
         return value
 
 
 def param(default, kind: type, *, low=None, high=None, low_open=False, high_open=False,
           choices=(), optional=False, doc: str = ""):
     """A dataclass field carrying a :class:`ParamSpec` (use inside a frozen dataclass)."""
-    spec = ParamSpec(kind, low, high, low_open, high_open, tuple(choices), optional)
-    return field(default=default, metadata={"spec": spec, "doc": doc})
+    spec = ParamSpec(kind, low=low, high=high, low_open=low_open, high_open=high_open, choices=tuple(choices),
+                     optional=optional)
+    return spec_param(default, spec, doc=doc)
+
+
+def spec_param(default, spec: ParamSpec, *, doc: str = ""):
+    """A dataclass field carrying a ready :class:`ParamSpec`, e.g. a composite one.
+
+    A table (dict) default is copied for each instance.
+    """
+    metadata = {"spec": spec, "doc": doc}
+    if isinstance(default, dict):
+        return field(default_factory=lambda: dict(default), metadata=metadata)
+    return field(default=default, metadata=metadata)
+
+
+def learner_param(owner, name: str, default, *, doc: str = ""):
+    """A dataclass field checked by the spec that ``owner`` declares for its parameter ``name``.
+
+    ``owner.param_specs[name]`` is the spec (learners in :mod:`neurocur.learn` declare
+    one per parameter), so a region parameter that is passed on to a learner accepts
+    exactly what the learner accepts: ``mca_rate: float = learner_param(IncSFA,
+    "mca_rate", 0.05, doc="MCA learning rate")``.
+    """
+    return spec_param(default, owner.param_specs[name], doc=doc)
+
+
+def coerce_params(specs: Mapping[str, ParamSpec], values: Mapping, *, source) -> dict:
+    """``values`` checked and coerced by ``specs[name]``, by name; errors are ConfigErrors naming the key."""
+    return {name: specs[name].coerce(value, source=source, key=name) for name, value in values.items()}
 
 
 def check_params(obj, *, source=None) -> None:
-    """Validate (and coerce in place) every :func:`param` field of a frozen dataclass.
+    """Validate (and coerce in place) every field of a frozen dataclass that carries a spec.
+
+    (Fields made with :func:`param`, :func:`spec_param` or :func:`learner_param`.)
 
     Meant to be called from ``__post_init__``. Raises ConfigError naming the field.
     """
@@ -211,10 +340,7 @@ def check_params(obj, *, source=None) -> None:
         if spec is None:
             continue
         value = getattr(obj, f.name)
-        try:
-            coerced = spec.coerce(value)
-        except ValueError as exc:
-            raise ConfigError(source, f.name, str(exc), describe(value)) from None
+        coerced = spec.coerce(value, source=source, key=f.name)
         if coerced is not value:
             object.__setattr__(obj, f.name, coerced)
 
@@ -234,5 +360,14 @@ def make_params(cls, table: Mapping | None, *, source, prefix: str):
 
 
 def params_to_dict(obj) -> dict[str, Any]:
-    """The parameters as a plain dict, ``None`` values left out (TOML has no null)."""
-    return {f.name: getattr(obj, f.name) for f in dataclasses.fields(obj) if getattr(obj, f.name) is not None}
+    """The parameters as plain data, ``None`` values left out (TOML has no null).
+
+    Nested parameters become dicts and sequences lists (:meth:`ParamSpec.plain`), so
+    :func:`make_params` rebuilds an equal object from the result.
+    """
+    out = {}
+    for f in dataclasses.fields(obj):
+        value, spec = getattr(obj, f.name), f.metadata.get("spec")
+        if value is not None:
+            out[f.name] = spec.plain(value) if spec is not None else value
+    return out

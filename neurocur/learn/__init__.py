@@ -11,7 +11,9 @@
 | exact batch SFA (the reference) | ``sfa_batch`` | eqs 4–7 |
 
 The sequential per-sample loops are compiled with numba in ``_kernels`` and
-``_roc_kernels``; the classes validate input and call them once per block.
+``_roc_kernels``; the classes validate input and call them once per block. Each
+learner declares the type and range of its parameters once, as
+:class:`neurocur.config.ParamSpec` objects in its ``param_specs``.
 """
 
 from .ccipca import CCIPCA, AmnesicSchedule

@@ -1,15 +1,26 @@
 """A small scikit-learn-style base class for the learners (no scikit-learn dependency).
 
 Parameters are exactly the keyword arguments of ``__init__``, stored under the same
-names; ``get_params`` reads them back by introspecting the signature, ``set_params``
-writes them and re-validates, ``copy`` returns an independent deep copy (learned state
-included), and ``repr`` shows the parameters.
+names and unchanged; each has a :class:`~neurocur.config.ParamSpec` in the class's
+``param_specs``, the one place its type and range are declared (regions that pass a
+parameter on to a learner reuse it, see :func:`neurocur.config.learner_param`).
+``get_params`` reads the parameters back by introspecting the signature,
+``set_params`` writes them and re-validates, ``copy`` returns an independent deep copy
+(learned state included), and ``repr`` shows the parameters.
 """
 
 from __future__ import annotations
 
 import copy as _copy
 import inspect
+from typing import ClassVar
+
+import numpy as np
+
+from ..config import ParamSpec, coerce_params
+
+#: ``random_state``: None, a seed, a numpy SeedSequence or a numpy Generator.
+RANDOM_STATE = ParamSpec(int, low=0, optional=True, classes=(np.random.SeedSequence, np.random.Generator))
 
 
 class NotFittedError(ValueError, AttributeError):
@@ -18,7 +29,11 @@ class NotFittedError(ValueError, AttributeError):
 
 class Estimator:
     """Base class: subclasses store every ``__init__`` argument as an attribute of the same
-    name and implement ``_validate_params()`` (raise ``ValueError`` on a bad value)."""
+    name, declare a :class:`~neurocur.config.ParamSpec` for each in ``param_specs``, and
+    override ``_check_params`` for checks that involve several parameters or the fitted
+    state."""
+
+    param_specs: ClassVar[dict[str, ParamSpec]] = {}
 
     @classmethod
     def _param_names(cls) -> list[str]:
@@ -50,8 +65,16 @@ class Estimator:
             raise
         return self
 
-    def _validate_params(self) -> None:  # pragma: no cover - every subclass overrides it
-        raise NotImplementedError
+    def _validate_params(self) -> dict:
+        """The parameters checked by their specs and by ``_check_params``, coerced (ints to
+        float, ...); a bad one raises a ``ValueError`` (a ``ConfigError``) naming it, what
+        was expected and what was given."""
+        params = coerce_params(self.param_specs, self.get_params(), source=type(self).__name__)
+        self._check_params(params)
+        return params
+
+    def _check_params(self, params: dict) -> None:
+        """Checks beyond each parameter's spec, on the coerced ``params``; none by default."""
 
     def copy(self):
         """An independent deep copy, learned state included."""

@@ -21,18 +21,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
-from ._estimator import Estimator, NotFittedError
+from ..config import ConfigError, ParamSpec, check_params, describe, param
+from ._estimator import RANDOM_STATE, Estimator, NotFittedError
 from ._kernels import active_mask, ccipca_fit
-from ._validation import (
-    check_block,
-    check_fraction,
-    check_nonconstant,
-    check_positive_int,
-    check_random_state,
-)
+from ._validation import check_block, check_nonconstant, check_random_state
 
 
 @dataclass(frozen=True)
@@ -44,51 +40,26 @@ class AmnesicSchedule:
     r=2000..5000.
     """
 
-    t1: float = 20.0
-    t2: float = 200.0
-    c: float = 2.0
-    r: float = 2000.0
+    t1: float = param(20.0, float, low=0.0)
+    t2: float = param(200.0, float, low=0.0)
+    c: float = param(2.0, float, low=0.0)
+    r: float = param(2000.0, float, low=0.0, low_open=True)
 
     def __post_init__(self):
-        for name in ("t1", "t2", "c", "r"):
-            value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-                raise ValueError(f"AmnesicSchedule.{name} must be a number; got {value!r}")
-            if not math.isfinite(value):
-                raise ValueError(f"AmnesicSchedule.{name} must be finite; got {value!r}")
-        if not 0 <= self.t1 < self.t2:
-            raise ValueError(f"AmnesicSchedule needs 0 <= t1 < t2; got t1={self.t1}, t2={self.t2}")
-        if self.c < 0:
-            raise ValueError(f"AmnesicSchedule.c must be >= 0; got {self.c}")
-        if self.r <= 0:
-            raise ValueError(f"AmnesicSchedule.r must be > 0; got {self.r}")
+        check_params(self)
+        if self.t2 <= self.t1:
+            raise ConfigError(type(self).__name__, "t2", f"a number > t1 = {self.t1:g}", describe(self.t2))
 
 
 def amnesic_params(amnesic) -> tuple[float, float, float, float]:
-    """(t1, t2, c, r) for the kernels from an ``AmnesicSchedule`` or a constant ``l`` ≥ 0.
+    """(t1, t2, c, r) for the kernels from a checked ``amnesic``: an ``AmnesicSchedule`` or a constant l.
 
     The constant form μ(t) ≡ l (the paper's "1/t learning rate with amnesic parameter
     l = 2") is encoded as t1 = t2 = 0, c = l, r = ∞.
     """
     if isinstance(amnesic, AmnesicSchedule):
         return float(amnesic.t1), float(amnesic.t2), float(amnesic.c), float(amnesic.r)
-    if isinstance(amnesic, bool) or not isinstance(amnesic, (int, float, np.integer, np.floating)):
-        raise ValueError(f"amnesic must be a number l >= 0 or an AmnesicSchedule; got {amnesic!r}")
-    if not (math.isfinite(amnesic) and amnesic >= 0):
-        raise ValueError(f"amnesic must be a finite number >= 0; got {amnesic!r}")
     return 0.0, 0.0, float(amnesic), math.inf
-
-
-def check_cutoffs(var_fraction, eig_cutoff) -> tuple[float, float]:
-    """Validated (var_fraction, eig_cutoff) for the kernels; ``var_fraction=None`` → 0 (off)."""
-    frac = 0.0 if var_fraction is None else check_fraction(var_fraction, "var_fraction")
-    try:
-        cut = float(eig_cutoff)
-    except (TypeError, ValueError):
-        raise ValueError(f"eig_cutoff must be a number in [0, 1); got {eig_cutoff!r}") from None
-    if not 0.0 <= cut < 1.0:
-        raise ValueError(f"eig_cutoff must be in [0, 1); got {eig_cutoff!r}")
-    return frac, cut
 
 
 def init_directions(rng: np.random.Generator, n_components: int, n_features: int) -> np.ndarray:
@@ -114,6 +85,14 @@ class CCIPCA(Estimator):
     ``total_variance_`` (trace of the covariance estimate); ``n_samples_seen_``.
     """
 
+    param_specs: ClassVar[dict[str, ParamSpec]] = {
+        "n_components": ParamSpec(int, low=1),
+        "amnesic": ParamSpec(float, low=0.0, classes=(AmnesicSchedule,)),
+        "var_fraction": ParamSpec(float, low=0.0, high=1.0, low_open=True, optional=True),
+        "eig_cutoff": ParamSpec(float, low=0.0, high=1.0, high_open=True),
+        "random_state": RANDOM_STATE,
+    }
+
     def __init__(self, n_components, *, amnesic=2.0, var_fraction=None, eig_cutoff=1e-3, random_state=None):
         self.n_components = n_components
         self.amnesic = amnesic
@@ -122,11 +101,8 @@ class CCIPCA(Estimator):
         self.random_state = random_state
         self._validate_params()
 
-    def _validate_params(self) -> None:
-        k = check_positive_int(self.n_components, "n_components")
-        amnesic_params(self.amnesic)
-        check_cutoffs(self.var_fraction, self.eig_cutoff)
-        if hasattr(self, "_dirs") and k != self._dirs.shape[0]:
+    def _check_params(self, params: dict) -> None:
+        if hasattr(self, "_dirs") and params["n_components"] != self._dirs.shape[0]:
             raise ValueError("n_components cannot change after the first partial_fit; make a new CCIPCA")
 
     def _start(self, n_features: int) -> None:
@@ -146,12 +122,13 @@ class CCIPCA(Estimator):
 
         The first call needs at least two rows that are not all equal.
         """
+        params = self._validate_params()
         fitted = hasattr(self, "_dirs")
         X = check_block(X, n_features=self.mean_.shape[0] if fitted else None, min_rows=1 if fitted else 2)
         if not fitted:
             check_nonconstant(X)
             self._start(X.shape[1])
-        t1, t2, c, r = amnesic_params(self.amnesic)
+        t1, t2, c, r = amnesic_params(params["amnesic"])
         self.n_samples_seen_, self._total = ccipca_fit(
             X, self.n_samples_seen_, self.mean_, self._dirs, self._lam, self._total, t1, t2, c, r, self._work
         )
@@ -164,9 +141,10 @@ class CCIPCA(Estimator):
     def _active(self) -> np.ndarray:
         """Indices of the active components, by descending eigenvalue."""
         self._check_fitted()
-        frac, cut = check_cutoffs(self.var_fraction, self.eig_cutoff)
+        params = self._validate_params()
+        frac = 0.0 if params["var_fraction"] is None else params["var_fraction"]  # 0: off
         mask = np.zeros(self._lam.shape[0], dtype=np.bool_)
-        active_mask(self._lam, self._total, cut, frac, mask)
+        active_mask(self._lam, self._total, params["eig_cutoff"], frac, mask)
         order = np.argsort(-self._lam, kind="stable")
         return order[mask[order]]
 

@@ -28,13 +28,16 @@ compiled call (``_kernels.incsfa_fit``).
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 import numpy as np
 
+from ..config import ParamSpec
 from ._estimator import Estimator, NotFittedError
 from ._kernels import incsfa_fit
-from ._validation import check_block, check_nonconstant, check_positive_int, check_random_state
-from .ccipca import amnesic_params, check_cutoffs, init_directions
-from .mca import AUTO_GAMMA_FACTOR, check_gamma, check_rate, init_weights
+from ._validation import check_block, check_nonconstant, check_random_state
+from .ccipca import CCIPCA, amnesic_params, init_directions
+from .mca import AUTO_GAMMA_FACTOR, MCA, gamma_code, init_weights
 
 
 class IncSFA(Estimator):
@@ -56,6 +59,18 @@ class IncSFA(Estimator):
     (whitened components in use); ``eigenvalues_`` (K,) CCIPCA's estimates, descending;
     ``gamma_`` (the γ in use).
     """
+
+    # the whitening's parameters are CCIPCA's, the slow-feature extraction's are MCA's
+    param_specs: ClassVar[dict[str, ParamSpec]] = {
+        "n_components": MCA.param_specs["n_components"],
+        "n_pca": CCIPCA.param_specs["n_components"],
+        "amnesic": CCIPCA.param_specs["amnesic"],
+        "var_fraction": CCIPCA.param_specs["var_fraction"],
+        "eig_cutoff": CCIPCA.param_specs["eig_cutoff"],
+        "mca_rate": MCA.param_specs["learning_rate"],
+        "gamma": MCA.param_specs["gamma"],
+        "random_state": CCIPCA.param_specs["random_state"],
+    }
 
     def __init__(
         self,
@@ -79,15 +94,10 @@ class IncSFA(Estimator):
         self.random_state = random_state
         self._validate_params()
 
-    def _validate_params(self) -> None:
-        j = check_positive_int(self.n_components, "n_components")
-        k = check_positive_int(self.n_pca, "n_pca")
+    def _check_params(self, params: dict) -> None:
+        j, k = params["n_components"], params["n_pca"]
         if j > k:
             raise ValueError(f"n_components={j} must not exceed n_pca={k}")
-        amnesic_params(self.amnesic)
-        check_cutoffs(self.var_fraction, self.eig_cutoff)
-        check_rate(self.mca_rate, "mca_rate")
-        check_gamma(self.gamma)
         if hasattr(self, "_W") and (j, k) != self._W.shape:
             raise ValueError("n_components and n_pca cannot change after the first partial_fit; make a new IncSFA")
 
@@ -121,19 +131,20 @@ class IncSFA(Estimator):
         first row is also differenced against the last row of the previous call. The
         first call needs at least two rows that are not all equal.
         """
+        params = self._validate_params()
         fitted = hasattr(self, "_W")
         X = check_block(X, n_features=self.mean_.shape[0] if fitted else None, min_rows=1 if fitted else 2)
         if not fitted:
             check_nonconstant(X)
             self._start(X.shape[1])
-        t1, t2, c, r = amnesic_params(self.amnesic)
-        frac, cut = check_cutoffs(self.var_fraction, self.eig_cutoff)
-        gamma = check_gamma(self.gamma)
+        t1, t2, c, r = amnesic_params(params["amnesic"])
+        frac = 0.0 if params["var_fraction"] is None else params["var_fraction"]  # 0: off
+        gamma = gamma_code(params["gamma"])
         u, dx, zdot, gres, coup, new = self._work
         self.n_samples_seen_, self._total, self.n_active_ = incsfa_fit(
             X, self.n_samples_seen_, self._total, bool(continues and self._has_prev),
             self.mean_, self._dirs, self._lam, self._prev, self._W, self._gdir, self._glam,
-            t1, t2, c, r, cut, frac, check_rate(self.mca_rate, "mca_rate"), gamma,
+            t1, t2, c, r, params["eig_cutoff"], frac, params["mca_rate"], gamma,
             AUTO_GAMMA_FACTOR if gamma < 0 else 0.0,
             self._mask, u, dx, zdot, gres, coup, new,
         )
@@ -159,7 +170,7 @@ class IncSFA(Estimator):
     @property
     def gamma_(self) -> float:
         """The γ in use: the given one, or AUTO_GAMMA_FACTOR × the current λ̂_1(ż)."""
-        gamma = check_gamma(self.gamma)
+        gamma = gamma_code(self._validate_params()["gamma"])
         if gamma > 0:
             return gamma
         self._check_fitted()

@@ -20,10 +20,11 @@ make the policy alternate between equally good actions.
 from __future__ import annotations
 
 import warnings
+from typing import ClassVar
 
 import numpy as np
 
-from ._validation import check_positive_int
+from ..config import ParamSpec, coerce_params
 
 
 def _as_finite(x, name: str, ndim: int, shape_doc: str) -> np.ndarray:
@@ -38,8 +39,8 @@ def _as_finite(x, name: str, ndim: int, shape_doc: str) -> np.ndarray:
     return arr
 
 
-def _check_mdp(P, R, discount) -> tuple[np.ndarray, np.ndarray, float]:
-    """Validate the model: P (S, A, S) stochastic over s', R (S, A) finite, 0 ≤ discount < 1."""
+def _check_mdp(P, R) -> tuple[np.ndarray, np.ndarray]:
+    """Validate the model: P (S, A, S) stochastic over s', R (S, A) finite."""
     P = _as_finite(P, "P", 3, "(S, A, S) with P[s, a, s']")
     S, A, S2 = P.shape
     if S2 != S or S == 0 or A == 0:
@@ -53,23 +54,7 @@ def _check_mdp(P, R, discount) -> tuple[np.ndarray, np.ndarray, float]:
     R = _as_finite(R, "R", 2, f"(S, A) = ({S}, {A})")
     if R.shape != (S, A):
         raise ValueError(f"R must have shape (S, A) = ({S}, {A}) to match P; got {R.shape}")
-    try:
-        gamma = float(discount)
-    except (TypeError, ValueError):
-        raise ValueError(f"discount must be a number in [0, 1); got {discount!r}") from None
-    if not 0.0 <= gamma < 1.0:
-        raise ValueError(f"discount must be in [0, 1); got {discount!r}")
-    return P, R, gamma
-
-
-def _check_tol(tol) -> float:
-    try:
-        t = float(tol)
-    except (TypeError, ValueError):
-        raise ValueError(f"tol must be a non-negative finite number; got {tol!r}") from None
-    if not (np.isfinite(t) and t >= 0):
-        raise ValueError(f"tol must be a non-negative finite number; got {tol!r}")
-    return t
+    return P, R
 
 
 def greedy(Q: np.ndarray, tol: float = 0.0) -> np.ndarray:
@@ -89,13 +74,22 @@ class LSPI:
     policy is unchanged or the weights move by less than ``tol`` (max-norm); it warns
     if ``max_iter`` is reached. A singular A (redundant features) is solved in the
     least-squares, minimum-norm sense.
+
+    ``param_specs`` declares ``discount``, ``max_iter`` and ``tol`` (also of :func:`lspi`
+    and :func:`value_iteration`); ``P``, ``R`` and ``features`` are data, checked as such.
     """
 
+    param_specs: ClassVar[dict[str, ParamSpec]] = {
+        "discount": ParamSpec(float, low=0.0, high=1.0, high_open=True),
+        "max_iter": ParamSpec(int, low=1),
+        "tol": ParamSpec(float, low=0.0),
+    }
+
     def __init__(self, P, discount=0.9, *, features=None, max_iter=100, tol=1e-10):
-        P, _, gamma = _check_mdp(P, np.zeros(np.shape(P)[:2]), discount)
+        P, _ = _check_mdp(P, np.zeros(np.shape(P)[:2]))
+        params = coerce_params(self.param_specs, dict(discount=discount, max_iter=max_iter, tol=tol), source="LSPI")
+        gamma, self.max_iter, self.tol = params["discount"], params["max_iter"], params["tol"]
         S, A, _ = P.shape
-        self.max_iter = check_positive_int(max_iter, "max_iter")
-        self.tol = _check_tol(tol)
         if features is None:
             phi = np.eye(S * A).reshape(S, A, S * A)
         else:
@@ -140,9 +134,10 @@ def lspi(P, R, discount=0.9, *, features=None, max_iter=100, tol=1e-10) -> tuple
 
 def value_iteration(P, R, discount, tol=1e-12, max_iter=100000) -> np.ndarray:
     """Optimal Q (S, A) by value iteration, Q ← R + γ P max_a Q, until max|ΔQ| < ``tol``."""
-    P, R, gamma = _check_mdp(P, R, discount)
-    max_iter = check_positive_int(max_iter, "max_iter")
-    tol = _check_tol(tol)
+    P, R = _check_mdp(P, R)
+    params = coerce_params(LSPI.param_specs, dict(discount=discount, max_iter=max_iter, tol=tol),
+                           source="value_iteration")
+    gamma, max_iter, tol = params["discount"], params["max_iter"], params["tol"]
     Q = R.copy()
     for _ in range(max_iter):
         Q_new = R + gamma * (P @ Q.max(axis=1))

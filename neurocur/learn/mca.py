@@ -18,38 +18,22 @@ and uses γ = ``AUTO_GAMMA_FACTOR`` × λ̂_1.
 
 from __future__ import annotations
 
-import math
+from typing import ClassVar
 
 import numpy as np
 
-from ._estimator import Estimator, NotFittedError
+from ..config import ParamSpec
+from ._estimator import RANDOM_STATE, Estimator, NotFittedError
 from ._kernels import cimca_fit
-from ._validation import check_block, check_positive_int, check_random_state
+from ._validation import check_block, check_random_state
 
 #: Safety factor over the online estimate of λ_1 when ``gamma="auto"``.
 AUTO_GAMMA_FACTOR = 2.0
 
 
-def check_gamma(gamma) -> float:
-    """The kernels' γ encoding: a given γ > 0 as itself, ``"auto"`` as −1."""
-    if isinstance(gamma, str):
-        if gamma == "auto":
-            return -1.0
-        raise ValueError(f'gamma must be a positive number or "auto"; got {gamma!r}')
-    if isinstance(gamma, bool) or not isinstance(gamma, (int, float, np.integer, np.floating)):
-        raise ValueError(f'gamma must be a positive number or "auto"; got {gamma!r}')
-    if not (math.isfinite(gamma) and gamma > 0):
-        raise ValueError(f'gamma must be a finite number > 0 or "auto"; got {gamma!r}')
-    return float(gamma)
-
-
-def check_rate(rate, name: str) -> float:
-    """A CIMCA learning rate in (0, 0.5] (eq 20)."""
-    if isinstance(rate, bool) or not isinstance(rate, (int, float, np.integer, np.floating)):
-        raise ValueError(f"{name} must be a number in (0, 0.5] (eq 20); got {rate!r}")
-    if not 0.0 < rate <= 0.5:
-        raise ValueError(f"{name} must be in (0, 0.5] (eq 20); got {rate!r}")
-    return float(rate)
+def gamma_code(gamma) -> float:
+    """The kernels' encoding of a checked γ: a given γ > 0 as itself, ``"auto"`` as −1."""
+    return -1.0 if gamma == "auto" else gamma
 
 
 def init_weights(rng: np.random.Generator, n_components: int, n_features: int) -> np.ndarray:
@@ -75,6 +59,13 @@ class MCA(Estimator):
     ``n_samples_seen_``.
     """
 
+    param_specs: ClassVar[dict[str, ParamSpec]] = {
+        "n_components": ParamSpec(int, low=1),
+        "learning_rate": ParamSpec(float, low=0.0, high=0.5, low_open=True),  # eq 20
+        "gamma": ParamSpec(float, low=0.0, low_open=True, choices=("auto",)),
+        "random_state": RANDOM_STATE,
+    }
+
     def __init__(self, n_components, *, learning_rate=0.05, gamma=4.0, random_state=None):
         self.n_components = n_components
         self.learning_rate = learning_rate
@@ -82,11 +73,8 @@ class MCA(Estimator):
         self.random_state = random_state
         self._validate_params()
 
-    def _validate_params(self) -> None:
-        j = check_positive_int(self.n_components, "n_components")
-        check_rate(self.learning_rate, "learning_rate")
-        check_gamma(self.gamma)
-        if hasattr(self, "_W") and j != self._W.shape[0]:
+    def _check_params(self, params: dict) -> None:
+        if hasattr(self, "_W") and params["n_components"] != self._W.shape[0]:
             raise ValueError("n_components cannot change after the first partial_fit; make a new MCA")
 
     def _start(self, n_features: int) -> None:
@@ -102,10 +90,10 @@ class MCA(Estimator):
 
     def partial_fit(self, Z):
         """Update the minor components with the rows of ``Z``; returns ``self``."""
+        params = self._validate_params()
         fitted = hasattr(self, "_W")
         Z = check_block(Z, name="Z", n_features=self._W.shape[1] if fitted else None)
-        gamma = check_gamma(self.gamma)
-        rate = check_rate(self.learning_rate, "learning_rate")
+        gamma, rate = gamma_code(params["gamma"]), params["learning_rate"]
         if not fitted:
             self._start(Z.shape[1])
         saved = (self._W.copy(), self._gdir.copy(), self._glam.copy(), self.n_samples_seen_)
@@ -134,7 +122,7 @@ class MCA(Estimator):
     @property
     def gamma_(self) -> float:
         """The γ in use: the given one, or AUTO_GAMMA_FACTOR × the current λ̂_1."""
-        gamma = check_gamma(self.gamma)
+        gamma = gamma_code(self._validate_params()["gamma"])
         if gamma > 0:
             return gamma
         if not hasattr(self, "_W"):

@@ -42,10 +42,13 @@ possible for ξ ≥ 3) takes their plain mean, the limit of equal weights.
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 import numpy as np
 
+from ..config import ParamSpec, coerce_params
 from ._roc_kernels import roc_error, roc_partial_fit
-from ._validation import check_block, check_fraction, check_positive_int
+from ._validation import check_block
 
 
 class ROCBank:
@@ -67,21 +70,24 @@ class ROCBank:
     n_clusters_ : (n_states,) int64, clusters in use per state.
     latest_ : (n_states,) int64, the slot of each state's latest-sample cluster (-1 before
         the state's first sample).
+
+    The parameters are stored checked and coerced (ints, floats); ``param_specs`` declares
+    them and ``prune``'s ``min_weight``.
     """
 
+    param_specs: ClassVar[dict[str, ParamSpec]] = {
+        "n_states": ParamSpec(int, low=1),
+        "n_features": ParamSpec(int, low=1),
+        "max_clusters": ParamSpec(int, low=2),  # Algorithm 3 merges pairs
+        "amnesic": ParamSpec(float, low=0.0, high=1.0),
+        "width": ParamSpec(float, low=0.0, low_open=True),
+        "min_weight": ParamSpec(float, low=0.0),  # of prune: weights are never negative
+    }
+
     def __init__(self, n_states, n_features, *, max_clusters=2, amnesic=0.01, width=1.0):
-        self.n_states = check_positive_int(n_states, "n_states")
-        self.n_features = check_positive_int(n_features, "n_features")
-        self.max_clusters = check_positive_int(max_clusters, "max_clusters")
-        if self.max_clusters < 2:
-            raise ValueError(f"max_clusters (ξ) must be at least 2 (Algorithm 3 merges pairs); got {max_clusters!r}")
-        self.amnesic = check_fraction(amnesic, "amnesic", open_low=False)
-        try:
-            self.width = float(width)
-        except (TypeError, ValueError):
-            raise ValueError(f"width must be a positive finite number; got {width!r}") from None
-        if not (np.isfinite(self.width) and self.width > 0):
-            raise ValueError(f"width must be a positive finite number; got {width!r}")
+        given = dict(n_states=n_states, n_features=n_features, max_clusters=max_clusters, amnesic=amnesic, width=width)
+        for name, value in coerce_params(self.param_specs, given, source="ROCBank").items():
+            setattr(self, name, value)
         self.centers_ = np.zeros((self.n_states, self.max_clusters, self.n_features))
         self.weights_ = np.zeros((self.n_states, self.max_clusters))
         self.n_clusters_ = np.zeros(self.n_states, dtype=np.int64)
@@ -121,18 +127,13 @@ class ROCBank:
         return err, known
 
     def prune(self, min_weight) -> int:
-        """Remove clusters of weight below ``min_weight`` (section 2.6), keeping each latest-sample cluster.
+        """Remove clusters of weight below ``min_weight`` ≥ 0 (section 2.6), keeping each latest-sample cluster.
 
         The latest-sample cluster has weight 0 by construction; removing it would leave only
         a stale mean. Remaining clusters keep their order and are packed to the front.
         Returns the number of clusters removed.
         """
-        try:
-            m = float(min_weight)
-        except (TypeError, ValueError):
-            raise ValueError(f"min_weight must be a finite number; got {min_weight!r}") from None
-        if not np.isfinite(m):
-            raise ValueError(f"min_weight must be a finite number; got {min_weight!r}")
+        m = self.param_specs["min_weight"].coerce(min_weight, source="ROCBank.prune", key="min_weight")
         slot = np.arange(self.max_clusters)
         used = slot < self.n_clusters_[:, None]
         keep = used & ((self.weights_ >= m) | (slot == self.latest_[:, None]))

@@ -6,7 +6,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..config import ConfigError, check_params, param
+from ..config import ConfigError, check_params, learner_param
+from ..learn.ccipca import AmnesicSchedule
 from ..learn.incsfa import IncSFA
 from ..registry import register
 from .base import Probe, Region, Signal
@@ -14,14 +15,18 @@ from .base import Probe, Region, Signal
 
 @dataclass(frozen=True)
 class ECParams:
-    n_components: int = param(2, int, low=1, doc="J, slow features per module")
-    n_pca: int = param(3, int, low=1, doc="K, whitened dimensions kept by CCIPCA")
-    amnesic: float = param(2.0, float, low=0.0, doc="CCIPCA amnesic parameter l")
-    var_fraction: float | None = param(None, float, low=0.0, high=1.0, low_open=True, optional=True,
-                                       doc="keep the fewest components explaining this variance fraction")
-    eig_cutoff: float = param(1e-3, float, low=0.0, doc="relative eigenvalue below which a component is dropped")
-    mca_rate: float = param(0.05, float, low=0.0, high=1.0, low_open=True, high_open=True, doc="MCA learning rate")
-    gamma: float | str = param(4.0, float, low=0.0, low_open=True, choices=("auto",), doc="MCA deflation gamma")
+    """Every parameter is IncSFA's, with IncSFA's spec (type and range)."""
+
+    n_components: int = learner_param(IncSFA, "n_components", 2, doc="J, slow features per module")
+    n_pca: int = learner_param(IncSFA, "n_pca", 3, doc="K, whitened dimensions kept by CCIPCA")
+    amnesic: float | AmnesicSchedule = learner_param(IncSFA, "amnesic", 2.0,
+                                                     doc="CCIPCA amnesic parameter l (or an AmnesicSchedule)")
+    var_fraction: float | None = learner_param(IncSFA, "var_fraction", None,
+                                               doc="keep the fewest components explaining this variance fraction")
+    eig_cutoff: float = learner_param(IncSFA, "eig_cutoff", 1e-3,
+                                      doc="relative eigenvalue below which a component is dropped")
+    mca_rate: float = learner_param(IncSFA, "mca_rate", 0.05, doc="MCA learning rate")
+    gamma: float | str = learner_param(IncSFA, "gamma", 4.0, doc="MCA deflation gamma")
 
     def __post_init__(self):
         check_params(self)

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..config import check_params, param
+from ..config import check_params, learner_param, param
 from ..learn.roc import ROCBank
 from ..registry import register
 from .base import Probe, Region, Signal
@@ -18,10 +18,12 @@ FREEZE_RULES = ("context_mean", "context_sum", "episode_mean", "converged")
 class HPCParams:
     threshold: float = param(0.3, float, low=0.0, low_open=True, doc="familiarity and freeze threshold")
     n_states: int = param(1000, int, low=1, doc="context-states per context (>= the world's)")
-    max_clusters: int = param(2, int, low=2, doc="xi, clusters per context-state (Algorithm 3 merges pairs)")
-    amnesic: float = param(0.01, float, low=0.0, high=1.0, doc="phi, ROC weight leak per update")
-    width: float = param(1.0, float, low=0.0, low_open=True, doc="sigma of the Gaussian ROC response")
-    prune_min_weight: float = param(0.5, float, low=0.0, doc="clusters lighter than this are pruned at storage")
+    max_clusters: int = learner_param(ROCBank, "max_clusters", 2,
+                                      doc="xi, clusters per context-state (Algorithm 3 merges pairs)")
+    amnesic: float = learner_param(ROCBank, "amnesic", 0.01, doc="phi, ROC weight leak per update")
+    width: float = learner_param(ROCBank, "width", 1.0, doc="sigma of the Gaussian ROC response")
+    prune_min_weight: float = learner_param(ROCBank, "min_weight", 0.5,
+                                            doc="clusters lighter than this are pruned at storage")
     freeze: str = param("context_mean", str, choices=FREEZE_RULES, doc="module storage rule")
     reward_error: str = param("context", str, choices=("context", "episode"), doc="error sent to VTA")
     clusterers: str = param("context_state", str, choices=("context_state", "state"),

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..config import check_params, param
+from ..config import check_params, learner_param, param
 from ..learn.lspi import LSPI
 from ..registry import register
 from .base import Probe, Region, Signal
@@ -26,7 +26,7 @@ def transition_model(n_contexts: int) -> np.ndarray:
 @dataclass(frozen=True)
 class PFCParams:
     alpha: float = param(0.2, float, low=0.0, high=1.0, low_open=True, doc="eq 14 learning rate")
-    discount: float = param(0.9, float, low=0.0, high=1.0, high_open=True, doc="LSPI discount factor")
+    discount: float = learner_param(LSPI, "discount", 0.9, doc="LSPI discount factor")
 
     def __post_init__(self):
         check_params(self)
