@@ -21,13 +21,8 @@ from pathlib import Path
 
 import numpy as np
 
-from neurocur.contexts.icub import (
-    EpisodeParams,
-    ICubWorld,
-    _Simulation,
-    omega_episodes,
-    pca_reduce,
-)
+from neurocur.contexts.icub import ICubWorld, omega_episodes, pca_reduce
+from neurocur.contexts.icub_data import EpisodeParams, _Simulation
 from neurocur.contexts.icub_scene import OBJECTS, SceneParams
 
 EXPERIMENT = Path(__file__).resolve().parents[1] / "experiments" / "icub.toml"
@@ -52,8 +47,8 @@ def experiment_time(runs: int, jobs: int) -> tuple[float, list[float], int]:
     The data set is built (or read from the default cache) before the clock starts.
     Returns (total seconds, each run's own seconds from its run.json, frames per run).
     """
-    from neurocur.experiment import load_experiment, prepare_world
-    from neurocur.parallel import run_experiment
+    from neurocur.contexts import prepare_world
+    from neurocur.experiments import load_experiment, run_experiment
 
     exp = load_experiment(EXPERIMENT, runs=runs)
     for condition in exp.conditions.values():

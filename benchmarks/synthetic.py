@@ -114,7 +114,7 @@ def sweep(runs: int, steps: int, condition: str, jobs: int) -> dict:
 
 
 def profile_one(steps: int, condition: str) -> tuple[float, list[tuple[str, float]], dict]:
-    from neurocur.experiment import load_experiment, run_one
+    from neurocur.experiments import load_experiment, run_one
 
     exp = load_experiment(EXPERIMENT)
     cond = exp.select([condition])[0]

@@ -34,15 +34,15 @@ from __future__ import annotations
 
 import copy
 import dataclasses
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Mapping
 
 import networkx as nx
 
-from . import registry
 from .config import ConfigError, check_keys, deep_merge, describe, load_toml, make_params, params_to_dict, require
-from .regions.base import Region
+from .regions import REGIONS, Region
+from .registry import UnknownType
 
 __all__ = ["Circuit", "RegionSpec", "Link"]
 
@@ -101,7 +101,7 @@ class Circuit:
     # ------------------------------------------------------------------ construction
 
     @classmethod
-    def from_toml(cls, path, overrides: Mapping | None = None, *, overrides_source: str = "overrides") -> "Circuit":
+    def from_toml(cls, path, overrides: Mapping | None = None, *, overrides_source: str = "overrides") -> Circuit:
         """Load a circuit file (following ``extends``); ``overrides`` maps ``"REGION.param"`` to a value."""
         path = Path(path)
         data = _read_file(path, ())
@@ -125,14 +125,14 @@ class Circuit:
             lesions.append((name, how))
         return cls(regions, links, source=path, lesions=lesions)
 
-    def lesion(self, name: str, how: str) -> "Circuit":
+    def lesion(self, name: str, how: str) -> Circuit:
         """A new circuit with region ``name`` lesioned (``how`` is one of its class's ``lesions``)."""
         self._check_region(name)
         specs = dict(self.specs)
         specs[name] = _lesioned(specs[name], how, source=PY, key=f"lesion.{name}.how")
         return Circuit(specs, self.links, source=self.source, lesions=self.lesions + ((name, how),))
 
-    def replace(self, name: str, region) -> "Circuit":
+    def replace(self, name: str, region) -> Circuit:
         """A new circuit with region ``name`` replaced by a Region object or a spec mapping
         ``{"type": "vta.novelty", "params": {...}}``."""
         self._check_region(name)
@@ -148,7 +148,7 @@ class Circuit:
                              f"got {type(region).__name__}")
         return Circuit(specs, self.links, source=self.source, lesions=self.lesions)
 
-    def with_params(self, overrides: Mapping, *, source: str = "overrides") -> "Circuit":
+    def with_params(self, overrides: Mapping, *, source: str = "overrides") -> Circuit:
         """A new circuit with ``"REGION.param"`` overrides applied."""
         return Circuit(_apply_overrides(self.specs, overrides, source), self.links, source=self.source,
                        lesions=self.lesions)
@@ -246,6 +246,14 @@ class Circuit:
                 if (name, sig.name) not in used_outputs:
                     raise ConfigError(spec.origin if spec.origin != PY else src, f"regions.{name}",
                                       f"an edge from its output '{sig.name}' ({sig.describe()})", "an output that goes nowhere")
+        recorded = {"episode": "the scheduler", "step": "the scheduler"}
+        for name, spec in specs.items():
+            for probe in _ports(spec, "probes"):
+                if probe.name in recorded:
+                    raise ConfigError(spec.origin if spec.origin != PY else src, f"regions.{name}",
+                                      f"probe names unique in the circuit ('{probe.name}' is recorded by "
+                                      f"{recorded[probe.name]})", f"a second probe '{probe.name}'")
+                recorded[probe.name] = f"region '{name}'"
         step_graph = nx.DiGraph()
         step_graph.add_nodes_from(specs)
         for link in self.links:
@@ -282,9 +290,9 @@ def _spec_from_table(name: str, table: Mapping, *, prefix: str) -> RegionSpec:
     check_keys(body, ("type", "params"), source=origin, prefix=prefix, required=("type",))
     type_name = require(body, "type", str, source=origin, prefix=prefix, expected="a region type name (string)")
     try:
-        cls = registry.get(type_name)
-    except registry.UnknownRegionType:
-        raise ConfigError(origin, f"{prefix}.type", f"a registered region type ({', '.join(registry.names())})",
+        cls = REGIONS.get(type_name)
+    except UnknownType:
+        raise ConfigError(origin, f"{prefix}.type", f"a registered region type ({', '.join(REGIONS.names())})",
                           describe(type_name)) from None
     params_table = require(body, "params", dict, source=origin, prefix=prefix, expected="a table of parameters",
                            default={})

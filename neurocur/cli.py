@@ -1,8 +1,8 @@
 """The ``neurocur`` command: run experiments, draw their figures, measure Ω, show invariance.
 
-A thin layer: it parses arguments and calls :mod:`neurocur.experiment`,
-:mod:`neurocur.parallel`, :mod:`neurocur.analysis` (and
-:mod:`neurocur.analysis.invariance`) and :mod:`neurocur.learn.omega`.
+A thin layer: it parses arguments and calls :mod:`neurocur.experiments`,
+:mod:`neurocur.analysis` (and :mod:`neurocur.analysis.invariance`) and
+:mod:`neurocur.learn.omega`.
 Errors in arguments or configuration are printed as one line naming the key and
 what was expected, with exit status 2.
 """
@@ -39,6 +39,16 @@ def _positive_int(text: str) -> int:
     return value
 
 
+def _seed(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 0, got {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 0, got {text!r}")
+    return value
+
+
 def _eta(text: str) -> float:
     try:
         value = float(text)
@@ -71,6 +81,8 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("experiment", metavar="EXPERIMENT", help="experiment TOML file (e.g. experiments/synthetic.toml)")
     run.add_argument("--runs", type=_positive_int, metavar="N", help="number of runs per condition (overrides the file)")
     run.add_argument("--steps", type=_positive_int, metavar="N", help="frames per run (overrides the file)")
+    run.add_argument("--seed", type=_seed, metavar="N",
+                     help="root seed of the runs (overrides the file; run i of every condition gets the same child)")
     run.add_argument("--jobs", type=_positive_int, metavar="N", help="worker processes (default: all cores)")
     run.add_argument("--out", metavar="DIR", help="results folder (default: results/<experiment name>)")
     run.add_argument("--condition", action="append", metavar="NAME",
@@ -118,35 +130,19 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _cmd_run(args) -> int:
-    from neurocur.experiment import load_experiment
-    from neurocur.parallel import run_experiment
-
-    exp = load_experiment(args.experiment, sets=args.sets, runs=args.runs, steps=args.steps)
-    out = Path(args.out) if args.out else Path("results") / exp.name
-    run_experiment(exp, out, jobs=args.jobs, conditions=args.condition, progress=args.progress)
-    print(f"results: {out}")
-    print(_order_table(out, exp))
-    return 0
-
-
-def _order_table(out: Path, exp) -> str:
     import pandas as pd
 
-    from neurocur.analysis.io import load
-    from neurocur.analysis.stats import order_table
-    from neurocur.experiment import source_spec
+    from neurocur.analysis import order_tables, write_summary
+    from neurocur.experiments import load_experiment, run_experiment
 
-    episodes, modules = load(out)
-    blocks = []
-    for condition in exp.conditions.values():
-        if condition.name not in set(episodes["condition"]):
-            continue
-        keep_e, keep_m = episodes["condition"] == condition.name, modules["condition"] == condition.name
-        blocks.append(order_table(episodes[keep_e], modules[keep_m], source_spec(condition)))
-    table = pd.concat(blocks, axis=1)
-    table = table.loc[:, ~table.columns.duplicated()]
+    exp = load_experiment(args.experiment, sets=args.sets, runs=args.runs, steps=args.steps, seed=args.seed)
+    out = Path(args.out) if args.out else Path("results") / exp.name
+    run_experiment(exp, out, jobs=args.jobs, conditions=args.condition, progress=args.progress)
+    write_summary(out)
+    print(f"results: {out}")
     with pd.option_context("display.width", 200, "display.max_columns", None):
-        return table.to_string()
+        print(order_tables(out, conditions=list(exp.conditions)).to_string())
+    return 0
 
 
 def _cmd_figures(args) -> int:
@@ -171,7 +167,7 @@ def _cmd_omega(args) -> int:
         X = np.load(path, allow_pickle=False)
         print(f"{path}: Omega = {omega(X, args.eta):.5f}  (eta = {args.eta:g}, {X.shape[0]} steps)")
         return 0
-    from neurocur.experiment import load_experiment
+    from neurocur.experiments import load_experiment
 
     exp = load_experiment(args.experiment, sets=args.sets)
     condition = exp.select([args.condition] if args.condition else None)[0]

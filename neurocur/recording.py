@@ -6,11 +6,13 @@ plus, when frame recording is on, one (T, n) block per region per pass. The tabl
 are built from these same arrays:
 
 - :meth:`Recorder.episodes`: wide, one row per episode (``episode``, ``step``, then
-  every probe, named by the probe, or ``REGION.probe`` when two regions share a name);
+  every probe, named by the probe: probe names are unique within a circuit);
 - :meth:`Recorder.probes`: tidy long form ``episode, step, region, signal, value``
   (episode-level rows first, then frame-level rows whose ``step`` is the global frame);
 - :meth:`Recorder.events`: the events regions emitted (``episode``, ``step``,
   ``region``, then the event's fields).
+
+The columns that :mod:`neurocur.analysis` reads are declared in :mod:`neurocur.contract`.
 """
 
 from __future__ import annotations
@@ -56,12 +58,6 @@ class Recorder:
 
     # ------------------------------------------------------------------ tables
 
-    def _column_names(self) -> list[str]:
-        counts: dict[str, int] = {}
-        for _, p in self.columns:
-            counts[p.name] = counts.get(p.name, 0) + 1
-        return [p.name if counts[p.name] == 1 else f"{r}.{p.name}" for r, p in self.columns]
-
     @staticmethod
     def _typed(values: np.ndarray, probe):
         if probe.kind == "category":
@@ -71,8 +67,8 @@ class Recorder:
     def episodes(self) -> pd.DataFrame:
         data = {"episode": np.arange(self.n, dtype=np.int64), "step": self._steps[: self.n].copy()}
         rows = self._rows[: self.n]
-        for j, (name, (_, probe)) in enumerate(zip(self._column_names(), self.columns)):
-            data[name] = self._typed(rows[:, j], probe)
+        for j, (_, probe) in enumerate(self.columns):
+            data[probe.name] = self._typed(rows[:, j], probe)
         return pd.DataFrame(data)
 
     def probes(self) -> pd.DataFrame:
@@ -100,4 +96,4 @@ class Recorder:
     def events(self, kind: str | None = None) -> pd.DataFrame:
         rows = [{"episode": ep, "step": step, "region": region, **ev}
                 for ep, step, region, ev in self._events if kind is None or ev.get("event") == kind]
-        return pd.DataFrame(rows)
+        return pd.DataFrame(rows, columns=None if rows else ["episode", "step", "region", "event"])

@@ -1,74 +1,76 @@
-"""The region registry: region types by name.
+"""Registries of named types: region types and world types.
 
-A region class registers itself with a decorator::
+A :class:`Registry` maps a type name to a class. Classes register themselves with its
+decorator::
 
-    @register("vta.learning_progress")
+    REGIONS = Registry("region", "neurocur.regions")
+
+    @REGIONS.register("vta.learning_progress")
     class LearningProgressVTA(Region): ...
 
-Circuit files name region types only by these strings, so loading a circuit never
-executes code from the file. Third-party packages add region types through the
-entry-point group ``neurocur.regions`` (``name = "package.module:Class"``); an entry
-point is loaded lazily, the first time its name is asked for and not found among the
-built-in regions.
+Configuration files name types only by these strings, so loading a file never executes
+code from it. Third-party packages add types through the registry's entry-point group
+(``name = "package.module:Class"``); an entry point is loaded lazily, the first time its
+name is asked for and not found among the registered types.
+
+This module knows no concrete type: the built-in region types register when
+:mod:`neurocur.regions` is imported, the built-in world types when
+:mod:`neurocur.contexts` is (each package imports all of its modules), and the layers
+that look types up (the circuit, the experiment spec) import those packages.
 """
 
 from __future__ import annotations
 
-import importlib
 from importlib.metadata import entry_points
 
-__all__ = ["register", "get", "names", "ENTRY_POINT_GROUP", "UnknownRegionType"]
-
-ENTRY_POINT_GROUP = "neurocur.regions"
-
-_REGISTRY: dict[str, type] = {}
-_builtins_loaded = False
+__all__ = ["Registry", "UnknownType"]
 
 
-class UnknownRegionType(KeyError):
-    """Raised by :func:`get` for a name that is neither registered nor an entry point."""
+class UnknownType(KeyError):
+    """A name that is neither registered nor an entry point of the registry's group."""
 
 
-def register(name: str):
-    """Class decorator: register a Region subclass under ``name`` and set ``cls.type_name``."""
-    if not isinstance(name, str) or not name:
-        raise ValueError(f"a region type name must be a non-empty string; got {name!r}")
+class Registry:
+    """Named classes of one kind (``"region"``, ``"world"``), plus the entry points of ``group``."""
 
-    def decorate(cls):
-        previous = _REGISTRY.get(name)
-        if previous is not None and previous is not cls and (
-            previous.__module__, previous.__qualname__) != (cls.__module__, cls.__qualname__):
-            raise ValueError(f"region type {name!r} is already registered by {previous.__module__}.{previous.__qualname__}")
-        cls.type_name = name
-        _REGISTRY[name] = cls
-        return cls
+    def __init__(self, kind: str, group: str):
+        self.kind = kind
+        self.group = group
+        self._types: dict[str, type] = {}
 
-    return decorate
+    def register(self, name: str):
+        """Class decorator: register the class under ``name`` and set ``cls.type_name``."""
+        if not isinstance(name, str) or not name:
+            raise ValueError(f"a {self.kind} type name must be a non-empty string; got {name!r}")
 
+        def decorate(cls):
+            previous = self._types.get(name)
+            if previous is not None and (previous.__module__, previous.__qualname__) != (
+                    cls.__module__, cls.__qualname__):
+                raise ValueError(f"{self.kind} type {name!r} is already registered by "
+                                 f"{previous.__module__}.{previous.__qualname__}")
+            cls.type_name = name
+            self._types[name] = cls
+            return cls
 
-def _load_builtins() -> None:
-    global _builtins_loaded
-    if not _builtins_loaded:
-        _builtins_loaded = True
-        importlib.import_module("neurocur.regions")
+        return decorate
 
+    def get(self, name: str) -> type:
+        """The class registered as ``name``, else the entry point of that name (loaded now)."""
+        cls = self._types.get(name)
+        if cls is not None:
+            return cls
+        for ep in entry_points(group=self.group):
+            if ep.name == name:
+                return self.register(name)(ep.load())
+        raise UnknownType(name)
 
-def get(name: str) -> type:
-    """The region class registered as ``name`` (built-ins first, then entry points)."""
-    _load_builtins()
-    cls = _REGISTRY.get(name)
-    if cls is not None:
-        return cls
-    for ep in entry_points(group=ENTRY_POINT_GROUP):
-        if ep.name == name:
-            loaded = ep.load()
-            register(name)(loaded)
-            return loaded
-    raise UnknownRegionType(name)
+    def names(self) -> list[str]:
+        """Sorted names of the registered types and of the group's entry points (not yet loaded)."""
+        return sorted(set(self._types) | {ep.name for ep in entry_points(group=self.group)})
 
+    def __contains__(self, name: str) -> bool:
+        return name in self._types or any(ep.name == name for ep in entry_points(group=self.group))
 
-def names() -> list[str]:
-    """Sorted names of the registered region types (entry points not yet loaded included)."""
-    _load_builtins()
-    found = set(_REGISTRY) | {ep.name for ep in entry_points(group=ENTRY_POINT_GROUP)}
-    return sorted(found)
+    def __repr__(self) -> str:
+        return f"Registry({self.kind!r}, {self.group!r}, {len(self._types)} types)"

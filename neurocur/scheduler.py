@@ -21,8 +21,6 @@ from .recording import Recorder
 
 __all__ = ["Simulator"]
 
-MODULE_COLUMNS = ["module", "step", "episode", "context", "n_clusters"]
-
 
 class Simulator:
     """A circuit instantiated on a world with a seed; see :meth:`neurocur.circuit.Circuit.build`.
@@ -88,7 +86,7 @@ class Simulator:
         self.n_frames = 0
         self.n_episodes = 0
 
-    def run(self, n_steps: int, progress=None) -> "Simulator":
+    def run(self, n_steps: int, progress=None) -> Simulator:
         """Run whole episodes until ``n_steps`` more frames have been seen (at least one episode
         when ``n_steps`` > 0). ``progress(frames_done)`` is called after every episode."""
         if isinstance(n_steps, bool) or not isinstance(n_steps, (int, np.integer)) or n_steps < 0:
@@ -140,9 +138,15 @@ class Simulator:
         """Every event emitted by a region (optionally of one ``kind``)."""
         return self.recorder.events(kind)
 
-    def modules(self) -> pd.DataFrame:
-        """One row per stored module: ``module, step, episode, context, n_clusters``."""
-        table = self.recorder.events("module_stored")
-        if table.empty:
-            return pd.DataFrame({c: np.empty(0, np.int64) for c in MODULE_COLUMNS})
-        return table[MODULE_COLUMNS].astype(np.int64)
+    def products(self) -> dict:
+        """Every region's end-of-run products by name (:meth:`Region.products`), e.g.
+        ``"library"`` (EC's frozen modules) and ``"modules"`` (HPC's stored-module table).
+        Two regions producing the same name is an error."""
+        events = self.recorder.events()
+        found, owner = {}, {}
+        for name in self.circuit.step_order:
+            for key, value in self.regions[name].products(events[events["region"] == name]).items():
+                if key in found:
+                    raise ValueError(f"regions {owner[key]!r} and {name!r} both produce the end-of-run product {key!r}")
+                found[key], owner[key] = value, name
+        return found

@@ -26,7 +26,6 @@ calls it when a results folder's world type is ``icub``.
 from __future__ import annotations
 
 import math
-import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -43,9 +42,10 @@ from neurocur.analysis.figures import (
     fig_reward_function,
     save_figures,
 )
-from neurocur.analysis.io import load, run_dirs
-from neurocur.analysis.stats import SourceSpec, order_counts
-from neurocur.contexts.icub_scene import OBJECTS
+from neurocur.analysis.stats import order_counts
+from neurocur.contexts import build_world
+from neurocur.contexts.icub import ICUB
+from neurocur.results import ResultsStore, load
 
 __all__ = [
     "ICUB",
@@ -63,39 +63,21 @@ __all__ = [
     "write_icub_figures",
 ]
 
-#: The iCub world's contexts: each shows its own object, both learnable, in Ω order
-#: (topple easier: the paper's Ω 0.9982 < 0.9988; measured in docs/icub.md).
-ICUB = SourceSpec(context_names=OBJECTS, context_sources=OBJECTS, learnable=OBJECTS)
-
 #: The paper's numbers (section 4.2).
 PAPER = {"omega": {"topple": 0.9982, "roll": 0.9988}, "topple first": "14/15"}
 
 
 def results_world_type(results_dir: str | Path) -> str:
     """The world type of a results folder, read from its ``config.toml`` ("synthetic" by default)."""
-    path = Path(results_dir) / "config.toml"
-    if not path.is_file():
-        return "synthetic"
-    with path.open("rb") as fh:
-        config = tomllib.load(fh)
+    config = ResultsStore(results_dir).config() or {}
     types = {c.get("world", {}).get("type", "synthetic") for c in config.get("conditions", {}).values()}
     return "icub" if "icub" in types else "synthetic"
 
 
-def _config(results_dir: Path) -> dict:
-    with (Path(results_dir) / "config.toml").open("rb") as fh:
-        return tomllib.load(fh)
-
-
 def load_features(results_dir: str | Path) -> pd.DataFrame:
     """Every run's ``features.parquet`` as one table (condition, run, module, context, ...)."""
-    tables = [pd.read_parquet(p / "features.parquet") for p in run_dirs(results_dir)
-              if (p / "features.parquet").is_file()]
-    tables = [t for t in tables if len(t)]
-    if not tables:
-        return pd.DataFrame(columns=["condition", "run", "module", "context", "episode_index", "frame", "state",
-                                     "displacement", "contact_frame", "y0"])
-    return pd.concat(tables, ignore_index=True)
+    return ResultsStore(results_dir).load_table("features", ["condition", "run", "module", "context", "episode_index",
+                                                             "frame", "state", "displacement", "contact_frame", "y0"])
 
 
 def learning_segments(episodes: pd.DataFrame) -> pd.DataFrame:
@@ -341,12 +323,10 @@ def write_icub_figures(results_dir: str | Path, out_dir: str | Path | None = Non
     (when it stored a module), ``reward_function_<condition>.png`` and
     ``neuromodulators_<condition>.png``. Returns the written paths.
     """
-    from neurocur.experiment import build_world
-
     results_dir = Path(results_dir)
     episodes, modules = load(results_dir)
     features = load_features(results_dir)
-    config = _config(results_dir)
+    config = ResultsStore(results_dir).config()
     thresholds = set(_thresholds(config).values())
     threshold = thresholds.pop() if len(thresholds) == 1 else None
     out = results_dir / "figures" if out_dir is None else Path(out_dir)

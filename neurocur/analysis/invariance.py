@@ -13,7 +13,7 @@ An invariance file (``experiments/invariance.toml``)::
 
 :func:`load_invariance` validates it (a :class:`~neurocur.config.ConfigError` names the
 file and key), :meth:`InvarianceSpec.run` calls
-:func:`neurocur.contexts.synthetic.invariance_demo`, :func:`fig_invariance` draws
+:func:`invariance_demo`, :func:`fig_invariance` draws
 Figure 5 A–F and :func:`write_invariance` saves ``invariance.png`` and
 ``invariance.json`` (the spec, ``corr`` and ``quality``).
 """
@@ -31,14 +31,79 @@ from matplotlib.figure import Figure
 from neurocur.analysis.figures import _figure, _style
 from neurocur.config import ConfigError, check_keys, describe, load_toml, require
 from neurocur.contexts.sources import LEARNABLE, SLOW_DIM, UNLEARNABLE
-from neurocur.contexts.synthetic import NORMALISATIONS, InvarianceDemo, invariance_demo
+from neurocur.contexts.synthetic import NORMALISATIONS, SyntheticWorld, mix_frames
+from neurocur.learn._validation import check_positive_int
+from neurocur.learn.correlation import abs_corr
 from neurocur.learn.incsfa import IncSFA
 
-__all__ = ["InvarianceSpec", "load_invariance", "fig_invariance", "write_invariance"]
+__all__ = ["InvarianceDemo", "InvarianceSpec", "invariance_demo", "load_invariance", "fig_invariance",
+           "write_invariance"]
 
 KEYS = ("name", "description", "source", "epochs", "seed", "normalise", "incsfa")
 INCSFA_KEYS = tuple(k for k in IncSFA().get_params() if k != "random_state")
 FIGURE, RESULT = "invariance.png", "invariance.json"
+
+
+@dataclass(frozen=True)
+class InvarianceDemo:
+    """Result of :func:`invariance_demo` (paper Figure 5), arrays of length n_steps.
+
+    ``source``/``frames``: the learned driving force and its frames (5A, 5B);
+    ``output``: the first (slowest) feature on them (5C); ``noisy_source``/
+    ``noisy_frames``: the same with dimension 1 replaced by noise (5D, 5E);
+    ``noisy_output``: the first feature on the noisy frames (5F); ``corr``: their
+    correlation; ``quality``: |corr| of ``output`` with the slow source dimension.
+    """
+
+    source: np.ndarray
+    frames: np.ndarray
+    output: np.ndarray
+    noisy_source: np.ndarray
+    noisy_frames: np.ndarray
+    noisy_output: np.ndarray
+    corr: float
+    quality: float
+
+
+def invariance_demo(source: str = "S-A", *, epochs: int = 30, seed=0, normalise: str = "global",
+                    **incsfa_params) -> InvarianceDemo:
+    """Section 4.1.5 / Figure 5: a learned slow feature is invariant to the other source dimension.
+
+    IncSFA (``n_components=2`` by default, other parameters as given) learns from
+    ``epochs`` passes over one context's frames; then source dimension 1 (the fast one)
+    is replaced by uniform noise over its range and the frames are rendered again
+    with the *same* mixing (and, globally normalised, the same limits, so a few noisy
+    pixels may leave [0, 1] slightly). The first feature's output should not change.
+
+    Global normalisation is the default: per-image scaling (``normalise="image"``)
+    divides every pixel by a quantity that depends on both source dimensions, so the
+    frames are no longer linear in the source and the invariance is only approximate.
+    """
+    epochs = check_positive_int(epochs, "epochs")
+    world = SyntheticWorld([source], normalise=normalise, clock_offsets="zero")
+    world.reset(seed=seed)
+    frames = world.context_frames(0)
+    params = {"n_components": 2, "random_state": np.random.default_rng(seed)} | incsfa_params
+    sfa = IncSFA(**params)
+    for epoch in range(epochs):
+        sfa.partial_fit(frames, continues=epoch > 0)
+    signal = world.source_signal(source)
+    noisy = signal.copy()
+    low, high = signal[:, 1].min(), signal[:, 1].max()
+    noisy[:, 1] = world.np_random.uniform(low, high, size=len(noisy))
+    noisy_frames, _ = mix_frames(noisy, world.mixing(source), normalise, limits=world.normalisation_limits(source))
+    output = sfa.transform(frames)[:, 0]
+    noisy_output = sfa.transform(noisy_frames)[:, 0]
+    return InvarianceDemo(
+        source=signal,
+        frames=frames,
+        output=output,
+        noisy_source=noisy,
+        noisy_frames=noisy_frames,
+        noisy_output=noisy_output,
+        corr=float(np.corrcoef(output, noisy_output)[0, 1]),
+        quality=abs_corr(output, signal[:, SLOW_DIM]),
+    )
 
 
 @dataclass(frozen=True)

@@ -1,15 +1,9 @@
-"""Reading a results folder into tidy pandas tables.
+"""Reading a results folder for the analysis, and writing its ``summary.json``.
 
-A results folder (written by :mod:`neurocur.experiment`) looks like::
-
-    DIR/config.toml
-    DIR/summary.json
-    DIR/runs/<condition>/run-<NNN>/episodes.parquet
-    DIR/runs/<condition>/run-<NNN>/modules.parquet
-    DIR/runs/<condition>/run-<NNN>/run.json
-
-:func:`load` concatenates every run's tables into one episodes table and one
-modules table, both led by the columns ``condition`` and ``run``.
+The folder belongs to :class:`neurocur.results.ResultsStore`; this module reads it
+through the store. Nothing here rebuilds a world or a circuit: what a condition's world
+showed (its contexts, their sources, the learnable sources in Ω order) is in each run's
+``run.json``.
 """
 
 from __future__ import annotations
@@ -18,69 +12,66 @@ from pathlib import Path
 
 import pandas as pd
 
-__all__ = ["load", "run_dirs"]
+from neurocur.contexts.base import SourceSpec
+from neurocur.results import ResultsStore, load, run_dirs
 
-_RUN_FILES = ("episodes.parquet", "modules.parquet")
+from .stats import order_table, summary
 
-
-def run_dirs(results_dir: str | Path) -> list[Path]:
-    """The run folders ``runs/<condition>/run-<NNN>`` of a results folder, sorted.
-
-    Raises ValueError when ``results_dir`` is not a results folder (no ``runs/``
-    folder, no run folder in it, or a run folder without its Parquet tables).
-    """
-    root = Path(results_dir)
-    runs = root / "runs"
-    if not root.is_dir():
-        raise ValueError(f"results folder {root} does not exist or is not a directory")
-    if not runs.is_dir():
-        raise ValueError(
-            f"{root} is not a results folder: expected a 'runs/' folder holding "
-            "runs/<condition>/run-<NNN>/episodes.parquet (write one with the experiment runner)"
-        )
-    found = sorted(p for p in runs.glob("*/run-*") if p.is_dir())
-    if not found:
-        raise ValueError(
-            f"{root} is not a results folder: 'runs/' holds no run folder "
-            "runs/<condition>/run-<NNN>/"
-        )
-    for path in found:
-        missing = [name for name in _RUN_FILES if not (path / name).is_file()]
-        if missing:
-            raise ValueError(f"run folder {path} lacks {', '.join(missing)}")
-    return found
+__all__ = ["load", "run_dirs", "source_specs", "order_tables", "write_summary"]
 
 
-def _read(path: Path, condition: str, run: int) -> pd.DataFrame:
-    table = pd.read_parquet(path)
-    if "condition" not in table:
-        table.insert(0, "condition", condition)
-    if "run" not in table:
-        table.insert(1, "run", run)
-    return table
-
-
-def load(results_dir: str | Path) -> tuple[pd.DataFrame, pd.DataFrame]:
-    """Load a results folder as ``(episodes, modules)`` DataFrames.
-
-    Both tables hold every run of every condition, sorted by condition, run and
-    episode (modules: by condition, run and module rank). ``condition`` and
-    ``run`` are taken from the folder names when a table lacks them. The
-    modules' ``gates`` column is normalised to a (possibly empty) string.
-    """
-    episodes, modules = [], []
-    for path in run_dirs(results_dir):
+def source_specs(results_dir: str | Path) -> dict[str, SourceSpec]:
+    """Each condition's :class:`~neurocur.contexts.base.SourceSpec`, read from its first run's
+    ``run.json``; conditions in the order of the folder's ``config.toml``, then the others."""
+    store = ResultsStore(results_dir)
+    specs: dict[str, SourceSpec] = {}
+    for path in store.run_dirs():
         condition = path.parent.name
-        try:
-            run = int(path.name.removeprefix("run-"))
-        except ValueError:
-            raise ValueError(f"run folder {path} is not named run-<NNN>") from None
-        episodes.append(_read(path / "episodes.parquet", condition, run))
-        modules.append(_read(path / "modules.parquet", condition, run))
-    episodes = pd.concat(episodes, ignore_index=True)
-    modules = pd.concat([m for m in modules if len(m)] or modules[:1], ignore_index=True)
-    if "gates" in modules:
-        modules["gates"] = modules["gates"].fillna("").astype(str)
-    episodes = episodes.sort_values(["condition", "run", "episode"], kind="stable")
-    modules = modules.sort_values(["condition", "run", "module"], kind="stable")
-    return episodes.reset_index(drop=True), modules.reset_index(drop=True)
+        if condition not in specs:
+            info = store.run_info(path)
+            specs[condition] = SourceSpec(tuple(c["name"] for c in info["contexts"]),
+                                          tuple(c["source"] for c in info["contexts"]), tuple(info["learnable"]))
+    order = list((store.config() or {}).get("conditions", {}))
+    return {c: specs[c] for c in sorted(specs, key=lambda c: (order.index(c) if c in order else len(order), c))}
+
+
+def order_tables(results_dir: str | Path, conditions=None) -> pd.DataFrame:
+    """The order table (:func:`~neurocur.analysis.stats.order_table`) of every condition
+    (or of ``conditions``), each with its own world's sources, side by side."""
+    episodes, modules = load(results_dir)
+    blocks = []
+    for condition, spec in source_specs(results_dir).items():
+        if conditions is not None and condition not in conditions:
+            continue
+        keep_e, keep_m = episodes["condition"] == condition, modules["condition"] == condition
+        blocks.append(order_table(episodes[keep_e], modules[keep_m], spec))
+    table = pd.concat(blocks, axis=1)
+    return table.loc[:, ~table.columns.duplicated()]
+
+
+def write_summary(results_dir: str | Path) -> dict:
+    """Aggregate every finished run into ``summary.json`` (:func:`~neurocur.analysis.stats.summary`).
+
+    One summary when every condition's world has the same sources, else one per condition.
+    The reference of the comparisons is the first condition of the folder's ``config.toml``.
+    """
+    store = ResultsStore(results_dir)
+    episodes, modules = store.load()
+    specs = source_specs(results_dir)
+    reference = next(iter((store.config() or {}).get("conditions", specs)))
+    if len(set(specs.values())) <= 1:
+        spec = next(iter(specs.values()))
+        result = {"spec": _spec_dict(spec), **summary(episodes, modules, spec, reference=reference)}
+    else:
+        result = {"conditions": {}}
+        for name, spec in specs.items():
+            keep_e, keep_m = episodes["condition"] == name, modules["condition"] == name
+            result["conditions"][name] = {"spec": _spec_dict(spec),
+                                          **summary(episodes[keep_e], modules[keep_m], spec, reference=reference)}
+    store.write_summary(result)
+    return result
+
+
+def _spec_dict(spec: SourceSpec) -> dict:
+    return {"context_names": list(spec.context_names), "context_sources": list(spec.context_sources),
+            "learnable": list(spec.learnable)}

@@ -33,11 +33,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
 from scipy import stats as sps
+
+from neurocur.contexts.base import SourceSpec
+from neurocur.contexts.synthetic import SYNTHETIC
 
 __all__ = [
     "SourceSpec",
@@ -56,51 +58,6 @@ __all__ = [
 
 _ORDINALS = ("first", "second", "third", "fourth", "fifth", "sixth", "seventh", "eighth")
 
-
-@dataclass(frozen=True)
-class SourceSpec:
-    """Which source drives each context, and the learnable sources in Ω order.
-
-    ``context_names[i]`` / ``context_sources[i]`` describe context index ``i``;
-    ``learnable`` lists the learnable sources easiest first (ascending Ω, eq 15).
-    Every other source of the world is unlearnable (noise).
-    """
-
-    context_names: tuple[str, ...]
-    context_sources: tuple[str, ...]
-    learnable: tuple[str, ...]
-
-    def __post_init__(self):
-        if len(self.context_names) != len(self.context_sources):
-            raise ValueError(
-                f"SourceSpec expected one source per context, got {len(self.context_names)} "
-                f"names and {len(self.context_sources)} sources"
-            )
-        unknown = set(self.learnable) - set(self.context_sources)
-        if unknown:
-            raise ValueError(f"SourceSpec: learnable sources {sorted(unknown)} drive no context")
-        if len(self.learnable) > len(_ORDINALS):
-            raise ValueError(f"SourceSpec supports at most {len(_ORDINALS)} learnable sources")
-
-    @property
-    def unlearnable(self) -> tuple[str, ...]:
-        return tuple(s for s in dict.fromkeys(self.context_sources) if s not in self.learnable)
-
-    def contexts_of(self, source: str) -> list[int]:
-        """Indices of the contexts driven by ``source``."""
-        return [i for i, s in enumerate(self.context_sources) if s == source]
-
-    def source_of_name(self, name: str) -> str | None:
-        """The source of the context called ``name`` (None if there is none)."""
-        return dict(zip(self.context_names, self.context_sources)).get(name)
-
-
-#: The synthetic world of section 4.1: C1, C2 share S-A; Ω(S-A) < Ω(S-B) < Ω(S-C); S-D is noise.
-SYNTHETIC = SourceSpec(
-    context_names=("C1", "C2", "C3", "C4", "C5"),
-    context_sources=("S-A", "S-A", "S-B", "S-C", "S-D"),
-    learnable=("S-A", "S-B", "S-C"),
-)
 
 #: Module-order columns of :func:`per_run` that are yes/no outcomes.
 _BINARY = ("exact_order", "unlearnable_stored")
@@ -134,6 +91,8 @@ def _check(episodes: pd.DataFrame, modules: pd.DataFrame, need_modules=("module"
 
 
 def _ordinal_columns(spec: SourceSpec) -> list[str]:
+    if len(spec.learnable) > len(_ORDINALS):
+        raise ValueError(f"the order statistics support at most {len(_ORDINALS)} learnable sources")
     return [f"{_ORDINALS[k]}_ok" for k in range(len(spec.learnable))]
 
 

@@ -21,6 +21,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..registry import Registry
+
+__all__ = ["WORLDS", "Episode", "SourceSpec", "World", "register_world"]
+
+#: World types by name; third-party world types come from the entry-point group ``neurocur.worlds``.
+WORLDS = Registry("world", "neurocur.worlds")
+#: Class decorator: ``@register_world("synthetic")``.
+register_world = WORLDS.register
+
 
 @dataclass(frozen=True)
 class Episode:
@@ -43,6 +52,42 @@ class Episode:
         bounds = list(self.starts) + [len(self.frames)]
         for a, b in zip(bounds[:-1], bounds[1:]):
             yield self.frames[a:b], self.states[a:b]
+
+
+@dataclass(frozen=True)
+class SourceSpec:
+    """Which source drives each context, and the learnable sources in Ω order.
+
+    ``context_names[i]`` / ``context_sources[i]`` describe context index ``i``;
+    ``learnable`` lists the learnable sources easiest first (ascending Ω, eq 15).
+    Every other source of the world is unlearnable (noise).
+    """
+
+    context_names: tuple[str, ...]
+    context_sources: tuple[str, ...]
+    learnable: tuple[str, ...]
+
+    def __post_init__(self):
+        if len(self.context_names) != len(self.context_sources):
+            raise ValueError(
+                f"SourceSpec expected one source per context, got {len(self.context_names)} "
+                f"names and {len(self.context_sources)} sources"
+            )
+        unknown = set(self.learnable) - set(self.context_sources)
+        if unknown:
+            raise ValueError(f"SourceSpec: learnable sources {sorted(unknown)} drive no context")
+
+    @property
+    def unlearnable(self) -> tuple[str, ...]:
+        return tuple(s for s in dict.fromkeys(self.context_sources) if s not in self.learnable)
+
+    def contexts_of(self, source: str) -> list[int]:
+        """Indices of the contexts driven by ``source``."""
+        return [i for i, s in enumerate(self.context_sources) if s == source]
+
+    def source_of_name(self, name: str) -> str | None:
+        """The source of the context called ``name`` (None if there is none)."""
+        return dict(zip(self.context_names, self.context_sources)).get(name)
 
 
 class World(ABC):
@@ -79,6 +124,37 @@ class World(ABC):
         """Visit ``context`` and return ``(episode, 0.0, False, False, info)``."""
         ep = self._visit(self._check_context(context))
         return ep, 0.0, False, False, {"context": context}
+
+    @classmethod
+    def from_table(cls, table) -> World:
+        """The world of a validated world table (an experiment file's ``[world]``; file paths absolute)."""
+        raise NotImplementedError(f"{cls.__name__} cannot be built from an experiment file's world table")
+
+    @classmethod
+    def prepare(cls, table) -> None:
+        """Make the world of ``table`` cheap to build in every run (e.g. simulate a data set into
+        its cache). Called once, before worker processes start. Default: nothing to do."""
+        return None
+
+    def source_spec(self) -> SourceSpec:
+        """Which source each context shows, and the learnable sources in Ω order.
+
+        The default: every source is learnable, in order of first appearance.
+        """
+        return SourceSpec(tuple(self.context_names), tuple(self.source_names), tuple(dict.fromkeys(self.source_names)))
+
+    def module_report(self, library, modules) -> tuple[list, list, dict, dict]:
+        """What each stored module learned, judged against this run's hidden sources.
+
+        Called once at the end of a run, while the world still holds the run's sources.
+        ``library``: the frozen modules (objects with ``transform``), ``modules``: the
+        stored-module table (:data:`neurocur.contract.MODULE_COLUMNS`). Returns
+        ``(sources, quality, columns, tables)``: per module the source of the context it
+        was learned in and a quality in [0, 1] (NaN when the world has no ground truth,
+        as here), further per-module columns by name, and further per-run tables by name.
+        """
+        sources = [self.source_names[int(c)] for c in modules["context"]]
+        return sources, [float("nan")] * len(sources), {}, {}
 
     def _check_context(self, context) -> int:
         if not (isinstance(context, (int, np.integer)) and 0 <= context < self.n_contexts):

@@ -14,12 +14,9 @@ An episode starts with the arm at ``start_state`` and the object in its place; i
 ends ``post_contact`` frames after the first hand–object contact, never before
 ``min_frames`` and at most at ``max_frames`` frames (50–250 in the paper).
 
-Episodes are simulated with MuJoCo and rendered offscreen once, deterministically from
-a seed, and cached on disk as an ``.npz`` keyed by a hash of every generator parameter
-and the MuJoCo version; a run (:meth:`World.reset`) then draws episodes from that pool
-in a per-run random order. MuJoCo is imported lazily, so ``import neurocur`` does not
-need it. The GL backend is ``MUJOCO_GL`` (default ``"egl"``, which works with Mesa's
-software renderer; ``"osmesa"`` needs the system's libOSMesa).
+Episodes are simulated with MuJoCo and rendered once, and cached on disk
+(:mod:`.icub_data`); a run (:meth:`World.reset`) then draws episodes from that pool in a
+per-run random order.
 
 Learning difficulty: :func:`omega_episodes` is Ω (eq 15/40) of a list of episodes with
 the derivative taken within episodes only, after a PCA keeping 98 % of the variance
@@ -28,276 +25,26 @@ the derivative taken within episodes only, after a PCA keeping 98 % of the varia
 
 from __future__ import annotations
 
-import hashlib
-import json
-import os
-import pickle
-import subprocess
-import sys
-import tempfile
-from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 
 from ..learn._validation import check_fraction, check_positive_int
+from ..learn.correlation import abs_corr
 from ..learn.omega import omega
-from .base import Episode, World
-from .icub_scene import OBJECTS, SceneParams, scene_xml
+from .base import Episode, SourceSpec, World, register_world
+from .icub_data import FRAME_SHAPE, EpisodeParams, EpisodePool, _generate, _load, _save, cache_key, default_cache_dir
+from .icub_scene import OBJECTS, SceneParams
 
-FRAME_SHAPE = (75, 100)
-_CACHE_FORMAT = 1
-_LUMA = np.array([0.299, 0.587, 0.114])
-
-
-def _mujoco():
-    """Import MuJoCo with an offscreen GL backend chosen before the first import."""
-    os.environ.setdefault("MUJOCO_GL", "egl")
-    backend = os.environ["MUJOCO_GL"].lower()
-    if backend in ("egl", "osmesa"):
-        os.environ.setdefault("PYOPENGL_PLATFORM", backend)
-    import mujoco
-
-    return mujoco
+#: The iCub world's contexts: each shows its own object, both learnable, in Ω order
+#: (topple easier: the paper's Ω 0.9982 < 0.9988; measured in docs/icub.md).
+ICUB = SourceSpec(context_names=OBJECTS, context_sources=OBJECTS, learnable=OBJECTS)
+#: reference episodes (pool indices, both contexts) whose slow-feature outputs each run stores
+REFERENCE_EPISODES = (0, 1, 2)
 
 
-@dataclass(frozen=True)
-class EpisodeParams:
-    """The episode protocol; every field enters the cache key."""
-
-    start_state: int = 0
-    post_contact: int = 40
-    min_frames: int = 50
-    max_frames: int = 250
-    #: simulated seconds between two frames (one babbling action per frame)
-    frame_time: float = 0.08
-    #: simulated seconds to let the scene settle before the first frame
-    settle_time: float = 0.3
-
-    def __post_init__(self):
-        for name in ("post_contact", "min_frames", "max_frames"):
-            check_positive_int(getattr(self, name), name)
-        if not 50 <= self.min_frames <= self.max_frames <= 250:
-            raise ValueError(
-                f"episode lengths must satisfy 50 <= min_frames <= max_frames <= 250; "
-                f"got min_frames={self.min_frames}, max_frames={self.max_frames}"
-            )
-        if self.frame_time <= 0 or self.settle_time < 0:
-            raise ValueError("frame_time must be > 0 and settle_time >= 0")
-
-
-@dataclass
-class EpisodePool:
-    """All cached episodes of one context, frames kept as 8-bit gray to save memory."""
-
-    frames: np.ndarray  # uint8 (total_frames, 75, 100)
-    states: np.ndarray  # int64 (total_frames,)
-    positions: np.ndarray  # float64 (total_frames, 3): object centre per frame
-    offsets: np.ndarray  # int64 (n_episodes + 1,): episode i is rows offsets[i]:offsets[i+1]
-    contact: np.ndarray  # int64 (n_episodes,): frame of first hand–object contact, -1 if none
-    bounds: list = field(init=False)
-
-    def __post_init__(self):
-        self.bounds = list(zip(self.offsets[:-1], self.offsets[1:]))
-
-    def __len__(self) -> int:
-        return len(self.contact)
-
-    def rows(self, i: int) -> slice:
-        a, b = self.bounds[i]
-        return slice(int(a), int(b))
-
-
-class _Simulation:
-    """One scene (model, data, renderer) that plays episodes of one object."""
-
-    def __init__(self, obj: str, scene: SceneParams, protocol: EpisodeParams):
-        mj = _mujoco()
-        self.mj, self.obj, self.scene, self.protocol = mj, obj, scene, protocol
-        self.model = mj.MjModel.from_xml_string(scene_xml(obj, scene, height=FRAME_SHAPE[0], width=FRAME_SHAPE[1]))
-        self.data = mj.MjData(self.model)
-        self.renderer = mj.Renderer(self.model, *FRAME_SHAPE)
-        for flag in (mj.mjtRndFlag.mjRND_SHADOW, mj.mjtRndFlag.mjRND_REFLECTION):
-            self.renderer.scene.flags[flag] = False
-        self.angles = scene.state_angles()
-        self.object_id = self.model.body("object").id
-        self._pair = sorted((self.model.body("arm").id, self.object_id))
-        self.qpos_arm = self.model.joint("shoulder").qposadr[0]
-        self.qpos_object = self.model.joint("object").qposadr[0]
-        self.substeps = max(1, round(protocol.frame_time / scene.timestep))
-        self.settle_steps = round(protocol.settle_time / scene.timestep)
-
-    def _touching(self) -> bool:
-        """Whether the hand (any arm geom) is in contact with the object now."""
-        n = self.data.ncon
-        if n == 0:
-            return False
-        bodies = np.sort(self.model.geom_bodyid[self.data.contact.geom[:n]], axis=1)
-        return bool(np.any((bodies[:, 0] == self._pair[0]) & (bodies[:, 1] == self._pair[1])))
-
-    def _frame(self) -> np.ndarray:
-        self.renderer.update_scene(self.data, camera="eye")
-        return np.rint(self.renderer.render() @ _LUMA).astype(np.uint8)
-
-    def _place_object(self, rng: np.random.Generator) -> None:
-        """Per-episode variation: the ball's radial placement within ``±ball_jitter``."""
-        if self.obj == "roll":
-            jitter = self.scene.ball_jitter
-            self.data.qpos[self.qpos_object : self.qpos_object + 2] = self.scene.object_position(
-                "roll", rng.uniform(-jitter, jitter)
-            )
-
-    def play(self, rng: np.random.Generator):
-        """Simulate one episode; returns ``(frames uint8, states, positions, contact_frame)``."""
-        mj, m, d, p = self.mj, self.model, self.data, self.protocol
-        mj.mj_resetData(m, d)
-        self._place_object(rng)
-        state = p.start_state
-        d.qpos[self.qpos_arm] = d.ctrl[0] = self.angles[state]
-        mj.mj_forward(m, d)
-        for _ in range(self.settle_steps):
-            mj.mj_step(m, d)
-        moves = rng.choice(np.array([-1, 1]), size=p.max_frames)
-        frames, states, positions = [], [], []
-        contact, length = -1, p.max_frames
-        for t in range(p.max_frames):
-            if t > 0:
-                state = _reflect(state + moves[t], len(self.angles))
-                d.ctrl[0] = self.angles[state]
-                for _ in range(self.substeps):
-                    mj.mj_step(m, d)
-                    if contact < 0 and self._touching():
-                        contact = t
-                        length = min(max(t + 1 + p.post_contact, p.min_frames), p.max_frames)
-            frames.append(self._frame())
-            states.append(state)
-            positions.append(d.xpos[self.object_id].copy())
-            if t + 1 >= length:
-                break
-        return np.array(frames), np.array(states, dtype=np.int64), np.array(positions), contact
-
-    def close(self) -> None:
-        self.renderer.close()
-
-
-def _reflect(state: int, n_states: int) -> int:
-    """Keep a ±1 random-walk step inside ``0..n_states-1`` by reflecting it at the ends."""
-    if state < 0:
-        return 1
-    if state >= n_states:
-        return n_states - 2
-    return int(state)
-
-
-def _play_chunk(obj: str, scene: SceneParams, protocol: EpisodeParams, seeds) -> list:
-    """Simulate the episodes of ``obj`` seeded by ``seeds`` with one scene."""
-    sim = _Simulation(obj, scene, protocol)
-    try:
-        return [sim.play(np.random.default_rng(s)) for s in seeds]
-    finally:
-        sim.close()
-
-
-def _run_job(path: str) -> None:
-    """Worker-process entry point: play the chunks pickled in ``path``, pickle the results back."""
-    with open(path, "rb") as fh:
-        chunks = pickle.load(fh)
-    results = [_play_chunk(*chunk) for chunk in chunks]
-    with open(path + ".out", "wb") as fh:
-        pickle.dump(results, fh, protocol=pickle.HIGHEST_PROTOCOL)
-
-
-def _run_jobs(jobs: list) -> list:
-    """Run each job (a list of :func:`_play_chunk` argument tuples) in its own Python process.
-
-    Plain subprocesses rather than ``multiprocessing``: each worker gets a fresh GL context,
-    and the caller's ``__main__`` is never re-imported (no ``if __name__ == "__main__"`` needed).
-    """
-    code = "import sys; from neurocur.contexts.icub import _run_job; _run_job(sys.argv[1])"
-    with tempfile.TemporaryDirectory(prefix="neurocur-icub-") as tmp:
-        procs = []
-        for j, job in enumerate(jobs):
-            path = os.path.join(tmp, f"job{j}.pkl")
-            with open(path, "wb") as fh:
-                pickle.dump(job, fh, protocol=pickle.HIGHEST_PROTOCOL)
-            procs.append((path, subprocess.Popen([sys.executable, "-c", code, path], stderr=subprocess.PIPE)))
-        results = []
-        for path, proc in procs:
-            _, err = proc.communicate()
-            if proc.returncode != 0:
-                raise RuntimeError(f"iCub episode worker failed (exit {proc.returncode}):\n{err.decode(errors='replace')}")
-            with open(path + ".out", "rb") as fh:
-                results.append(pickle.load(fh))
-    return results
-
-
-def _pool(results: list) -> EpisodePool:
-    lengths = [len(r[0]) for r in results]
-    return EpisodePool(
-        frames=np.concatenate([r[0] for r in results]),
-        states=np.concatenate([r[1] for r in results]),
-        positions=np.concatenate([r[2] for r in results]),
-        offsets=np.concatenate([[0], np.cumsum(lengths)]).astype(np.int64),
-        contact=np.array([r[3] for r in results], dtype=np.int64),
-    )
-
-
-def _generate(scene: SceneParams, protocol: EpisodeParams, n_episodes: int, seed: int, n_jobs: int) -> dict:
-    """Simulate ``n_episodes`` of every object; episode i of an object always gets the same seed.
-
-    Each object's episodes are split into ``n_jobs`` contiguous chunks, and worker process
-    j plays chunk j of every object; the result does not depend on ``n_jobs``.
-    """
-    roots = np.random.SeedSequence(seed).spawn(len(OBJECTS))
-    seeds = {obj: root.spawn(n_episodes) for obj, root in zip(OBJECTS, roots)}
-    splits = np.array_split(np.arange(n_episodes), min(n_jobs, n_episodes))
-    jobs = [[(obj, scene, protocol, [seeds[obj][i] for i in chunk]) for obj in OBJECTS] for chunk in splits]
-    done = [[_play_chunk(*c) for c in job] for job in jobs] if len(jobs) == 1 else _run_jobs(jobs)
-    return {obj: _pool([ep for job in done for ep in job[k]]) for k, obj in enumerate(OBJECTS)}
-
-
-def default_cache_dir() -> Path:
-    """``$NEUROCUR_CACHE/icub`` if that variable is set, else ``~/.cache/neurocur/icub``."""
-    root = os.environ.get("NEUROCUR_CACHE")
-    return (Path(root) if root else Path.home() / ".cache" / "neurocur") / "icub"
-
-
-def cache_key(scene: SceneParams, protocol: EpisodeParams, n_episodes: int, seed: int) -> str:
-    """Hash of everything that determines the episodes, including the MuJoCo version."""
-    spec = {
-        "format": _CACHE_FORMAT,
-        "mujoco": _mujoco().__version__,
-        "frame_shape": FRAME_SHAPE,
-        "scene": asdict(scene),
-        "protocol": asdict(protocol),
-        "n_episodes": n_episodes,
-        "seed": seed,
-    }
-    return hashlib.sha256(json.dumps(spec, sort_keys=True).encode()).hexdigest()[:20]
-
-
-_POOL_FIELDS = ("frames", "states", "positions", "offsets", "contact")
-
-
-def _save(path: Path, pools: dict) -> None:
-    """Write the pools atomically (a temporary file renamed into place)."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    arrays = {f"{obj}_{f}": getattr(pool, f) for obj, pool in pools.items() for f in _POOL_FIELDS}
-    fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".npz.tmp")
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            np.savez_compressed(fh, **arrays)
-        os.replace(tmp, path)
-    except BaseException:
-        os.unlink(tmp)
-        raise
-
-
-def _load(path: Path) -> dict:
-    with np.load(path) as z:
-        return {obj: EpisodePool(**{f: z[f"{obj}_{f}"] for f in _POOL_FIELDS}) for obj in OBJECTS}
-
-
+@register_world("icub")
 class ICubWorld(World):
     """Two object contexts, ``"topple"`` (cup) and ``"roll"`` (ball), seen by the iCub's eye.
 
@@ -344,6 +91,22 @@ class ICubWorld(World):
             _save(self.cache_path, self.pools)
         self.last_info: dict = {}
         self._reset()
+
+    @classmethod
+    def from_table(cls, table) -> ICubWorld:
+        """``scene`` and ``protocol`` are tables of :class:`SceneParams` / :class:`EpisodeParams` fields."""
+        def params(kind, sub):
+            return kind(**{k: tuple(v) if isinstance(v, list) else v for k, v in sub.items()})
+
+        return cls(n_episodes=table.get("n_episodes", 70), seed=table.get("dataset_seed", 0),
+                   cache_dir=table.get("cache_dir"), n_jobs=table.get("n_jobs", 2),
+                   scene=params(SceneParams, table.get("scene", {})),
+                   protocol=params(EpisodeParams, table.get("protocol", {})))
+
+    @classmethod
+    def prepare(cls, table) -> None:
+        """Simulate the episode data set into its cache (constructing the world does that)."""
+        cls.from_table(table)
 
     def reset(self, *, seed=None, context: int = 0):
         ep, info = super().reset(seed=seed, context=context)
@@ -401,6 +164,64 @@ class ICubWorld(World):
     def episodes(self, context: int) -> list[Episode]:
         """Every cached episode of ``context``, in pool order."""
         return [self.episode(context, i) for i in range(self.n_episodes)]
+
+    def module_report(self, library, modules):
+        """What each stored module's slowest output y₀ encodes, over every cached episode.
+
+        Returns ``(sources, quality, columns, tables)``. Per module (a row of ``modules``,
+        learned in context ``c``), all on the pooled frames of every episode of a context:
+
+        - ``quality``: |corr(y₀, displacement)| on context ``c`` (the object's distance from
+          its start, ``self.displacement``: "object displaced or not", section 4.2.2);
+        - ``arm_corr``: |corr(y₀, arm joint state)| on context ``c`` (invariance to the arm);
+        - ``other_quality``: |corr(y₀, displacement)| on the other context;
+        - ``context_corr``: |corr(y₀, context index)| on both contexts (section 4.2.1: a module
+          learned across both contexts codes for the context).
+
+        ``tables["features"]``: every module's outputs on the reference episodes
+        ``REFERENCE_EPISODES`` of both contexts, one row per (module, frame): module,
+        context, episode_index, frame, state, displacement, contact_frame, y0, y1, ...
+        """
+        n_modules = len(modules)
+        J = library[0].n_components if library else 0
+        columns = ["module", "context", "episode_index", "frame", "state", "displacement", "contact_frame",
+                   *(f"y{j}" for j in range(J))]
+        extra = {"arm_corr": [], "other_quality": [], "context_corr": []}
+        if not library:
+            return [], [], extra, {"features": pd.DataFrame(columns=columns)}
+        proj = np.concatenate([m.projection_ for m in library], axis=1)
+        offset = np.concatenate([m.mean_ @ m.projection_ for m in library])
+        outputs, displacement, states, contexts, reference = [], [], [], [], []
+        for c in range(self.n_contexts):
+            for i in range(self.n_episodes):
+                ep = self.episode(c, i)
+                y = (ep.frames @ proj - offset).reshape(len(ep.frames), n_modules, J)
+                d = self.displacement(c, i)
+                outputs.append(y)
+                displacement.append(d)
+                states.append(ep.states)
+                contexts.append(np.full(len(d), c))
+                if i in REFERENCE_EPISODES:
+                    frame = np.arange(len(d))
+                    for m in range(n_modules):
+                        reference.append(pd.DataFrame({
+                            "module": m, "context": c, "episode_index": i, "frame": frame, "state": ep.states,
+                            "displacement": d, "contact_frame": self.contact_frame(c, i),
+                            **{f"y{j}": y[:, m, j] for j in range(J)}}))
+        features = pd.concat(reference, ignore_index=True)[columns]
+        context_of = np.concatenate(contexts)
+        y0 = np.concatenate(outputs)[:, :, 0]
+        displacement, states = np.concatenate(displacement), np.concatenate(states)
+        sources, quality = [], []
+        for row in modules.itertuples(index=False):
+            m, c = int(row.module), int(row.context)
+            own, other = context_of == c, context_of != c
+            sources.append(self.source_names[c])
+            quality.append(abs_corr(y0[own, m], displacement[own]))
+            extra["arm_corr"].append(abs_corr(y0[own, m], states[own]))
+            extra["other_quality"].append(abs_corr(y0[other, m], displacement[other]))
+            extra["context_corr"].append(abs_corr(y0[:, m], context_of.astype(np.float64)))
+        return sources, quality, extra, {"features": features}
 
 
 def _principal_basis(U: np.ndarray, var_fraction: float, rng: np.random.Generator) -> np.ndarray:

@@ -43,28 +43,35 @@ its mixing matrix (standard normal entries); then the clock offsets.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
 
 import numpy as np
 
 from neurocur.learn._validation import check_block, check_nonconstant, check_positive_int
+from neurocur.learn.correlation import abs_corr
 
-from .base import Episode, World
+from .base import Episode, SourceSpec, World, register_world
 from .sources import LEARNABLE, N_STEPS, SLOW_DIM, UNLEARNABLE, paper_source
 
 __all__ = [
     "SyntheticWorld",
     "PAPER_CONTEXTS",
+    "SYNTHETIC",
     "NORMALISATIONS",
     "mix_frames",
-    "InvarianceDemo",
-    "invariance_demo",
 ]
 
 PAPER_CONTEXTS = ("S-A", "S-A", "S-B", "S-C", "S-D")
 """The source of each of the paper's five contexts C1..C5."""
 
 NORMALISATIONS = ("global", "image")
+
+#: The synthetic world of section 4.1: C1, C2 share S-A; Ω(S-A) < Ω(S-B) < Ω(S-C); S-D is noise.
+SYNTHETIC = SourceSpec(
+    context_names=("C1", "C2", "C3", "C4", "C5"),
+    context_sources=("S-A", "S-A", "S-B", "S-C", "S-D"),
+    learnable=("S-A", "S-B", "S-C"),
+)
+
 _BUILTIN = LEARNABLE + UNLEARNABLE
 
 
@@ -91,6 +98,7 @@ def mix_frames(signal: np.ndarray, mixing: np.ndarray, normalise: str, *, limits
     raise ValueError(f"normalise must be one of {', '.join(map(repr, NORMALISATIONS))}; got {normalise!r}")
 
 
+@register_world("synthetic")
 class SyntheticWorld(World):
     """Contexts that each show one driving force through a random linear mixing (section 4.1).
 
@@ -118,6 +126,9 @@ class SyntheticWorld(World):
         Defaults to ``C1``, ``C2``, ...
     nonstationary:
         Redraw random sources (S-D) at every wrap of their clock (see the module docstring).
+    learnable:
+        The learnable sources in Ω order, for the analysis (:meth:`source_spec`); default:
+        the built-in learnable sources shown, then the user sources.
 
     After :meth:`reset`, :meth:`source_of`, :meth:`source_signal` and
     :meth:`context_frames` expose the run's hidden sources for analysis.
@@ -134,6 +145,7 @@ class SyntheticWorld(World):
         frame_shape: Sequence[int] = (20, 20),
         context_names: Sequence[str] | None = None,
         nonstationary: bool = True,
+        learnable: Sequence[str] | None = None,
     ) -> None:
         super().__init__()
         user = {}
@@ -175,12 +187,25 @@ class SyntheticWorld(World):
         if not isinstance(nonstationary, (bool, np.bool_)):
             raise ValueError(f"nonstationary must be true or false; got {nonstationary!r}")
         self.nonstationary = bool(nonstationary)
+        if learnable is not None:
+            learnable = tuple(learnable)
+            shown = ", ".join(dict.fromkeys(self.source_names))
+            if not learnable or any(s not in self.source_names for s in learnable):
+                raise ValueError(f"learnable must list sources shown by a context ({shown}); got {learnable!r}")
+        self.learnable = learnable
         self._user_sources = user
         self._signals: dict[str, np.ndarray] = {}
         self._mixing: dict[str, np.ndarray] = {}
         self._limits: dict[str, tuple[float, float]] = {}
         self._frames: dict[str, np.ndarray] = {}
         self._clocks = np.zeros(self.n_contexts, dtype=np.int64)
+
+    @classmethod
+    def from_table(cls, table) -> SyntheticWorld:
+        keys = ("contexts", "context_names", "visit_length", "normalise", "frame_shape", "nonstationary", "learnable",
+                "clock_offsets")
+        sources = {name: np.load(file, allow_pickle=False) for name, file in table.get("sources", {}).items()}
+        return cls(sources=sources, **{k: table[k] for k in keys if k in table})
 
     @classmethod
     def from_sources(cls, sources: Mapping[str, np.ndarray], contexts: Sequence[str] | None = None, **kwargs):
@@ -250,6 +275,26 @@ class SyntheticWorld(World):
         self._clocks[context] = (start + self.visit_length) % self.n_states
         return Episode(frames=frames, states=states, context=context)
 
+    def source_spec(self) -> SourceSpec:
+        """Learnable sources: ``learnable`` if given, else the built-in learnable sources shown
+        (S-A, S-B, S-C, in Ω order) followed by the user sources in context order."""
+        shown = list(dict.fromkeys(self.source_names))
+        default = [s for s in LEARNABLE if s in shown] + [s for s in shown if s in self._user_sources
+                                                          and s not in LEARNABLE]
+        learnable = default if self.learnable is None else self.learnable
+        return SourceSpec(tuple(self.context_names), tuple(self.source_names), tuple(learnable))
+
+    def module_report(self, library, modules):
+        """Per stored module: its source and the |corr| of its slowest output, on its context's
+        frames, with the source's slow dimension (:data:`~neurocur.contexts.sources.SLOW_DIM`)."""
+        sources, quality = [], []
+        for row in modules.itertuples(index=False):
+            source = self.source_of(int(row.context))
+            sources.append(source)
+            output = library[int(row.module)].transform(self.context_frames(int(row.context)))[:, 0]
+            quality.append(abs_corr(output, self.source_signal(source)[:, SLOW_DIM]))
+        return sources, quality, {}, {}
+
     # -- hidden sources, for analysis ----------------------------------------------------------
 
     def source_of(self, context) -> str:
@@ -289,67 +334,3 @@ class SyntheticWorld(World):
         if name not in table:
             raise ValueError(f"unknown source {name!r}; this world shows {', '.join(dict.fromkeys(self.source_names))}")
         return table[name]
-
-
-@dataclass(frozen=True)
-class InvarianceDemo:
-    """Result of :func:`invariance_demo` (paper Figure 5), arrays of length n_steps.
-
-    ``source``/``frames``: the learned driving force and its frames (5A, 5B);
-    ``output``: the first (slowest) feature on them (5C); ``noisy_source``/
-    ``noisy_frames``: the same with dimension 1 replaced by noise (5D, 5E);
-    ``noisy_output``: the first feature on the noisy frames (5F); ``corr``: their
-    correlation; ``quality``: |corr| of ``output`` with the slow source dimension.
-    """
-
-    source: np.ndarray
-    frames: np.ndarray
-    output: np.ndarray
-    noisy_source: np.ndarray
-    noisy_frames: np.ndarray
-    noisy_output: np.ndarray
-    corr: float
-    quality: float
-
-
-def invariance_demo(source: str = "S-A", *, epochs: int = 30, seed=0, normalise: str = "global",
-                    **incsfa_params) -> InvarianceDemo:
-    """Section 4.1.5 / Figure 5: a learned slow feature is invariant to the other source dimension.
-
-    IncSFA (``n_components=2`` by default, other parameters as given) learns from
-    ``epochs`` passes over one context's frames; then source dimension 1 (the fast one)
-    is replaced by uniform noise over its range and the frames are rendered again
-    with the *same* mixing (and, globally normalised, the same limits, so a few noisy
-    pixels may leave [0, 1] slightly). The first feature's output should not change.
-
-    Global normalisation is the default: per-image scaling (``normalise="image"``)
-    divides every pixel by a quantity that depends on both source dimensions, so the
-    frames are no longer linear in the source and the invariance is only approximate.
-    """
-    from neurocur.learn.incsfa import IncSFA
-
-    epochs = check_positive_int(epochs, "epochs")
-    world = SyntheticWorld([source], normalise=normalise, clock_offsets="zero")
-    world.reset(seed=seed)
-    frames = world.context_frames(0)
-    params = {"n_components": 2, "random_state": np.random.default_rng(seed)} | incsfa_params
-    sfa = IncSFA(**params)
-    for epoch in range(epochs):
-        sfa.partial_fit(frames, continues=epoch > 0)
-    signal = world.source_signal(source)
-    noisy = signal.copy()
-    low, high = signal[:, 1].min(), signal[:, 1].max()
-    noisy[:, 1] = world.np_random.uniform(low, high, size=len(noisy))
-    noisy_frames, _ = mix_frames(noisy, world.mixing(source), normalise, limits=world.normalisation_limits(source))
-    output = sfa.transform(frames)[:, 0]
-    noisy_output = sfa.transform(noisy_frames)[:, 0]
-    return InvarianceDemo(
-        source=signal,
-        frames=frames,
-        output=output,
-        noisy_source=noisy,
-        noisy_frames=noisy_frames,
-        noisy_output=noisy_output,
-        corr=float(np.corrcoef(output, noisy_output)[0, 1]),
-        quality=float(abs(np.corrcoef(output, signal[:, SLOW_DIM])[0, 1])),
-    )

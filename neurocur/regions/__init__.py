@@ -1,11 +1,18 @@
 """Brain regions of CD-MISFA (paper section 3), registered by type name.
 
-Importing this package registers the built-in region types:
-``sensory.world``, ``ec.incsfa``, ``hpc.roc``, ``vta.learning_progress``,
-``vta.novelty``, ``pfc.lspi``, ``lc.epsilon_greedy``. See docs/regions.md.
+One region per module: ``sensory`` (the world as a region), ``ec`` (entorhinal slow
+features), ``hpc`` (hippocampal clusterers and familiarity), ``vta`` (dopamine), ``pfc``
+(prefrontal values), ``lc`` (locus coeruleus, noradrenaline). Importing this package
+imports every module in it, so each ``@register``-decorated region class in a new file
+here is available by its type name without further wiring. See docs/regions.md.
 """
 
-from . import ec, hpc, lc, pfc, sensory, vta  # noqa: F401  (registration side effect)
-from .base import Probe, Region, Signal
+import importlib
+import pkgutil
 
-__all__ = ["Region", "Signal", "Probe"]
+from .base import REGIONS, NoParams, Probe, Region, Signal, register
+
+for _module in pkgutil.iter_modules(__path__):
+    importlib.import_module(f"{__name__}.{_module.name}")
+
+__all__ = ["REGIONS", "NoParams", "Probe", "Region", "Signal", "register"]

@@ -17,7 +17,10 @@ Life cycle, driven by the scheduler: ``bind(world)`` once (sizes from the world)
 ``reset(rng)`` once, then per pass (= one episode) ``step(*inputs) -> tuple`` in
 topological order, then ``learn(*learn_inputs)`` for plastic regions, then
 ``record()``. A region may append event dicts to ``self.events`` (the scheduler
-collects and clears them after each pass).
+collects and clears them after each pass). At the end of a run, ``products(events)``
+returns what the region leaves behind, by name (EC: ``"library"``, its frozen modules;
+HPC: ``"modules"``, the stored-module table); :meth:`neurocur.scheduler.Simulator.products`
+gathers them, so nothing above the regions names a region to find them.
 """
 
 from __future__ import annotations
@@ -26,10 +29,17 @@ from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
+import pandas as pd
 
 from ..config import check_params
+from ..registry import Registry
 
-__all__ = ["Signal", "Probe", "Region", "NoParams"]
+__all__ = ["REGIONS", "Signal", "Probe", "Region", "NoParams", "register"]
+
+#: Region types by name; third-party region types come from the entry-point group ``neurocur.regions``.
+REGIONS = Registry("region", "neurocur.regions")
+#: Class decorator: ``@register("vta.learning_progress")``.
+register = REGIONS.register
 
 
 @dataclass(frozen=True)
@@ -48,7 +58,7 @@ class Signal:
     def describe(self) -> str:
         return f"{self.dtype} shape {tuple(self.shape)}"
 
-    def compatible(self, other: "Signal") -> bool:
+    def compatible(self, other: Signal) -> bool:
         """Same dtype and rank; fixed sizes equal; a named size matches the same name or any fixed size."""
         if self.dtype != other.dtype or len(self.shape) != len(other.shape):
             return False
@@ -129,6 +139,11 @@ class Region:
     def record_frames(self) -> np.ndarray:
         """A (T, len(frame_probes)) array of per-frame values for this pass."""
         return np.empty((0, 0))
+
+    def products(self, events: pd.DataFrame) -> dict:
+        """End-of-run products by name; ``events``: this region's events of the run
+        (columns ``episode``, ``step``, ``region``, then the events' fields)."""
+        return {}
 
     def __repr__(self) -> str:
         return f"{type(self).__name__}(name={self.name!r}, params={self.params!r})"

@@ -9,8 +9,7 @@ import numpy as np
 from ..config import ConfigError, check_params, learner_param
 from ..learn.ccipca import AmnesicSchedule
 from ..learn.incsfa import IncSFA
-from ..registry import register
-from .base import Probe, Region, Signal
+from .base import Probe, Region, Signal, register
 
 
 @dataclass(frozen=True)
@@ -111,3 +110,7 @@ class ECIncSFA(Region):
 
     def record_frames(self):
         return self.features
+
+    def products(self, events):
+        """``"library"``: the frozen modules (IncSFA), in storage order."""
+        return {"library": list(self.library)}

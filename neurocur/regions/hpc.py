@@ -5,11 +5,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import pandas as pd
 
 from ..config import check_params, learner_param, param
+from ..contract import MODULE_COLUMNS
 from ..learn.roc import ROCBank
-from ..registry import register
-from .base import Probe, Region, Signal
+from .base import Probe, Region, Signal, register
 
 FREEZE_RULES = ("context_mean", "context_sum", "episode_mean", "converged")
 
@@ -215,6 +216,14 @@ class HPCROC(Region):
 
     def record_frames(self):
         return np.where(self._known, self._frame_err, np.nan)[:, None]
+
+    def products(self, events):
+        """``"modules"``: one row per stored module (:data:`neurocur.recording.MODULE_COLUMNS`)."""
+        columns = [c.name for c in MODULE_COLUMNS]
+        stored = events[events["event"] == "module_stored"]
+        if stored.empty:
+            return {"modules": pd.DataFrame({c: np.empty(0, np.int64) for c in columns})}
+        return {"modules": stored[columns].astype(np.int64).reset_index(drop=True)}
 
 
 def _spread(y: np.ndarray) -> float:

@@ -6,9 +6,8 @@ import math
 from dataclasses import dataclass
 
 from ..config import check_params, param
-from ..registry import register
-from .base import Probe, Region, Signal
-from .pfc import ACTIONS, DISENGAGE, ENGAGE
+from .base import Probe, Region, Signal, register
+from .pfc import ACTIONS, DISENGAGE, ENGAGE, next_context
 
 
 @dataclass(frozen=True)
@@ -28,7 +27,8 @@ class EpsilonGreedyLC(Region):
     probability epsilon the action is drawn uniformly from {engage, disengage},
     otherwise it is ``argmax Q`` (a tie is broken uniformly); then epsilon is
     multiplied by ``decay``. Engage stays in the context; disengage draws the next
-    context uniformly from the others (eq 13). The recorded ``epsilon`` is the one used.
+    context uniformly from the others (eq 13, :func:`~neurocur.regions.pfc.next_context`).
+    The recorded ``epsilon`` is the one used.
 
     NE, with g = 1 if Q_dis > Q_eng, 1/2 on a tie, 0 otherwise:
 
@@ -81,11 +81,7 @@ class EpsilonGreedyLC(Region):
             action = int(rng.integers(2))
         else:
             action = DISENGAGE if g == 1.0 else ENGAGE
-        if action == ENGAGE:
-            nxt = int(context)
-        else:
-            k = int(rng.integers(self.n_contexts - 1))
-            nxt = k if k < context else k + 1
+        nxt = next_context(context, action, self.n_contexts, rng)
         tonic = 0.5 * eps + (1.0 - eps) * g
         if module_learned:
             phasic = 1.0

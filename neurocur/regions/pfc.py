@@ -8,8 +8,7 @@ import numpy as np
 
 from ..config import check_params, learner_param, param
 from ..learn.lspi import LSPI
-from ..registry import register
-from .base import Probe, Region, Signal
+from .base import Probe, Region, Signal, register
 
 ENGAGE, DISENGAGE = 0, 1
 ACTIONS = ("engage", "disengage")
@@ -21,6 +20,15 @@ def transition_model(n_contexts: int) -> np.ndarray:
     P[:, ENGAGE] = np.eye(n_contexts)
     P[:, DISENGAGE] = (1.0 - np.eye(n_contexts)) / (n_contexts - 1)
     return P
+
+
+def next_context(context: int, action: int, n_contexts: int, rng: np.random.Generator) -> int:
+    """A draw from eqs 12-13's P[context, action, :]: engage stays; disengage goes to one of the
+    other ``n_contexts - 1`` contexts, uniformly (one ``rng.integers`` draw)."""
+    if action == ENGAGE:
+        return int(context)
+    k = int(rng.integers(n_contexts - 1))
+    return k if k < context else k + 1
 
 
 @dataclass(frozen=True)

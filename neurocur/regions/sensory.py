@@ -8,8 +8,7 @@ import numpy as np
 
 from ..config import check_params, param
 from ..contexts.base import Episode
-from ..registry import register
-from .base import Probe, Region, Signal
+from .base import Probe, Region, Signal, register
 
 
 @dataclass(frozen=True)

@@ -7,8 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..config import check_params, param
-from ..registry import register
-from .base import Probe, Region, Signal
+from .base import Probe, Region, Signal, register
 
 _INPUTS = (
     Signal("context", "int64", ()),

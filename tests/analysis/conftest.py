@@ -108,6 +108,6 @@ def results_dir(tmp_path_factory):
 
 @pytest.fixture(scope="session")
 def tables(results_dir):
-    from neurocur.analysis.io import load
+    from neurocur.analysis import load
 
     return load(results_dir)

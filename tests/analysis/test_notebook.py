@@ -9,7 +9,7 @@ import nbclient
 import nbformat
 import pytest
 
-from neurocur.analysis.io import load
+from neurocur.analysis import load
 from neurocur.cli import main
 
 ROOT = Path(__file__).resolve().parents[2]

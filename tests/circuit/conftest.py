@@ -10,7 +10,6 @@ import pytest
 from neurocur.contexts.base import Episode, World
 
 
-
 class StandInWorld(World):
     """Contexts 0 and 1 show the same slow source (two sinusoids over the local clock),
     context 2 shows white noise. Each source is mixed into 6x6 frames by a random

@@ -37,7 +37,7 @@ def test_episode_table_schema_and_consistency(run):
     df = run.episodes()
     assert list(df.columns) == EPISODE_COLUMNS
     assert len(df) == 400 and run.n_frames == 8000
-    assert df.dtypes["familiar"] == bool and df.dtypes["n_modules"] == np.int64 and df.dtypes["context"] == np.int64
+    assert df.dtypes["familiar"] == np.bool_ and df.dtypes["n_modules"] == np.int64 and df.dtypes["context"] == np.int64
     np.testing.assert_array_equal(df["step"], 20 * np.arange(400))
     assert set(df["action"]) <= {"engage", "disengage"}
     # the decision at episode k names the context of episode k+1
@@ -59,7 +59,8 @@ def test_episode_table_schema_and_consistency(run):
 
 
 def test_modules_table_and_library(run):
-    modules = run.modules()
+    products = run.products()
+    modules = products["modules"]
     df = run.episodes()
     assert list(modules.columns) == ["module", "step", "episode", "context", "n_clusters"]
     learned = df[df.module_learned]
@@ -70,6 +71,7 @@ def test_modules_table_and_library(run):
     assert (modules["n_clusters"] > 0).all()
     ec, hpc = run.regions["EC"], run.regions["HPC"]
     assert len(ec.library) == len(hpc.library) == len(modules) and hpc.threshold == 0.3
+    assert products["library"] == ec.library and set(products) == {"library", "modules"}
     # EC's stacked encoding equals every frozen module's own transform (eq 2)
     episode = run.regions["sensory"].episode
     y, lib = ec.step(episode)
@@ -82,7 +84,7 @@ def test_same_seed_same_tables(circuit, make_world):
     a = circuit.build(make_world(), seed=5).run(20 * 120)
     b = circuit.build(make_world(), seed=5).run(20 * 120)
     pd.testing.assert_frame_equal(a.episodes(), b.episodes())
-    pd.testing.assert_frame_equal(a.modules(), b.modules())
+    pd.testing.assert_frame_equal(a.products()["modules"], b.products()["modules"])
     pd.testing.assert_frame_equal(a.probes(), b.probes())
     c = circuit.build(make_world(), seed=6).run(20 * 120)
     assert not a.episodes()["context"].equals(c.episodes()["context"])

@@ -10,7 +10,7 @@ import pytest
 
 from neurocur.config import ConfigError
 from neurocur.contexts.base import Episode
-from neurocur.regions.hpc import HPCParams, HPCROC
+from neurocur.regions.hpc import HPCROC, HPCParams
 from neurocur.regions.lc import EpsilonGreedyLC
 from neurocur.regions.pfc import PFCLSPI, transition_model
 from neurocur.regions.sensory import SensoryWorld
@@ -226,7 +226,7 @@ def test_lc_epsilon_decay_reset_and_ne():
         else:
             assert nxt != 1 and phasic == 0.0
     rows = run_lc(lc, [0, 0], [(1.0, 3.0), (1.0, 1.0)], [False, False])
-    e0, e1 = rows[0][2], rows[1][2]
+    e0 = rows[0][2]
     assert rows[0][3] == pytest.approx(e0 / 2 + (1 - e0)) and rows[1][3] == pytest.approx(0.5)
     greedy = make(EpsilonGreedyLC, small_world(4), epsilon0=0.0)
     assert all(r[0] == 1 for r in run_lc(greedy, [2] * 20, [(0.0, 1.0)] * 20, [False] * 20))

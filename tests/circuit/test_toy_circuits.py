@@ -13,6 +13,7 @@ import pytest
 from neurocur import registry
 from neurocur.circuit import Circuit
 from neurocur.config import ConfigError, check_params, param
+from neurocur.regions import REGIONS
 from neurocur.regions.base import Probe, Region, Signal
 
 
@@ -24,7 +25,7 @@ class GainParams:
         check_params(self)
 
 
-@registry.register("toy.ramp")
+@REGIONS.register("toy.ramp")
 class Ramp(Region):
     """x = index of the pass (0, 1, 2, ...)."""
 
@@ -42,7 +43,7 @@ class Ramp(Region):
         return (float(self.k),)
 
 
-@registry.register("toy.gain")
+@REGIONS.register("toy.gain")
 class Gain(Region):
     """y = gain * x."""
 
@@ -59,7 +60,7 @@ class Gain(Region):
         return (self.y,)
 
 
-@registry.register("toy.acc")
+@REGIONS.register("toy.acc")
 class Acc(Region):
     """total = previous total (delayed self-edge, None at first) + y + w."""
 
@@ -75,7 +76,7 @@ class Acc(Region):
         return (self.total,)
 
 
-@registry.register("toy.learner")
+@REGIONS.register("toy.learner")
 class Learner(Region):
     """Step: w = number of learn calls so far. Learn: remembers this pass's total (a later region)."""
 
@@ -97,7 +98,7 @@ class Learner(Region):
         return np.array([[self.seen[-1]], [self.seen[-1] + 0.5]])
 
 
-@registry.register("toy.vec3")
+@REGIONS.register("toy.vec3")
 class Vec3(Region):
     outputs = (Signal("v", "float64", (3,)),)
 
@@ -105,12 +106,12 @@ class Vec3(Region):
         return (np.ones(3),)
 
 
-@registry.register("toy.vec4sink")
+@REGIONS.register("toy.vec4sink")
 class Vec4Sink(Region):
     inputs = (Signal("v", "float64", (4,)),)
 
 
-@registry.register("toy.relay")
+@REGIONS.register("toy.relay")
 class Relay(Region):
     inputs = (Signal("a", "float64", ()),)
     outputs = (Signal("b", "float64", ()),)
@@ -379,27 +380,27 @@ def test_plugin_region_from_entry_point(tmp_path, monkeypatch):
                 return (-x,)
     """))
     monkeypatch.syspath_prepend(str(tmp_path))
-    ep = EntryPoint(name="plugin.negate", value="neurocur_toy_plugin:Negate", group=registry.ENTRY_POINT_GROUP)
-    monkeypatch.setattr(registry, "entry_points", lambda group: [ep] if group == registry.ENTRY_POINT_GROUP else [])
-    monkeypatch.delitem(registry._REGISTRY, "plugin.negate", raising=False)
-    assert "plugin.negate" in registry.names()
+    ep = EntryPoint(name="plugin.negate", value="neurocur_toy_plugin:Negate", group=REGIONS.group)
+    monkeypatch.setattr(registry, "entry_points", lambda group: [ep] if group == REGIONS.group else [])
+    monkeypatch.delitem(REGIONS._types, "plugin.negate", raising=False)
+    assert "plugin.negate" in REGIONS.names()
     path = write(tmp_path, TOY.replace('type = "toy.gain"\nparams = { gain = 2.0 }', 'type = "plugin.negate"'))
     sim = Circuit.from_toml(path).build(None, 0).run(3)
     np.testing.assert_array_equal(sim.episodes()["total"], [0.0, -1.0 + 1.0, -2.0 + 2.0])
-    assert registry.get("plugin.negate").type_name == "plugin.negate"
-    with pytest.raises(registry.UnknownRegionType):
-        registry.get("plugin.absent")
+    assert REGIONS.get("plugin.negate").type_name == "plugin.negate"
+    with pytest.raises(registry.UnknownType):
+        REGIONS.get("plugin.absent")
 
 
 def test_register_rejects_a_second_class_under_a_taken_name():
     with pytest.raises(ValueError, match="already registered"):
-        @registry.register("toy.gain")
+        @REGIONS.register("toy.gain")
         class Other(Region):
             pass
 
 
 def test_step_returning_wrong_arity_is_caught(tmp_path):
-    @registry.register("toy.broken")
+    @REGIONS.register("toy.broken")
     class Broken(Region):
         outputs = (Signal("x", "float64", ()),)
 

@@ -8,7 +8,7 @@ import sys
 import numpy as np
 import pytest
 
-from neurocur.contexts import icub
+from neurocur.contexts import icub, icub_data
 from neurocur.contexts.icub import EpisodeParams, ICubWorld, omega_episodes
 from neurocur.learn.omega import omega, omega_from_eigenvalues
 from neurocur.learn.sfa_batch import whiten_batch
@@ -18,7 +18,7 @@ N_EPISODES = 6
 
 def _rendering_available() -> tuple[bool, str]:
     try:
-        mj = icub._mujoco()
+        mj = icub_data._mujoco()
         model = mj.MjModel.from_xml_string(
             "<mujoco><worldbody><geom type='sphere' size='1'/></worldbody></mujoco>"
         )

@@ -11,7 +11,7 @@ from neurocur.contexts.sources import (
     paper_source,
     sinusoid_pair,
 )
-from neurocur.contexts.synthetic import SyntheticWorld, invariance_demo, mix_frames
+from neurocur.contexts.synthetic import SyntheticWorld, mix_frames
 from neurocur.learn.omega import derivative_eigenvalues, omega
 
 PAPER_OMEGA = {"S-A": 0.9933, "S-B": 0.9988, "S-C": 0.9997}
@@ -198,16 +198,6 @@ def test_analysis_accessors_need_a_reset_and_known_names():
         w.source_of("C9")
     with pytest.raises(ValueError, match="context must be an int"):
         w.step(5)
-
-
-def test_invariance_demo_feature_ignores_the_other_dimension():
-    demo = invariance_demo("S-A", epochs=10, seed=0)
-    assert demo.quality > 0.99  # the slowest feature is the slow source dimension
-    assert not np.allclose(demo.frames, demo.noisy_frames)  # the images change ...
-    assert demo.corr >= 0.95  # ... the first feature's output does not
-    # per-image normalisation makes the frames non-linear in the source: invariance is only approximate
-    image = invariance_demo("S-A", epochs=10, seed=0, normalise="image")
-    assert image.corr < demo.corr
 
 
 def test_unlearnable_source_is_redrawn_every_epoch_but_learnable_ones_replay():

@@ -10,15 +10,8 @@ import pytest
 
 from neurocur.config import ConfigError
 from neurocur.contexts.sources import paper_source
-from neurocur.experiment import (
-    dumps_toml,
-    first_difference,
-    load_experiment,
-    module_quality,
-    parse_set,
-    run_one,
-    source_spec,
-)
+from neurocur.experiments import load_experiment, parse_set, run_one
+from neurocur.results import dumps_toml, first_difference
 
 ROOT = Path(__file__).resolve().parents[2]
 SYNTHETIC = ROOT / "experiments" / "synthetic.toml"
@@ -36,7 +29,7 @@ def test_synthetic_experiment_has_the_papers_parameters():
     assert (exp.name, exp.runs, exp.steps) == ("synthetic", 25, 350_000)
     assert list(exp.conditions) == ["curious", "random_switching", "literal"]
     cur, rnd, lit = (exp.conditions[c] for c in ("curious", "random_switching", "literal"))
-    assert cur.circuit == lit.circuit == CIRCUIT and rnd.circuit == ROOT / "circuits" / "lesion_lc_random.toml"
+    assert cur.circuit_path == lit.circuit_path == CIRCUIT and rnd.circuit_path == ROOT / "circuits" / "lesion_lc_random.toml"
     paper = {"HPC.threshold": 0.3, "HPC.n_states": 1000, "HPC.max_clusters": 2, "LC.epsilon0": 0.6,
              "LC.decay": 0.995, "EC.amnesic": 2.0, "EC.mca_rate": 0.05}
     chosen = {"HPC.clusterers": "state", "HPC.freeze": "converged", "HPC.reward_error": "episode",
@@ -48,10 +41,10 @@ def test_synthetic_experiment_has_the_papers_parameters():
     assert cur.world["contexts"] == ["S-A", "S-A", "S-B", "S-C", "S-D"]
     world = cur.make_world()
     assert world.n_states == 1000 and world.visit_length == 100 and world.frame_shape == (20, 20)
-    spec = source_spec(cur, world)
+    spec = world.source_spec()
     assert spec.learnable == ("S-A", "S-B", "S-C") and spec.context_sources[4] == "S-D"
     # the lesion is part of the random condition's resolved circuit
-    lesions = rnd.load_circuit().to_dict()["lesions"]
+    lesions = rnd.circuit.to_dict()["lesions"]
     assert lesions == [{"region": "LC", "how": "random"}]
 
 
@@ -63,7 +56,7 @@ def test_runs_steps_and_sets_override_the_file():
     for cond in exp.conditions.values():
         assert cond.params["HPC.threshold"] == 0.25 and cond.params["LC.decay"] == 0.9
         assert cond.world["normalise"] == "image" and cond.world["clock_offsets"] == [0] * 5
-        assert cond.load_circuit().specs["HPC"].params.threshold == 0.25
+        assert cond.circuit.specs["HPC"].params.threshold == 0.25
 
 
 def test_parse_set_reads_toml_literals():
@@ -162,7 +155,7 @@ def test_user_sources_from_npy_files(tmp_path):
     world.reset(seed=0)
     np.testing.assert_array_equal(world.source_signal("S-X"), x)
     assert world.source_of("C1") == "S-X" and world.context_frames("C1").shape == (1000, 400)
-    assert source_spec(cond, world).learnable == ("S-A", "S-X")
+    assert world.source_spec().learnable == ("S-A", "S-X")
 
 
 def test_seeds_pair_runs_across_conditions_and_do_not_depend_on_the_run_count():
@@ -176,7 +169,7 @@ def test_seeds_pair_runs_across_conditions_and_do_not_depend_on_the_run_count():
     worlds = []
     for cond in exp.conditions.values():
         world = cond.make_world()
-        cond.load_circuit().build(world, seed=exp.run_seed(1))
+        cond.circuit.build(world, seed=exp.run_seed(1))
         worlds.append(world)
     for c in range(5):
         np.testing.assert_array_equal(worlds[0].context_frames(c), worlds[1].context_frames(c))
@@ -194,17 +187,21 @@ class _Projector:
 
 
 def test_module_quality_is_abs_corr_with_the_slow_dimension():
+    import pandas as pd
+
     from neurocur.contexts.synthetic import SyntheticWorld
 
-    world = SyntheticWorld(["S-A"])
+    world = SyntheticWorld(["S-A", "S-B"])
     world.reset(seed=0)
     frames, src = world.context_frames(0), world.source_signal("S-A")
     # the least-squares read-out of the slow dimension is a perfect module (global normalisation is affine)
     w, *_ = np.linalg.lstsq(frames - frames.mean(0), src[:, 0] - src[:, 0].mean(), rcond=None)
-    assert module_quality(_Projector(-w), frames, src) == pytest.approx(1.0, abs=1e-9)
     w_fast, *_ = np.linalg.lstsq(frames - frames.mean(0), src[:, 1] - src[:, 1].mean(), rcond=None)
-    assert module_quality(_Projector(w_fast), frames, src) < 0.1
-    assert math.isnan(module_quality(_Projector(np.zeros(400)), frames, src))
+    library = [_Projector(-w), _Projector(w_fast), _Projector(np.zeros(400))]
+    modules = pd.DataFrame({"module": [0, 1, 2], "context": [0, 0, 0]})
+    sources, quality, columns, tables = world.module_report(library, modules)
+    assert sources == ["S-A"] * 3 and columns == {} and tables == {}
+    assert quality[0] == pytest.approx(1.0, abs=1e-9) and quality[1] < 0.1 and math.isnan(quality[2])
 
 
 def test_run_one_tables():

@@ -12,8 +12,10 @@ import pytest
 from neurocur.analysis.icub import ICUB, fig_module_error, learning_segments
 from neurocur.cli import main
 from neurocur.config import ConfigError
+from neurocur.contexts import build_world
 from neurocur.contexts.base import Episode
-from neurocur.experiment import ICUB_REFERENCE_EPISODES, build_world, icub_module_report, load_experiment, source_spec
+from neurocur.contexts.icub import REFERENCE_EPISODES, ICubWorld
+from neurocur.experiments import load_experiment
 
 ROOT = Path(__file__).resolve().parents[2]
 ICUB_TOML = ROOT / "experiments" / "icub.toml"
@@ -23,7 +25,7 @@ CIRCUIT = ROOT / "circuits" / "cd_misfa.toml"
 def _gl_available() -> bool:
     """Whether MuJoCo can render offscreen here (the iCub data set needs it)."""
     try:
-        from neurocur.contexts.icub import _mujoco
+        from neurocur.contexts.icub_data import _mujoco
 
         mj = _mujoco()
         model = mj.MjModel.from_xml_string("<mujoco><worldbody><geom type='sphere' size='1'/></worldbody></mujoco>")
@@ -55,17 +57,16 @@ def test_icub_experiment_has_the_papers_parameters(tmp_path):
     assert p["HPC.threshold"] * p["HPC.n_states"] == pytest.approx(2.3)  # eq 11 summed over the 20 states
     assert (p["LC.epsilon0"], p["LC.decay"]) == (0.6, 0.93)
     assert (p["EC.amnesic"], p["EC.var_fraction"], p["EC.mca_rate"]) == (0.4, 0.98, 0.01)
-    assert exp.conditions["random_switching"].circuit.name == "lesion_lc_random.toml"
+    assert exp.conditions["random_switching"].circuit_path.name == "lesion_lc_random.toml"
     world = exp.conditions["curious"].world
     assert world["type"] == "icub" and world["n_episodes"] == 70
 
 
-def test_source_spec_does_not_build_the_world(tmp_path):
+def test_loading_does_not_build_the_world(tmp_path):
     exp = load_experiment(ICUB_TOML, sets=[f"world.cache_dir={json.dumps(str(tmp_path / 'cache'))}"])
-    spec = source_spec(exp.conditions["curious"])
-    assert spec == ICUB
-    assert spec.context_names == ("topple", "roll") and spec.learnable == ("topple", "roll")
-    assert not (tmp_path / "cache").exists()  # neither loading nor the spec simulated anything
+    assert exp.conditions["curious"].world_type == "icub"
+    assert ICUB.context_names == ("topple", "roll") and ICUB.learnable == ("topple", "roll")
+    assert not (tmp_path / "cache").exists()  # loading simulated nothing
 
 
 @pytest.mark.parametrize("world, key, expected", [
@@ -102,7 +103,7 @@ def test_cache_dir_is_relative_to_the_experiment_file(tmp_path):
 
 
 class _FakeWorld:
-    """Two contexts of random frames with a known displacement; enough for icub_module_report."""
+    """Two contexts of random frames with a known displacement; enough for ICubWorld.module_report."""
 
     n_contexts, n_episodes, source_names = 2, 4, ("topple", "roll")
 
@@ -133,7 +134,7 @@ def test_module_report_correlations_against_numpy():
     rng = np.random.default_rng(0)
     world, library = _FakeWorld(rng), [_Module(rng), _Module(rng)]
     modules = pd.DataFrame({"module": [0, 1], "context": [0, 1]})
-    sources, quality, columns, tables = icub_module_report(world, library, modules)
+    sources, quality, columns, tables = ICubWorld.module_report(world, library, modules)
     assert sources == ["topple", "roll"]
 
     def pooled(c, f):
@@ -151,12 +152,12 @@ def test_module_report_correlations_against_numpy():
         ctx = np.repeat([0.0, 1.0], [len(y[0]), len(y[1])])
         assert columns["context_corr"][m] == pytest.approx(abs(np.corrcoef(both, ctx)[0, 1]), abs=1e-12)
     feats = tables["features"]
-    assert sorted(feats["episode_index"].unique()) == [i for i in ICUB_REFERENCE_EPISODES if i < 4]
+    assert sorted(feats["episode_index"].unique()) == [i for i in REFERENCE_EPISODES if i < 4]
     row = feats[(feats["module"] == 1) & (feats["context"] == 0) & (feats["episode_index"] == 2)]
     ep = world.episode(0, 2)
     np.testing.assert_allclose(row["y1"], (ep.frames - library[1].mean_) @ library[1].projection_[:, 1])
     np.testing.assert_allclose(row["displacement"], world.displacement(0, 2))
-    empty = icub_module_report(world, [], modules.iloc[:0])
+    empty = ICubWorld.module_report(world, [], modules.iloc[:0])
     assert empty[:2] == ([], []) and empty[3]["features"].empty
 
 

@@ -125,10 +125,10 @@ def test_module_on_sa_gates_c1_and_c2_alike_with_shared_state_clusterers(seed):
     world = SyntheticWorld(**SA_WORLD)
     sim = scripted(world, seed, lc=ScriptedLC(home=0, tour=(0, 1, 2)), **{"HPC.clusterers": "state"})
     run_until_stored(sim, 1, 60 * EPOCH)
-    stored_at = sim.n_episodes - 1
+    stored_at = sim.n_episodes - 1  # noqa: F841 (read by the query below)
     windows = frozen_window_errors(sim, world)
     sim.run(3 * WINDOWS * world.visit_length)  # every window of C1 and C2 once
-    assert sim.modules()["context"].tolist() == [0]  # one module, learned in C1
+    assert sim.products()["modules"]["context"].tolist() == [0]  # one module, learned in C1
     assert windows.mean() < THRESHOLD
     if seed == 0:
         assert windows.max() < THRESHOLD
@@ -157,11 +157,11 @@ def test_context_state_clusterers_leave_c2_unfamiliar_and_sa_is_learned_twice(se
     lc = ScriptedLC(prelude=(1, 1, 1), home=0, tour=(0, 1))
     sim = scripted(world, seed, lc=lc, **{"HPC.clusterers": "context_state"})
     run_until_stored(sim, 1, 60 * EPOCH)
-    first = sim.n_episodes - 1
+    first = sim.n_episodes - 1  # noqa: F841 (read by the queries below)
     run_until_stored(sim, 2, sim.n_frames + 60 * EPOCH)
-    second = sim.n_episodes - 1
+    second = sim.n_episodes - 1  # noqa: F841
 
-    assert sim.modules()["context"].tolist() == [0, 1]  # S-A from C1, then S-A again from C2
+    assert sim.products()["modules"]["context"].tolist() == [0, 1]  # S-A from C1, then S-A again from C2
     windows = frozen_window_errors(sim, world)
     between = with_windows(sim.episodes()).query("@first < episode < @second")
     check_gating(between)
@@ -189,7 +189,7 @@ def test_nonstationary_sd_error_stays_above_threshold(seed):
     sim = scripted(world, seed, lc=ScriptedLC(home=0)).run(40 * EPOCH)
     episodes = sim.episodes()
     assert (episodes["context"] == 0).all()
-    assert sim.modules().empty and not episodes["module_learned"].any()
+    assert sim.products()["modules"].empty and not episodes["module_learned"].any()
     full = episodes[episodes["episode"] >= EPOCH // world.visit_length]  # after the first epoch
     assert full["error"].notna().all()
     assert full["error"].min() > THRESHOLD
@@ -201,7 +201,7 @@ def test_stationary_sd_is_stored_like_a_learnable_source():
     world = SyntheticWorld(["S-D", "S-A"], nonstationary=False)
     sim = scripted(world, 0, lc=ScriptedLC(home=0))
     run_until_stored(sim, 1, 10 * EPOCH)
-    assert sim.modules()["context"].tolist() == [0]
+    assert sim.products()["modules"]["context"].tolist() == [0]
 
 
 # ---------------------------------------------------------------------------- random LC

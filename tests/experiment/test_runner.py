@@ -9,9 +9,19 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
+from neurocur.analysis import write_summary
 from neurocur.config import ConfigError
-from neurocur.experiment import load_experiment
-from neurocur.parallel import PARTIAL, completed_runs, run_dir, run_experiment
+from neurocur.experiments import load_experiment, run_experiment
+from neurocur.results import ResultsStore
+from neurocur.results.store import PARTIAL
+
+
+def run_dir(out, condition, run):
+    return ResultsStore(out).run_dir(condition, run)
+
+
+def completed_runs(out, conditions, runs):
+    return ResultsStore(out).completed(conditions, runs)
 
 SYNTHETIC = Path(__file__).resolve().parents[2] / "experiments" / "synthetic.toml"
 RUNS, STEPS = 2, 3000
@@ -35,6 +45,7 @@ PAIR = ["curious", "random_switching"]
 def two_jobs(tmp_path_factory):
     out = tmp_path_factory.mktemp("jobs2")
     run_experiment(tiny(), out, jobs=2, progress=False, conditions=PAIR)
+    write_summary(out)
     return out
 
 

@@ -1,0 +1,76 @@
+"""One run: a condition's circuit on its world, from a seed, to tidy tables.
+
+The runner knows no region by name: it reads the circuit's end-of-run products
+(:meth:`neurocur.scheduler.Simulator.products`): ``"modules"``, the stored-module table,
+and ``"library"``, the frozen modules, which the world judges against its hidden
+sources (:meth:`neurocur.contexts.base.World.module_report`).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Sequence
+
+import numpy as np
+import pandas as pd
+
+from neurocur.contract import MODULE_COLUMNS
+from neurocur.results import RunResult
+
+from .spec import Condition
+
+__all__ = ["run_one"]
+
+
+def _gates(episodes: pd.DataFrame, modules: pd.DataFrame, names: Sequence[str]) -> list[str]:
+    """Per module, the names of the contexts whose later episodes it gated (comma-separated)."""
+    out = []
+    for row in modules.itertuples(index=False):
+        later = episodes[(episodes["episode"] > row.episode) & (episodes["gating_module"] == row.module)]
+        out.append(",".join(names[c] for c in sorted(later["context"].unique())))
+    return out
+
+
+def run_one(condition: Condition, run: int, steps: int, seed: np.random.SeedSequence, *, progress=None) -> RunResult:
+    """Simulate one run of ``condition`` for ``steps`` frames from ``seed``.
+
+    Adds ``run`` and ``condition`` in front of the episodes and modules tables, and per
+    module ``source`` (the source of the context it was learned in), ``quality`` and the
+    world's further columns (:meth:`~neurocur.contexts.base.World.module_report`, which
+    may also add per-run tables, e.g. the iCub's ``features``), and ``gates`` (the names
+    of the contexts whose episodes it gated after it was stored, comma-separated).
+    """
+    started = time.perf_counter()
+    world = condition.make_world()
+    sim = condition.circuit.build(world, seed=seed)
+    sim.run(steps, progress=progress)
+    episodes = sim.episodes()
+    products = sim.products()
+    empty = pd.DataFrame({c.name: np.empty(0, np.int64) for c in MODULE_COLUMNS})
+    modules = products.get("modules", empty)
+    names = world.context_names
+    sources, quality, columns, tables = world.module_report(products.get("library", []), modules)
+    modules = modules.assign(source=pd.Series(sources, dtype=object, index=modules.index),
+                             quality=pd.Series(quality, dtype=np.float64, index=modules.index),
+                             gates=pd.Series(_gates(episodes, modules, names), dtype=object, index=modules.index),
+                             **{k: pd.Series(v, dtype=np.float64, index=modules.index) for k, v in columns.items()})
+    for table in (episodes, modules, *tables.values()):
+        table.insert(0, "condition", condition.name)
+        table.insert(1, "run", int(run))
+    summary = {
+        "condition": condition.name,
+        "run": int(run),
+        "seed": {"entropy": seed.entropy, "spawn_key": list(seed.spawn_key)},
+        "steps": int(steps),
+        "frames": int(episodes["n_frames"].sum()),
+        "n_episodes": len(episodes),
+        "n_modules": len(modules),
+        "order": sources,
+        "module_steps": [int(s) for s in modules["step"]],
+        "quality": [None if math.isnan(q) else q for q in quality],
+        "contexts": [{"name": n, "source": s} for n, s in zip(names, world.source_names)],
+        "learnable": list(world.source_spec().learnable),
+        "seconds": round(time.perf_counter() - started, 3),
+    }
+    return RunResult(condition.name, int(run), episodes, modules, summary, tables)

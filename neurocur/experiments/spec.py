@@ -1,0 +1,304 @@
+"""The experiment spec: a TOML file → validated conditions, each with its circuit built once.
+
+An experiment file (``experiments/*.toml``) names a circuit, the world, the number of
+runs and steps, the root seed, parameter overrides and, optionally, conditions::
+
+    name = "synthetic"
+    circuit = "../circuits/cd_misfa.toml"     # relative to this file
+    runs = 25
+    steps = 350000                            # frames per run
+    seed = 2013
+
+    [world]                                   # neurocur.contexts.synthetic.SyntheticWorld
+    contexts = ["S-A", "S-A", "S-B", "S-C", "S-D"]
+    normalise = "global"
+    # [world.sources]  S-X = "x.npy"          # user driving forces, (n_steps, n_dims)
+
+    [params]                                  # "REGION.param" overrides of the circuit
+    "HPC.threshold" = 0.3
+
+    [conditions.curious]                      # a condition: overrides and/or a circuit variant
+    [conditions.random_switching]
+    circuit = "../circuits/lesion_lc_random.toml"
+    params = { "LC.epsilon0" = 1.0 }          # merged over the top-level [params]
+    # world = { normalise = "image" }         # merged over the top-level [world]
+
+The world table's keys are those of its type (``world.type``, see
+:mod:`neurocur.experiments.worlds`).
+
+Without a ``[conditions]`` table there is one condition, ``default``. Command-line
+``--set KEY=VALUE`` settings (values are TOML literals; a bare word is a string) win
+over the file and over every condition: ``runs``, ``steps``, ``seed``, ``circuit``,
+``world.KEY`` or ``REGION.param``.
+
+**Seeds (paired design).** Run *i* of every condition uses the same seed,
+``SeedSequence(seed, spawn_key=(i,))`` (the *i*-th child of ``SeedSequence(seed).spawn``):
+the world (mixing matrices, S-D, clock offsets) and every random draw of the circuit
+start from the same state, so conditions are compared run by run. The seeds do not
+depend on the number of runs, the conditions chosen or the number of worker processes.
+
+Everything is validated here, once: each condition's circuit is loaded with its
+overrides (the :class:`~neurocur.circuit.Circuit` is kept, so runs never parse it again)
+and its world table is checked without building the world.
+
+Configuration problems raise :class:`~neurocur.config.ConfigError` naming the file (or
+``--set KEY``) and the key.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+
+import neurocur
+from neurocur.circuit import Circuit
+from neurocur.config import ConfigError, check_keys, describe, load_toml, require
+from neurocur.contexts import World, build_world
+
+from .worlds import WORLD_KEYS, check_world, check_world_semantics, merge_world
+
+__all__ = ["Condition", "Experiment", "load_experiment", "parse_set"]
+
+TOP_KEYS = ("name", "description", "circuit", "runs", "steps", "seed", "world", "params", "conditions")
+SCALAR_KEYS = ("name", "description", "circuit", "runs", "steps", "seed")
+CONDITION_KEYS = ("description", "circuit", "params", "world")
+DEFAULT_CONDITION = "default"
+
+
+@dataclass(frozen=True)
+class Condition:
+    """One condition: its circuit (loaded once, overrides applied), the circuit file, the
+    ``"REGION.param"`` overrides and the world table."""
+
+    name: str
+    circuit_path: Path
+    params: dict
+    world: dict
+    circuit: Circuit
+    description: str = ""
+
+    @property
+    def world_type(self) -> str:
+        return self.world.get("type", "synthetic")
+
+    def make_world(self) -> World:
+        return build_world(self.world)
+
+
+@dataclass(frozen=True)
+class Experiment:
+    """A loaded, validated experiment. ``seed`` is None when neither the file nor --set gave one."""
+
+    name: str
+    path: Path | None
+    description: str
+    runs: int
+    steps: int
+    seed: int | None
+    conditions: dict[str, Condition]
+
+    def run_seed(self, run: int) -> np.random.SeedSequence:
+        """The seed of run ``run`` (the same for every condition: paired comparison)."""
+        if self.seed is None:
+            raise ValueError("this experiment has no seed yet (give one in the file or with --set seed=N)")
+        return np.random.SeedSequence(self.seed, spawn_key=(int(run),))
+
+    def with_seed(self, seed: int) -> Experiment:
+        return replace(self, seed=int(seed))
+
+    def select(self, names: Sequence[str] | None = None) -> list[Condition]:
+        """The named conditions (all when ``names`` is empty); unknown names list the known ones."""
+        if not names:
+            return list(self.conditions.values())
+        unknown = [n for n in names if n not in self.conditions]
+        if unknown:
+            raise ConfigError(f"--condition {unknown[0]}", None, f"one of {', '.join(self.conditions)}",
+                              "an unknown condition")
+        return [self.conditions[n] for n in dict.fromkeys(names)]
+
+    def resolved(self) -> dict:
+        """The fully resolved experiment, as written to a results folder's ``config.toml``."""
+        conditions = {}
+        for cond in self.conditions.values():
+            conditions[cond.name] = {
+                "description": cond.description,
+                "circuit": str(cond.circuit_path),
+                "params": dict(cond.params),
+                "world": dict(cond.world),
+                "resolved_circuit": cond.circuit.to_dict(),
+            }
+        return {
+            "neurocur_version": neurocur.__version__,
+            "experiment": str(self.path) if self.path else "",
+            "name": self.name,
+            "description": self.description,
+            "runs": self.runs,
+            "steps": self.steps,
+            "seeds": {
+                "entropy": self.seed,
+                "spawn_keys": [list(self.run_seed(i).spawn_key) for i in range(self.runs)],
+            },
+            "conditions": conditions,
+        }
+
+
+def parse_set(item: str) -> tuple[str, object]:
+    """``"KEY=VALUE"`` → ``(KEY, value)``; VALUE is a TOML literal, else taken as a string."""
+    key, eq, text = str(item).partition("=")
+    key = key.strip()
+    if not eq or not key:
+        raise ConfigError(f"--set {item}", None, "KEY=VALUE (e.g. HPC.threshold=0.3)", describe(item))
+    try:
+        value = tomllib.loads(f"v = {text.strip()}")["v"]
+    except tomllib.TOMLDecodeError:
+        value = text.strip()
+    return key, value
+
+
+def load_experiment(path, *, sets: Sequence[str] = (), runs: int | None = None, steps: int | None = None,
+                    seed: int | None = None) -> Experiment:
+    """Read and validate an experiment file, applying ``--set`` items and ``--runs``/``--steps``/``--seed``."""
+    path = Path(path).resolve()
+    raw = load_toml(path)
+    check_keys(raw, TOP_KEYS, source=path)
+    here, cwd = path.parent, Path.cwd()
+    top_sets, world_sets, param_sets = _classify_sets(sets)
+
+    scalars = {}
+    for key in SCALAR_KEYS:
+        if key in top_sets:
+            scalars[key] = _check_scalar(key, top_sets[key], f"--set {key}", None, cwd)
+        elif key in raw:
+            scalars[key] = _check_scalar(key, raw[key], path, key, here)
+    for key, value in (("runs", runs), ("steps", steps), ("seed", seed)):
+        if value is not None:
+            scalars[key] = _check_scalar(key, value, f"--{key}", None, cwd)
+    for key in ("runs", "steps"):
+        if key not in scalars:
+            raise ConfigError(path, key, "a positive integer", "nothing (the key is missing)")
+
+    base_world = check_world(require(raw, "world", dict, source=path, expected="a table", default={}), path, "world", here)
+    set_world = check_world(world_sets, "--set", "world", cwd, label_keys=True)
+    base_params = _flatten_params(require(raw, "params", dict, source=path, expected="a table", default={}), path, "params")
+
+    raw_conditions = require(raw, "conditions", dict, source=path, expected="a table of condition tables", default={})
+    if not raw_conditions:
+        raw_conditions = {DEFAULT_CONDITION: {}}
+    conditions = {}
+    for name, table in raw_conditions.items():
+        prefix = f"conditions.{name}"
+        if not isinstance(table, dict):
+            raise ConfigError(path, prefix, "a table (circuit, params, world, description)", describe(table))
+        check_keys(table, CONDITION_KEYS, source=path, prefix=prefix)
+        if "circuit" in top_sets:
+            circuit = scalars["circuit"]
+        elif "circuit" in table:
+            circuit = _check_scalar("circuit", table["circuit"], path, f"{prefix}.circuit", here)
+        elif "circuit" in scalars:
+            circuit = scalars["circuit"]
+        else:
+            raise ConfigError(path, "circuit", "a circuit file path (here or in every condition)", "nothing")
+        cond_world = check_world(require(table, "world", dict, source=path, prefix=prefix, expected="a table",
+                                          default={}), path, f"{prefix}.world", here)
+        world = merge_world(base_world, cond_world, set_world)
+        check_world_semantics(world, path)
+        cond_params = _flatten_params(
+            require(table, "params", dict, source=path, prefix=prefix, expected="a table", default={}),
+            path, f"{prefix}.params")
+        built = _load_circuit(circuit, base_params, cond_params, param_sets, path, name)
+        params = {**base_params, **cond_params, **param_sets}
+        description = require(table, "description", str, source=path, prefix=prefix, expected="a string", default="")
+        conditions[name] = Condition(name, circuit, params, world, built, description)
+
+    return Experiment(
+        name=scalars.get("name", path.stem),
+        path=path,
+        description=scalars.get("description", ""),
+        runs=scalars["runs"],
+        steps=scalars["steps"],
+        seed=scalars.get("seed"),
+        conditions=conditions,
+    )
+
+
+def _classify_sets(sets):
+    top, world, params = {}, {}, {}
+    for item in sets:
+        key, value = parse_set(item)
+        head, _, rest = key.partition(".")
+        if head in SCALAR_KEYS:
+            if rest:
+                raise ConfigError(f"--set {key}", None, f"'{head}' without a sub-key", describe(key))
+            top[head] = value
+        elif head == "world":
+            if not rest:
+                raise ConfigError(f"--set {key}", None, "world.KEY (one of " + ", ".join(WORLD_KEYS) + ")", "'world'")
+            first, _, sub = rest.partition(".")
+            if sub:  # world.sources.NAME
+                world.setdefault(first, {})[sub] = value
+            else:
+                world[first] = value
+        elif head == "params" and rest:
+            params[rest] = value
+        elif rest and head not in ("conditions",):
+            params[key] = value
+        else:
+            raise ConfigError(f"--set {key}", None,
+                              "runs, steps, seed, circuit, name, description, world.KEY or REGION.param", describe(key))
+    return top, world, params
+
+
+def _check_scalar(key, value, source, dotted, base_dir):
+    kinds = {
+        "name": (str, "a string"),
+        "description": (str, "a string"),
+        "circuit": (str, "a circuit file path (string)"),
+        "runs": (int, "a positive integer"),
+        "steps": (int, "a positive integer"),
+        "seed": (int, "an integer >= 0"),
+    }
+    kind, expected = kinds[key]
+    if isinstance(value, bool) or not isinstance(value, kind) or (kind is int and value < (0 if key == "seed" else 1)):
+        raise ConfigError(source, dotted, expected, describe(value))
+    if key == "circuit":
+        resolved = (base_dir / value).resolve()
+        if not resolved.is_file():
+            raise ConfigError(source, dotted, "an existing circuit file", f"{value!r} (no such file: {resolved})")
+        return resolved
+    return value
+
+
+def _flatten_params(table: Mapping, source, prefix: str) -> dict:
+    """``{"HPC.threshold": 0.3}`` or ``{"HPC": {"threshold": 0.3}}`` → flat ``"REGION.param"`` keys."""
+    flat = {}
+    for key, value in table.items():
+        if isinstance(value, dict):
+            for sub, v in value.items():
+                if isinstance(v, dict):
+                    raise ConfigError(source, f"{prefix}.{key}.{sub}", "a parameter value", describe(v))
+                flat[f"{key}.{sub}"] = v
+        elif "." not in key:
+            raise ConfigError(source, f"{prefix}.{key}", "a 'REGION.param' key (e.g. \"HPC.threshold\")", "no dot")
+        else:
+            flat[key] = value
+    return flat
+
+
+def _load_circuit(circuit: Path, base_params: dict, cond_params: dict, set_params: dict, source,
+                  condition: str) -> Circuit:
+    """The condition's circuit with its overrides; errors name the file (or --set) and key."""
+    try:
+        loaded = Circuit.from_toml(circuit, overrides={**base_params, **cond_params}, overrides_source=source)
+    except ConfigError as exc:
+        if exc.source == str(source) and exc.key is not None:
+            where = f"conditions.{condition}.params" if exc.key in cond_params else "params"
+            raise ConfigError(source, f"{where}.{exc.key}", exc.expected, exc.got) from None
+        raise
+    try:
+        return loaded.with_params(set_params, source="--set")
+    except ConfigError as exc:
+        raise ConfigError(f"--set {exc.key}", None, exc.expected, exc.got) from None
