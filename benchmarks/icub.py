@@ -47,12 +47,11 @@ def experiment_time(runs: int, jobs: int) -> tuple[float, list[float], int]:
     The data set is built (or read from the default cache) before the clock starts.
     Returns (total seconds, each run's own seconds from its run.json, frames per run).
     """
-    from neurocur.contexts import prepare_world
     from neurocur.experiments import load_experiment, run_experiment
 
     exp = load_experiment(EXPERIMENT, runs=runs)
     for condition in exp.conditions.values():
-        prepare_world(condition.world)
+        condition.world_class.prepare(condition.world_params)
     with tempfile.TemporaryDirectory() as out:
         start = time.perf_counter()
         run_experiment(exp, out, jobs=jobs, progress=False)

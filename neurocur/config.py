@@ -35,7 +35,9 @@ __all__ = [
     "learner_param",
     "coerce_params",
     "check_params",
+    "check_table",
     "make_params",
+    "resolve_paths",
     "params_to_dict",
     "load_toml",
     "check_keys",
@@ -144,8 +146,10 @@ class ParamSpec:
 
     ``kind`` is ``float``, ``int``, ``bool`` or ``str``. Numbers may be bounded by
     ``low``/``high`` (closed unless ``low_open``/``high_open``). ``choices`` lists the
-    accepted strings (for ``kind=str``, or as extra accepted values of a numeric
-    parameter, e.g. ``gamma = "auto"``). ``classes`` are extra accepted classes whose
+    accepted strings (for ``kind=str``, or as extra accepted values of another kind,
+    e.g. ``gamma = "auto"``); a ``str`` without choices is any non-empty string, and
+    with ``path`` a file or folder path, which :func:`resolve_paths` makes absolute
+    against the folder of the file that gave it. ``classes`` are extra accepted classes whose
     instances pass unchanged (e.g. a number or an ``AmnesicSchedule``). ``optional``
     accepts ``None``.
 
@@ -167,6 +171,7 @@ class ParamSpec:
     item: ParamSpec | None = None
     length: int | None = None
     min_length: int = 0
+    path: bool = False
 
     def __post_init__(self):
         if self.kind not in (float, int, bool, str, tuple, dict) and not dataclasses.is_dataclass(self.kind):
@@ -193,13 +198,17 @@ class ParamSpec:
     def expected(self) -> str:
         parts = []
         if self.kind is str:
-            parts.append("one of " + ", ".join(repr(c) for c in self.choices))
+            if self.choices:
+                parts.append("one of " + ", ".join(repr(c) for c in self.choices))
+            else:
+                parts.append("a file or folder path (string)" if self.path else "a non-empty string")
         elif self.kind is tuple:
             if self.length is not None:
                 n, count = self.length, f"{self.length} "
             else:
                 n, count = self.min_length, f"at least {self.min_length} " if self.min_length else ""
             parts.append(f"a list of {count}{'item' if n == 1 else 'items'}, each {self.item.expected()}")
+            parts += [repr(c) for c in self.choices]
         elif self.kind is dict:
             parts.append(f"a table of named items, each {self.item.expected()}")
         elif dataclasses.is_dataclass(self.kind):
@@ -244,7 +253,9 @@ class ParamSpec:
             raise ConfigError(source, key, self.expected(), describe(value))
         ok = False
         converted = value
-        if self.kind is bool:
+        if self.kind is str:
+            ok = isinstance(value, str) and bool(value) and not self.choices
+        elif self.kind is bool:
             ok = isinstance(value, (bool, np.bool_))
             converted = bool(value) if ok else value
         elif self.kind is int:
@@ -279,6 +290,18 @@ class ParamSpec:
             out[name] = self.item.coerce(v, source=source, key=_join(key or "", name))
         return out
 
+    def resolved(self, value, base_dir: Path):
+        """``value`` with its paths made absolute against ``base_dir`` (``~`` expanded); the rest unchanged."""
+        if self.path and isinstance(value, str) and value:
+            return str((Path(base_dir) / Path(value).expanduser()).resolve())
+        if self.kind is tuple and isinstance(value, (list, tuple)):
+            return [self.item.resolved(v, base_dir) for v in value]
+        if self.kind is dict and isinstance(value, Mapping):
+            return {name: self.item.resolved(v, base_dir) for name, v in value.items()}
+        if dataclasses.is_dataclass(self.kind) and isinstance(value, Mapping):
+            return resolve_paths(self.kind, value, base_dir)
+        return value
+
     def plain(self, value):
         """``value`` as plain data (nested parameters as dicts, sequences as lists), for TOML or JSON."""
         if value is None:
@@ -293,10 +316,10 @@ class ParamSpec:
 
 
 def param(default, kind: type, *, low=None, high=None, low_open=False, high_open=False,
-          choices=(), optional=False, doc: str = ""):
+          choices=(), optional=False, path=False, doc: str = ""):
     """A dataclass field carrying a :class:`ParamSpec` (use inside a frozen dataclass)."""
     spec = ParamSpec(kind, low=low, high=high, low_open=low_open, high_open=high_open, choices=tuple(choices),
-                     optional=optional)
+                     optional=optional, path=path)
     return spec_param(default, spec, doc=doc)
 
 
@@ -343,6 +366,24 @@ def check_params(obj, *, source=None) -> None:
         coerced = spec.coerce(value, source=source, key=f.name)
         if coerced is not value:
             object.__setattr__(obj, f.name, coerced)
+
+
+def check_table(cls, table: Mapping, *, source, prefix: str) -> None:
+    """Check each key of a (partial) table of ``cls`` parameters on its own: known, and of the
+    right kind and range. Cross-parameter checks wait for :func:`make_params` on the whole table."""
+    specs = {f.name: f.metadata.get("spec") for f in dataclasses.fields(cls)}
+    for key, value in table.items():
+        if key not in specs:
+            raise ConfigError(source, _join(prefix, key), f"a parameter of {cls.__qualname__} ({', '.join(specs)})",
+                              "an unknown parameter")
+        if specs[key] is not None:
+            specs[key].coerce(value, source=source, key=_join(prefix, key))
+
+
+def resolve_paths(cls, table: Mapping, base_dir) -> dict:
+    """A table of ``cls`` parameters with every path parameter made absolute against ``base_dir``."""
+    specs = {f.name: f.metadata.get("spec") for f in dataclasses.fields(cls)}
+    return {k: specs[k].resolved(v, base_dir) if specs.get(k) is not None else v for k, v in table.items()}
 
 
 def make_params(cls, table: Mapping | None, *, source, prefix: str):

@@ -10,20 +10,27 @@ name; third-party worlds come from the entry-point group ``neurocur.worlds``.
 import importlib
 import pkgutil
 
+from ..config import make_params
 from .base import WORLDS, Episode, SourceSpec, World, register_world
 
 for _module in pkgutil.iter_modules(__path__):
     importlib.import_module(f"{__name__}.{_module.name}")
 
 
+def world_params(table, *, source="world table", prefix="world"):
+    """``(world class, its Params)`` of a world table (``type`` defaults to ``"synthetic"``).
+
+    Paths in the table must already be absolute; errors are ConfigErrors naming the key.
+    """
+    table = dict(table)
+    cls = WORLDS.get(table.pop("type", "synthetic"))
+    return cls, make_params(cls.Params, table, source=source, prefix=prefix)
+
+
 def build_world(table) -> World:
-    """The world of a validated world table (``type`` defaults to ``"synthetic"``)."""
-    return WORLDS.get(table.get("type", "synthetic")).from_table(table)
+    """The world of a world table, e.g. a results folder's ``config.toml`` ``conditions.X.world``."""
+    cls, params = world_params(table)
+    return cls.from_params(params)
 
 
-def prepare_world(table) -> None:
-    """Prepare the world of ``table`` once, before worker processes build it (:meth:`World.prepare`)."""
-    WORLDS.get(table.get("type", "synthetic")).prepare(table)
-
-
-__all__ = ["WORLDS", "Episode", "SourceSpec", "World", "build_world", "prepare_world", "register_world"]
+__all__ = ["WORLDS", "Episode", "SourceSpec", "World", "build_world", "register_world", "world_params"]

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 import numpy as np
 
@@ -125,14 +126,18 @@ class World(ABC):
         ep = self._visit(self._check_context(context))
         return ep, 0.0, False, False, {"context": context}
 
-    @classmethod
-    def from_table(cls, table) -> World:
-        """The world of a validated world table (an experiment file's ``[world]``; file paths absolute)."""
-        raise NotImplementedError(f"{cls.__name__} cannot be built from an experiment file's world table")
+    #: The parameter dataclass (fields made with :func:`neurocur.config.param`) that an
+    #: experiment file's ``[world]`` table becomes; None for a world built only from Python.
+    Params: ClassVar[type | None] = None
 
     @classmethod
-    def prepare(cls, table) -> None:
-        """Make the world of ``table`` cheap to build in every run (e.g. simulate a data set into
+    def from_params(cls, params) -> World:
+        """The world of a :attr:`Params` instance."""
+        raise NotImplementedError(f"{cls.__name__} has no parameter class: build it from Python")
+
+    @classmethod
+    def prepare(cls, params) -> None:
+        """Make the world of ``params`` cheap to build in every run (e.g. simulate a data set into
         its cache). Called once, before worker processes start. Default: nothing to do."""
         return None
 

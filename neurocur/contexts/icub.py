@@ -25,12 +25,15 @@ the derivative taken within episodes only, after a PCA keeping 98 % of the varia
 
 from __future__ import annotations
 
+import os
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-from ..learn._validation import check_fraction, check_positive_int
+from ..config import ConfigError, ParamSpec, check_params, describe, param, spec_param
+from ..learn._validation import check_fraction
 from ..learn.correlation import abs_corr
 from ..learn.omega import omega
 from .base import Episode, SourceSpec, World, register_world
@@ -42,6 +45,25 @@ from .icub_scene import OBJECTS, SceneParams
 ICUB = SourceSpec(context_names=OBJECTS, context_sources=OBJECTS, learnable=OBJECTS)
 #: reference episodes (pool indices, both contexts) whose slow-feature outputs each run stores
 REFERENCE_EPISODES = (0, 1, 2)
+
+
+@dataclass(frozen=True)
+class ICubParams:
+    """Parameters of :class:`ICubWorld` (an experiment file's ``[world]`` table, ``type = "icub"``)."""
+
+    n_episodes: int = param(70, int, low=1, doc="episodes per context in the data set")
+    dataset_seed: int = param(0, int, low=0, doc="seed of the simulated data set (not of the runs)")
+    cache_dir: str | None = spec_param(None, ParamSpec(str, optional=True, path=True, classes=(os.PathLike,)),
+                                       doc="default $NEUROCUR_CACHE/icub or ~/.cache/neurocur/icub")
+    n_jobs: int = param(2, int, low=1, doc="processes that simulate the data set")
+    scene: SceneParams = spec_param(SceneParams(), ParamSpec.nested(SceneParams), doc="geometry and physics")
+    protocol: EpisodeParams = spec_param(EpisodeParams(), ParamSpec.nested(EpisodeParams), doc="episode protocol")
+
+    def __post_init__(self):
+        check_params(self)
+        if self.protocol.start_state >= self.scene.n_states:
+            raise ConfigError(type(self).__name__, "protocol.start_state", f"< scene.n_states = {self.scene.n_states}",
+                              describe(self.protocol.start_state))
 
 
 @register_world("icub")
@@ -57,6 +79,7 @@ class ICubWorld(World):
     pool index and the contact frame of the episode just returned.
     """
 
+    Params = ICubParams
     context_names = OBJECTS
     source_names = OBJECTS
     frame_shape = FRAME_SHAPE
@@ -70,43 +93,34 @@ class ICubWorld(World):
         scene: SceneParams | None = None,
         protocol: EpisodeParams | None = None,
         n_jobs: int = 2,
+        params: ICubParams | None = None,
     ) -> None:
         super().__init__()
-        self.n_episodes = check_positive_int(n_episodes, "n_episodes")
-        if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-            raise ValueError(f"seed must be a non-negative int; got {seed!r}")
-        self.seed = int(seed)
-        self.scene = scene or SceneParams()
-        self.protocol = protocol or EpisodeParams()
+        if params is None:
+            params = ICubParams(n_episodes=n_episodes, dataset_seed=seed, cache_dir=cache_dir, n_jobs=n_jobs,
+                                scene=scene or SceneParams(), protocol=protocol or EpisodeParams())
+        self.params = params
+        self.n_episodes, self.seed = params.n_episodes, params.dataset_seed
+        self.scene, self.protocol = params.scene, params.protocol
         self.n_states = self.scene.n_states
-        if not 0 <= self.protocol.start_state < self.n_states:
-            raise ValueError(f"protocol.start_state must be in [0, {self.n_states}); got {self.protocol.start_state}")
-        n_jobs = check_positive_int(n_jobs, "n_jobs")
         key = cache_key(self.scene, self.protocol, self.n_episodes, self.seed)
-        self.cache_path = Path(cache_dir or default_cache_dir()).expanduser() / f"icub-{key}.npz"
+        self.cache_path = Path(params.cache_dir or default_cache_dir()).expanduser() / f"icub-{key}.npz"
         if self.cache_path.exists():
             self.pools = _load(self.cache_path)
         else:
-            self.pools = _generate(self.scene, self.protocol, self.n_episodes, self.seed, n_jobs)
+            self.pools = _generate(self.scene, self.protocol, self.n_episodes, self.seed, params.n_jobs)
             _save(self.cache_path, self.pools)
         self.last_info: dict = {}
         self._reset()
 
     @classmethod
-    def from_table(cls, table) -> ICubWorld:
-        """``scene`` and ``protocol`` are tables of :class:`SceneParams` / :class:`EpisodeParams` fields."""
-        def params(kind, sub):
-            return kind(**{k: tuple(v) if isinstance(v, list) else v for k, v in sub.items()})
-
-        return cls(n_episodes=table.get("n_episodes", 70), seed=table.get("dataset_seed", 0),
-                   cache_dir=table.get("cache_dir"), n_jobs=table.get("n_jobs", 2),
-                   scene=params(SceneParams, table.get("scene", {})),
-                   protocol=params(EpisodeParams, table.get("protocol", {})))
+    def from_params(cls, params: ICubParams) -> ICubWorld:
+        return cls(params=params)
 
     @classmethod
-    def prepare(cls, table) -> None:
+    def prepare(cls, params: ICubParams) -> None:
         """Simulate the episode data set into its cache (constructing the world does that)."""
-        cls.from_table(table)
+        cls.from_params(params)
 
     def reset(self, *, seed=None, context: int = 0):
         ep, info = super().reset(seed=seed, context=context)

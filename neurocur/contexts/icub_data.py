@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..learn._validation import check_positive_int
+from ..config import ConfigError, check_params, describe, param
 from .icub_scene import OBJECTS, SceneParams, scene_xml
 
 FRAME_SHAPE = (75, 100)
@@ -45,25 +45,19 @@ def _mujoco():
 class EpisodeParams:
     """The episode protocol; every field enters the cache key."""
 
-    start_state: int = 0
-    post_contact: int = 40
-    min_frames: int = 50
-    max_frames: int = 250
-    #: simulated seconds between two frames (one babbling action per frame)
-    frame_time: float = 0.08
-    #: simulated seconds to let the scene settle before the first frame
-    settle_time: float = 0.3
+    start_state: int = param(0, int, low=0, doc="arm state at the start of an episode")
+    post_contact: int = param(40, int, low=1, doc="frames after the first hand-object contact")
+    min_frames: int = param(50, int, low=50, high=250, doc="shortest episode (50-250 in the paper)")
+    max_frames: int = param(250, int, low=50, high=250, doc="longest episode")
+    frame_time: float = param(0.08, float, low=0.0, low_open=True,
+                              doc="simulated seconds between two frames (one babbling action per frame)")
+    settle_time: float = param(0.3, float, low=0.0, doc="simulated seconds to let the scene settle first")
 
     def __post_init__(self):
-        for name in ("post_contact", "min_frames", "max_frames"):
-            check_positive_int(getattr(self, name), name)
-        if not 50 <= self.min_frames <= self.max_frames <= 250:
-            raise ValueError(
-                f"episode lengths must satisfy 50 <= min_frames <= max_frames <= 250; "
-                f"got min_frames={self.min_frames}, max_frames={self.max_frames}"
-            )
-        if self.frame_time <= 0 or self.settle_time < 0:
-            raise ValueError("frame_time must be > 0 and settle_time >= 0")
+        check_params(self)
+        if self.min_frames > self.max_frames:
+            raise ConfigError(type(self).__name__, "min_frames", f"at most max_frames = {self.max_frames}",
+                              describe(self.min_frames))
 
 
 @dataclass

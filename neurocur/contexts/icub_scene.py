@@ -29,47 +29,54 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..config import ParamSpec, check_params, param, spec_param
+
 OBJECTS = ("topple", "roll")
+#: a point or vector in metres
+_XYZ = ParamSpec.sequence(ParamSpec(float), length=3)
 
 
 @dataclass(frozen=True)
 class SceneParams:
     """Geometry and physics of the scene; every field enters the episode-cache key."""
 
-    n_states: int = 20
+    n_states: int = param(20, int, low=2)
     #: shoulder angle (deg, 0 = straight ahead, negative = to the robot's right) of state 0 and state n-1
-    angle_first: float = -66.0
-    angle_last: float = 24.0
+    angle_first: float = param(-66.0, float)
+    angle_last: float = param(24.0, float)
     #: the object's centre sits on the hand's arc at this shoulder angle (deg)
-    object_angle: float = -29.8
+    object_angle: float = param(-29.8, float)
     #: shoulder position (the hinge axis is vertical through it)
-    shoulder: tuple[float, float, float] = (-0.06, -0.17, 0.30)
+    shoulder: tuple[float, float, float] = spec_param((-0.06, -0.17, 0.30), _XYZ)
     #: horizontal reach of the hand's centre from the hinge axis, and the hand's height
-    reach: float = 0.33
-    hand_height: float = 0.082
-    hand_radius: float = 0.02
+    reach: float = param(0.33, float, low=0.0, low_open=True)
+    hand_height: float = param(0.082, float, low=0.0, low_open=True)
+    hand_radius: float = param(0.02, float, low=0.0, low_open=True)
     #: the cup: radius and height (a fallen cup, 2 * radius high, passes under the hand)
-    cup_radius: float = 0.022
-    cup_height: float = 0.16
-    cup_mass: float = 0.12
-    cup_roll_friction: float = 0.02
+    cup_radius: float = param(0.022, float, low=0.0, low_open=True)
+    cup_height: float = param(0.16, float, low=0.0, low_open=True)
+    cup_mass: float = param(0.12, float, low=0.0, low_open=True)
+    cup_roll_friction: float = param(0.02, float, low=0.0)
     #: the ball: radius, mass, rolling and torsional friction on the table (stops it on the table)
-    ball_radius: float = 0.065
-    ball_mass: float = 0.2
-    ball_roll_friction: float = 0.003
+    ball_radius: float = param(0.065, float, low=0.0, low_open=True)
+    ball_mass: float = param(0.2, float, low=0.0, low_open=True)
+    ball_roll_friction: float = param(0.003, float, low=0.0)
     #: the ball's centre sits this far from the hinge axis, near the fingertip, so that the hand
     #: strikes it glancingly; per episode it is placed within +-ball_jitter of there (radially),
     #: which sends it off in a different direction each time
-    ball_reach: float = 0.40
-    ball_jitter: float = 0.035
+    ball_reach: float = param(0.40, float, low=0.0, low_open=True)
+    ball_jitter: float = param(0.035, float, low=0.0)
     #: shoulder servo: proportional gain (N m / rad) and damping (N m s / rad)
-    servo_kp: float = 60.0
-    servo_kv: float = 4.0
-    timestep: float = 0.002
+    servo_kp: float = param(60.0, float, low=0.0)
+    servo_kv: float = param(4.0, float, low=0.0)
+    timestep: float = param(0.002, float, low=0.0, low_open=True)
     #: eye camera pose: position and the point it looks at, vertical field of view (deg)
-    camera_pos: tuple[float, float, float] = (-0.10, -0.03, 0.65)
-    camera_target: tuple[float, float, float] = (0.34, -0.22, 0.0)
-    camera_fovy: float = 48.0
+    camera_pos: tuple[float, float, float] = spec_param((-0.10, -0.03, 0.65), _XYZ)
+    camera_target: tuple[float, float, float] = spec_param((0.34, -0.22, 0.0), _XYZ)
+    camera_fovy: float = param(48.0, float, low=0.0, low_open=True, high=180.0, high_open=True)
+
+    def __post_init__(self):
+        check_params(self)
 
     def state_angles(self) -> np.ndarray:
         """Shoulder angle (rad) of each of the ``n_states`` quantized joint states."""

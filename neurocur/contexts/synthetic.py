@@ -43,17 +43,22 @@ its mixing matrix (standard normal entries); then the clock offsets.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
-from neurocur.learn._validation import check_block, check_nonconstant, check_positive_int
+from neurocur.config import ConfigError, ParamSpec, check_params, describe, param, spec_param
+from neurocur.learn._validation import check_block, check_nonconstant
 from neurocur.learn.correlation import abs_corr
 
 from .base import Episode, SourceSpec, World, register_world
 from .sources import LEARNABLE, N_STEPS, SLOW_DIM, UNLEARNABLE, paper_source
 
 __all__ = [
+    "SyntheticParams",
     "SyntheticWorld",
+    "load_source",
     "PAPER_CONTEXTS",
     "SYNTHETIC",
     "NORMALISATIONS",
@@ -98,6 +103,91 @@ def mix_frames(signal: np.ndarray, mixing: np.ndarray, normalise: str, *, limits
     raise ValueError(f"normalise must be one of {', '.join(map(repr, NORMALISATIONS))}; got {normalise!r}")
 
 
+_NAME = ParamSpec(str)
+_NAMES = ParamSpec.sequence(_NAME, min_length=1)
+
+
+def load_source(value, name: str) -> np.ndarray:
+    """A user source: a ``.npy`` file path or an array, checked as (n_steps >= 2, n_dims), finite,
+    not constant; a :class:`~neurocur.config.ConfigError` names the source (and file) and what was expected."""
+    label, file = f"source {name!r}", f" in {value}" if isinstance(value, str) else ""
+    if isinstance(value, str):
+        if not Path(value).is_file():
+            raise ConfigError(label, None, "an existing .npy file", f"{value!r} (no such file)")
+        try:
+            value = np.load(value, allow_pickle=False)
+        except (ValueError, OSError) as exc:
+            raise ConfigError(label, None, "a .npy file written by numpy.save", f"{file[4:]!r} ({exc})") from None
+    try:
+        arr = check_block(value, name=label, min_rows=2)
+        check_nonconstant(arr, name=label)
+    except ValueError as err:
+        raise ConfigError(label, None, "a finite, non-constant array of shape (n_steps, n_dims), rows are time",
+                          f"{err}{file}") from None
+    arr = arr.copy()
+    arr.flags.writeable = False
+    return arr
+
+
+@dataclass(frozen=True)
+class SyntheticParams:
+    """Parameters of :class:`SyntheticWorld` (an experiment file's ``[world]`` table, ``type = "synthetic"``).
+
+    Checked as a whole on construction: the contexts' sources are built-in or given,
+    given sources load and have equal lengths, names and offsets fit the contexts.
+    """
+
+    contexts: tuple[str, ...] = spec_param(PAPER_CONTEXTS, _NAMES, doc="the source of each context")
+    context_names: tuple[str, ...] | None = spec_param(
+        None, ParamSpec.sequence(_NAME, min_length=1, optional=True), doc="distinct names; default C1, C2, ...")
+    sources: dict = spec_param({}, ParamSpec.table(ParamSpec(str, path=True, classes=(np.ndarray,))),
+                               doc="user driving forces: name -> .npy file (relative to the experiment file) or array")
+    visit_length: int = param(100, int, low=1, doc="frames per visit")
+    normalise: str = param("global", str, choices=NORMALISATIONS, doc="min-max scaling per source or per frame")
+    clock_offsets: str | tuple[int, ...] = spec_param(
+        "random", ParamSpec(tuple, item=ParamSpec(int, low=0), min_length=1, choices=("random", "zero")),
+        doc="where each context's local clock starts")
+    frame_shape: tuple[int, int] = spec_param((20, 20), ParamSpec.sequence(ParamSpec(int, low=1), length=2),
+                                              doc="(height, width) in pixels")
+    nonstationary: bool = param(True, bool, doc="redraw random sources (S-D) at every wrap of their clock")
+    learnable: tuple[str, ...] | None = spec_param(None, ParamSpec.sequence(_NAME, min_length=1, optional=True),
+                                                   doc="learnable sources in Omega order, for the analysis")
+
+    def __post_init__(self):
+        check_params(self)
+        where = type(self).__name__
+        lengths = {}
+        for name, value in self.sources.items():
+            try:
+                lengths[name] = load_source(value, name).shape[0]
+            except ConfigError as exc:
+                raise ConfigError(where, f"sources.{name}", exc.expected, exc.got) from None
+        for name in self.contexts:
+            if name not in lengths and name not in _BUILTIN:
+                known = ", ".join(sorted(set(_BUILTIN) | set(lengths)))
+                raise ConfigError(where, "contexts", f"source names among {known}", f"{name!r} (give it in sources)")
+        shown = {name: lengths.get(name, N_STEPS) for name in self.contexts}
+        object.__setattr__(self, "_n_states", shown[self.contexts[0]])
+        if len(set(shown.values())) != 1:
+            detail = ", ".join(f"{k}: {v}" for k, v in shown.items())
+            raise ConfigError(where, "sources", "sources of equal length (rows are time steps)", detail)
+        n = len(self.contexts)
+        if self.context_names is not None and (len(self.context_names) != n or len(set(self.context_names)) != n):
+            raise ConfigError(where, "context_names", f"{n} distinct names (one per context)", describe(self.context_names))
+        if self.learnable is not None and any(s not in self.contexts for s in self.learnable):
+            raise ConfigError(where, "learnable", f"sources shown by a context ({', '.join(dict.fromkeys(self.contexts))})",
+                              describe(self.learnable))
+        if isinstance(self.clock_offsets, tuple) and (
+                len(self.clock_offsets) != n or max(self.clock_offsets) >= self.n_states):
+            raise ConfigError(where, "clock_offsets", f"'random', 'zero' or {n} start steps in [0, {self.n_states})",
+                              describe(self.clock_offsets))
+
+    @property
+    def n_states(self) -> int:
+        """Context-states: the length of the sources shown (1000 for the built-in ones)."""
+        return self._n_states
+
+
 @register_world("synthetic")
 class SyntheticWorld(World):
     """Contexts that each show one driving force through a random linear mixing (section 4.1).
@@ -129,10 +219,15 @@ class SyntheticWorld(World):
     learnable:
         The learnable sources in Ω order, for the analysis (:meth:`source_spec`); default:
         the built-in learnable sources shown, then the user sources.
+    params:
+        A :class:`SyntheticParams` instead of the keyword arguments (an experiment file's
+        ``[world]`` table becomes one); the keyword arguments are checked by it too.
 
     After :meth:`reset`, :meth:`source_of`, :meth:`source_signal` and
     :meth:`context_frames` expose the run's hidden sources for analysis.
     """
+
+    Params = SyntheticParams
 
     def __init__(
         self,
@@ -146,54 +241,24 @@ class SyntheticWorld(World):
         context_names: Sequence[str] | None = None,
         nonstationary: bool = True,
         learnable: Sequence[str] | None = None,
+        params: SyntheticParams | None = None,
     ) -> None:
         super().__init__()
-        user = {}
-        for name, signal in (sources or {}).items():
-            if not isinstance(name, str) or not name:
-                raise ValueError(f"source names must be non-empty strings; got {name!r}")
-            try:
-                arr = check_block(signal, name=f"source {name!r}", min_rows=2)
-                check_nonconstant(arr, name=f"source {name!r}")
-            except ValueError as err:
-                raise ValueError(f"{err} (expected an array of shape (n_steps, n_dims), rows are time)") from None
-            user[name] = arr.copy()
-        if isinstance(contexts, str) or len(contexts) == 0:
-            raise ValueError(f"contexts must be a non-empty list of source names; got {contexts!r}")
-        for name in contexts:
-            if name not in user and name not in _BUILTIN:
-                known = sorted(set(_BUILTIN) | set(user))
-                raise ValueError(f"context source {name!r} is neither a built-in nor a given source; known: {', '.join(known)}")
-        lengths = {name: (user[name].shape[0] if name in user else N_STEPS) for name in contexts}
-        if len(set(lengths.values())) != 1:
-            detail = ", ".join(f"{k}: {v}" for k, v in lengths.items())
-            raise ValueError(f"all sources of a world must have the same number of time steps (rows); got {detail}")
-        if normalise not in NORMALISATIONS:
-            raise ValueError(f"normalise must be one of {', '.join(map(repr, NORMALISATIONS))}; got {normalise!r}")
-        shape = tuple(check_positive_int(s, "frame_shape entries") for s in frame_shape)
-        if len(shape) != 2:
-            raise ValueError(f"frame_shape must be (height, width); got {tuple(frame_shape)!r}")
-        names = tuple(context_names) if context_names is not None else tuple(f"C{i + 1}" for i in range(len(contexts)))
-        if len(names) != len(contexts) or len(set(names)) != len(names):
-            raise ValueError(f"context_names must be {len(contexts)} distinct names; got {names!r}")
-
-        self.context_names = names
-        self.source_names = tuple(contexts)
-        self.n_states = next(iter(lengths.values()))
-        self.frame_shape = shape
-        self.visit_length = check_positive_int(visit_length, "visit_length")
-        self.normalise = normalise
-        self.clock_offsets = self._check_offsets(clock_offsets)
-        if not isinstance(nonstationary, (bool, np.bool_)):
-            raise ValueError(f"nonstationary must be true or false; got {nonstationary!r}")
-        self.nonstationary = bool(nonstationary)
-        if learnable is not None:
-            learnable = tuple(learnable)
-            shown = ", ".join(dict.fromkeys(self.source_names))
-            if not learnable or any(s not in self.source_names for s in learnable):
-                raise ValueError(f"learnable must list sources shown by a context ({shown}); got {learnable!r}")
-        self.learnable = learnable
-        self._user_sources = user
+        if params is None:
+            params = SyntheticParams(contexts=contexts, sources=dict(sources or {}), visit_length=visit_length,
+                                     normalise=normalise, clock_offsets=clock_offsets, frame_shape=frame_shape,
+                                     context_names=context_names, nonstationary=nonstationary, learnable=learnable)
+        p = self.params = params
+        self._user_sources = {name: load_source(value, name) for name, value in p.sources.items()}
+        self.source_names = p.contexts
+        self.context_names = p.context_names or tuple(f"C{i + 1}" for i in range(len(p.contexts)))
+        self.n_states = p.n_states
+        self.frame_shape = p.frame_shape
+        self.visit_length = p.visit_length
+        self.normalise = p.normalise
+        self.clock_offsets = p.clock_offsets
+        self.nonstationary = p.nonstationary
+        self.learnable = p.learnable
         self._signals: dict[str, np.ndarray] = {}
         self._mixing: dict[str, np.ndarray] = {}
         self._limits: dict[str, tuple[float, float]] = {}
@@ -201,11 +266,8 @@ class SyntheticWorld(World):
         self._clocks = np.zeros(self.n_contexts, dtype=np.int64)
 
     @classmethod
-    def from_table(cls, table) -> SyntheticWorld:
-        keys = ("contexts", "context_names", "visit_length", "normalise", "frame_shape", "nonstationary", "learnable",
-                "clock_offsets")
-        sources = {name: np.load(file, allow_pickle=False) for name, file in table.get("sources", {}).items()}
-        return cls(sources=sources, **{k: table[k] for k in keys if k in table})
+    def from_params(cls, params: SyntheticParams) -> SyntheticWorld:
+        return cls(params=params)
 
     @classmethod
     def from_sources(cls, sources: Mapping[str, np.ndarray], contexts: Sequence[str] | None = None, **kwargs):
@@ -219,22 +281,6 @@ class SyntheticWorld(World):
         return cls(list(sources) if contexts is None else contexts, sources=sources, **kwargs)
 
     # -- World API ---------------------------------------------------------------------------
-
-    def _check_offsets(self, offsets):
-        if isinstance(offsets, str):
-            if offsets not in ("random", "zero"):
-                raise ValueError(f"clock_offsets must be 'random', 'zero' or a list of ints; got {offsets!r}")
-            return offsets
-        offsets = list(offsets)
-        ok = len(offsets) == self.n_contexts and all(
-            isinstance(o, (int, np.integer)) and not isinstance(o, bool) and 0 <= o < self.n_states for o in offsets
-        )
-        if not ok:
-            raise ValueError(
-                f"clock_offsets must be 'random', 'zero' or a list of {self.n_contexts} ints in "
-                f"[0, {self.n_states}); got {offsets!r}"
-            )
-        return tuple(int(o) for o in offsets)
 
     def _reset(self) -> None:
         rng = self.np_random

@@ -2,8 +2,7 @@
 
 | part | module |
 |---|---|
-| the spec: validation, conditions, seeds, each condition's circuit built once | ``spec`` |
-| world tables: per-type keys, building, preparing | ``worlds`` |
+| the spec: validation, conditions, seeds; each condition's circuit and world parameters built once | ``spec`` |
 | one run → tables (:class:`neurocur.results.RunResult`) | ``run`` |
 | the local worker pool (schedules only) | ``pool`` |
 

@@ -5,8 +5,8 @@ owns the folder (layout, ``config.toml``, resume, atomic writes) and
 :func:`~neurocur.experiments.run.run_one` computes a run.
 
 Before the workers start, each selected condition's world is prepared once
-(:func:`~neurocur.contexts.prepare_world`: an iCub episode data set is
-simulated into its cache), so that workers only read it.
+(:meth:`World.prepare <neurocur.contexts.base.World.prepare>`: an iCub episode
+data set is simulated into its cache), so that workers only read it.
 
 Runs are always computed in worker processes (``forkserver``, else ``spawn``), each with
 single-threaded BLAS, so a seed gives the same tables for any number of jobs. Running
@@ -26,7 +26,6 @@ from pathlib import Path
 
 import numpy as np
 
-from neurocur.contexts import prepare_world
 from neurocur.results import ResultsStore
 
 from .run import run_one
@@ -95,8 +94,8 @@ def run_experiment(exp: Experiment, out, *, jobs: int | None = None, conditions=
     bar = _progress_bar(len(names) * exp.runs, len(done), progress)
     try:
         if todo:
-            for world in {json.dumps(c.world, sort_keys=True): c.world for c, _ in todo}.values():
-                prepare_world(world)
+            for c in {json.dumps(c.world, sort_keys=True): c for c, _ in todo}.values():
+                c.world_class.prepare(c.world_params)
             with _single_threaded_children(), ProcessPoolExecutor(max_workers=jobs, mp_context=_mp_context()) as pool:
                 pending = {pool.submit(_worker, c, i, exp.steps, exp.run_seed(i), str(out)) for c, i in todo}
                 try:

@@ -23,8 +23,10 @@ runs and steps, the root seed, parameter overrides and, optionally, conditions::
     params = { "LC.epsilon0" = 1.0 }          # merged over the top-level [params]
     # world = { normalise = "image" }         # merged over the top-level [world]
 
-The world table's keys are those of its type (``world.type``, see
-:mod:`neurocur.experiments.worlds`).
+The world table's keys are the parameters of its type (``world.type``, default
+``"synthetic"``: :class:`~neurocur.contexts.synthetic.SyntheticParams`; ``"icub"``:
+:class:`~neurocur.contexts.icub.ICubParams`; any type registered in
+:data:`neurocur.contexts.WORLDS`). Paths in it are relative to the experiment file.
 
 Without a ``[conditions]`` table there is one condition, ``default``. Command-line
 ``--set KEY=VALUE`` settings (values are TOML literals; a bare word is a string) win
@@ -56,10 +58,19 @@ import numpy as np
 
 import neurocur
 from neurocur.circuit import Circuit
-from neurocur.config import ConfigError, check_keys, describe, load_toml, require
-from neurocur.contexts import World, build_world
-
-from .worlds import WORLD_KEYS, check_world, check_world_semantics, merge_world
+from neurocur.config import (
+    ConfigError,
+    check_keys,
+    check_table,
+    deep_merge,
+    describe,
+    load_toml,
+    make_params,
+    require,
+    resolve_paths,
+)
+from neurocur.contexts import WORLDS, World
+from neurocur.registry import UnknownType
 
 __all__ = ["Condition", "Experiment", "load_experiment", "parse_set"]
 
@@ -79,14 +90,19 @@ class Condition:
     params: dict
     world: dict
     circuit: Circuit
+    world_params: object = None
     description: str = ""
 
     @property
     def world_type(self) -> str:
         return self.world.get("type", "synthetic")
 
+    @property
+    def world_class(self) -> type[World]:
+        return WORLDS.get(self.world_type)
+
     def make_world(self) -> World:
-        return build_world(self.world)
+        return self.world_class.from_params(self.world_params)
 
 
 @dataclass(frozen=True)
@@ -181,8 +197,7 @@ def load_experiment(path, *, sets: Sequence[str] = (), runs: int | None = None, 
         if key not in scalars:
             raise ConfigError(path, key, "a positive integer", "nothing (the key is missing)")
 
-    base_world = check_world(require(raw, "world", dict, source=path, expected="a table", default={}), path, "world", here)
-    set_world = check_world(world_sets, "--set", "world", cwd, label_keys=True)
+    base_world = require(raw, "world", dict, source=path, expected="a table", default={})
     base_params = _flatten_params(require(raw, "params", dict, source=path, expected="a table", default={}), path, "params")
 
     raw_conditions = require(raw, "conditions", dict, source=path, expected="a table of condition tables", default={})
@@ -202,17 +217,16 @@ def load_experiment(path, *, sets: Sequence[str] = (), runs: int | None = None, 
             circuit = scalars["circuit"]
         else:
             raise ConfigError(path, "circuit", "a circuit file path (here or in every condition)", "nothing")
-        cond_world = check_world(require(table, "world", dict, source=path, prefix=prefix, expected="a table",
-                                          default={}), path, f"{prefix}.world", here)
-        world = merge_world(base_world, cond_world, set_world)
-        check_world_semantics(world, path)
+        cond_world = require(table, "world", dict, source=path, prefix=prefix, expected="a table", default={})
+        world, world_params = _world([(base_world, path, "world", here), (cond_world, path, f"{prefix}.world", here),
+                                      (world_sets, "--set", "world", cwd)], path)
         cond_params = _flatten_params(
             require(table, "params", dict, source=path, prefix=prefix, expected="a table", default={}),
             path, f"{prefix}.params")
         built = _load_circuit(circuit, base_params, cond_params, param_sets, path, name)
         params = {**base_params, **cond_params, **param_sets}
         description = require(table, "description", str, source=path, prefix=prefix, expected="a string", default="")
-        conditions[name] = Condition(name, circuit, params, world, built, description)
+        conditions[name] = Condition(name, circuit, params, world, built, world_params, description)
 
     return Experiment(
         name=scalars.get("name", path.stem),
@@ -236,7 +250,7 @@ def _classify_sets(sets):
             top[head] = value
         elif head == "world":
             if not rest:
-                raise ConfigError(f"--set {key}", None, "world.KEY (one of " + ", ".join(WORLD_KEYS) + ")", "'world'")
+                raise ConfigError(f"--set {key}", None, "world.KEY (a parameter of the world type)", "'world'")
             first, _, sub = rest.partition(".")
             if sub:  # world.sources.NAME
                 world.setdefault(first, {})[sub] = value
@@ -286,6 +300,32 @@ def _flatten_params(table: Mapping, source, prefix: str) -> dict:
         else:
             flat[key] = value
     return flat
+
+
+def _world(layers, source):
+    """The merged world table and its parameters, from ``(table, source, prefix, base_dir)`` layers
+    (the file's ``[world]``, the condition's ``world``, ``--set world.KEY``), later layers winning.
+
+    The type comes from the last layer that names one. Each layer's keys are checked on
+    their own (so an error names that layer's key) and its paths made absolute against
+    its ``base_dir``; the merged table is then checked as a whole (``world.KEY`` errors).
+    """
+    typed = [(t["type"], s, p) for t, s, p, _ in layers if "type" in t]
+    kind, type_source, type_prefix = typed[-1] if typed else ("synthetic", source, "world")
+    try:
+        cls = WORLDS.get(kind) if isinstance(kind, str) else None
+    except UnknownType:
+        cls = None
+    if cls is None or cls.Params is None:
+        raise ConfigError(type_source, f"{type_prefix}.type", f"a world type with parameters ({', '.join(WORLDS.names())})",
+                          describe(kind))
+    merged: dict = {}
+    for table, layer_source, prefix, base_dir in layers:
+        body = resolve_paths(cls.Params, {k: v for k, v in table.items() if k != "type"}, base_dir)
+        check_table(cls.Params, body, source=layer_source, prefix=prefix)
+        merged = deep_merge(merged, body)
+    params = make_params(cls.Params, merged, source=source, prefix="world")
+    return {"type": kind, **merged} if typed else merged, params
 
 
 def _load_circuit(circuit: Path, base_params: dict, cond_params: dict, set_params: dict, source,

@@ -36,7 +36,7 @@ def test_run_then_figures(tmp_path, capsys):
 @pytest.mark.parametrize("argv, message", [
     (["run", SYNTHETIC, "--set", "HPC.threshold=abc"], "--set HPC.threshold: expected a number > 0, got 'abc'"),
     (["run", SYNTHETIC, "--condition", "lazy"], "--condition lazy: expected one of curious, random_switching"),
-    (["run", SYNTHETIC, "--set", "world.normalise=pixel"], "--set world.normalise: expected 'global' or 'image'"),
+    (["run", SYNTHETIC, "--set", "world.normalise=pixel"], "--set: key 'world.normalise': expected one of 'global', 'image', got 'pixel'"),
     (["run", "nowhere.toml"], "nowhere.toml: expected an existing TOML file"),
     (["omega"], "give either FILE.npy or --experiment FILE"),
     (["omega", "missing.npy"], "expected an existing .npy file, got 'missing.npy'"),

@@ -70,15 +70,18 @@ def test_loading_does_not_build_the_world(tmp_path):
 
 
 @pytest.mark.parametrize("world, key, expected", [
-    ("n_episodes = 0", "world.n_episodes", "a positive integer"),
+    ("n_episodes = 0", "world.n_episodes", "an integer >= 1"),
     ("dataset_seed = -1", "world.dataset_seed", "an integer >= 0"),
-    ("n_jobs = 1.5", "world.n_jobs", "a positive integer"),
-    ("cache_dir = 3", "world.cache_dir", "a folder path"),
-    ("visit_length = 100", "world.visit_length", "a key of world type 'icub'"),
-    ("[world.protocol]\ncolour = 1", "world.protocol.colour", "one of the keys"),
-    ("[world.protocol]\nmin_frames = 10", "world.protocol", "consistent EpisodeParams fields"),
+    ("n_jobs = 1.5", "world.n_jobs", "an integer >= 1"),
+    ("cache_dir = 3", "world.cache_dir", "a file or folder path"),
+    ("visit_length = 100", "world.visit_length", "a parameter of ICubParams"),
+    ("[world.protocol]\ncolour = 1", "world.protocol.colour", "a parameter of EpisodeParams"),
+    ("[world.protocol]\nmin_frames = 10", "world.protocol.min_frames", "an integer >= 50 and <= 250"),
+    ("[world.protocol]\nmin_frames = 200\nmax_frames = 100", "world.protocol.min_frames", "at most max_frames = 100"),
     ("[world.protocol]\npost_contact = 2.5", "world.protocol.post_contact", "an integer"),
-    ("[world.scene]\nshoulder = [0.1, 0.2]", "world.scene.shoulder", "a list of 3 numbers"),
+    ("[world.scene]\nshoulder = [0.1, 0.2]", "world.scene.shoulder", "a list of 3 items, each a number"),
+    ("[world.scene]\nn_states = 4\n[world.protocol]\nstart_state = 4", "world.protocol.start_state",
+     "< scene.n_states = 4"),
     ("[world.scene]\nreach = \"far\"", "world.scene.reach", "a number"),
 ])
 def test_bad_icub_world_tables_name_the_file_and_key(tmp_path, world, key, expected):
@@ -90,9 +93,9 @@ def test_bad_icub_world_tables_name_the_file_and_key(tmp_path, world, key, expec
 
 
 def test_bad_icub_sets_name_the_key():
-    with pytest.raises(ConfigError, match="--set world.n_episodes: expected a positive integer"):
+    with pytest.raises(ConfigError, match="--set: key 'world.n_episodes': expected an integer >= 1"):
         load_experiment(ICUB_TOML, sets=["world.n_episodes=0"])
-    with pytest.raises(ConfigError, match="--set world.protocol: expected consistent EpisodeParams"):
+    with pytest.raises(ConfigError, match="--set: key 'world.protocol.max_frames': expected an integer >= 50 and <= 250"):
         load_experiment(ICUB_TOML, sets=["world.protocol.max_frames=300"])
 
 
