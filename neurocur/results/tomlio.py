@@ -1,0 +1,89 @@
+"""TOML out: a small writer for plain data, and the first difference of two data trees.
+
+The standard library reads TOML (``tomllib``) but does not write it; a results folder's
+``config.toml`` is plain data (str, int, float, bool, lists, nested tables), so this
+writer covers exactly that.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Mapping
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["dumps_toml", "first_difference"]
+
+
+def dumps_toml(data: Mapping, *, header: str = "") -> str:
+    """A small TOML writer for plain data (str, int, float, bool, lists, nested tables).
+
+    Tables nested in lists are written as inline tables. ``tomllib.loads`` of the result
+    equals ``data`` (tuples and Paths come back as lists and strings).
+    """
+    lines = [f"# {line}" if line else "#" for line in header.splitlines()]
+    _write_table(lines, data, ())
+    return "\n".join(lines).strip("\n") + "\n"
+
+
+def _write_table(lines, table: Mapping, path: tuple):
+    scalars = {k: v for k, v in table.items() if not isinstance(v, Mapping)}
+    tables = {k: v for k, v in table.items() if isinstance(v, Mapping)}
+    if path and (scalars or not tables):
+        lines.append("")
+        lines.append("[" + ".".join(_key(p) for p in path) + "]")
+    for key, value in scalars.items():
+        lines.append(f"{_key(key)} = {_value(value)}")
+    for key, value in tables.items():
+        _write_table(lines, value, path + (key,))
+
+
+def _key(key) -> str:
+    key = str(key)
+    if key and all(c.isalnum() or c in "-_" for c in key) and key.isascii():
+        return key
+    return json.dumps(key)
+
+
+def _value(value) -> str:
+    if isinstance(value, (bool, np.bool_)):
+        return "true" if value else "false"
+    if isinstance(value, (int, np.integer)):
+        return str(int(value))
+    if isinstance(value, (float, np.floating)):
+        v = float(value)
+        if math.isnan(v):
+            return "nan"
+        if math.isinf(v):
+            return "inf" if v > 0 else "-inf"
+        return repr(v)
+    if isinstance(value, (str, Path)):
+        return json.dumps(str(value), ensure_ascii=False)
+    if isinstance(value, Mapping):
+        return "{" + ", ".join(f"{_key(k)} = {_value(v)}" for k, v in value.items()) + "}"
+    if isinstance(value, (list, tuple, np.ndarray)):
+        return "[" + ", ".join(_value(v) for v in value) + "]"
+    raise TypeError(f"cannot write {type(value).__name__} to TOML: {value!r}")
+
+
+def first_difference(old, new, prefix: str = "") -> str | None:
+    """The first dotted key at which two plain-data trees differ (None when equal)."""
+    if isinstance(old, Mapping) and isinstance(new, Mapping):
+        for key in list(dict.fromkeys([*old, *new])):
+            where = f"{prefix}.{key}" if prefix else str(key)
+            if key not in old or key not in new:
+                return where
+            found = first_difference(old[key], new[key], where)
+            if found:
+                return found
+        return None
+    if isinstance(old, list) and isinstance(new, list) and len(old) == len(new):
+        for i, (a, b) in enumerate(zip(old, new)):
+            found = first_difference(a, b, f"{prefix}[{i}]")
+            if found:
+                return found
+        return None
+    same = old == new or (isinstance(old, float) and isinstance(new, float) and math.isnan(old) and math.isnan(new))
+    return None if same else (prefix or "(root)")
