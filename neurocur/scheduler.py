@@ -14,19 +14,32 @@ their index tuples. A pass is then::
 
 from __future__ import annotations
 
+import zlib
+
 import numpy as np
 import pandas as pd
 
 from .recording import Recorder
 
-__all__ = ["Simulator"]
+__all__ = ["Simulator", "region_seed"]
+
+
+def region_seed(seed: np.random.SeedSequence, name: str) -> np.random.SeedSequence:
+    """The seed of region ``name``: a child of ``seed`` keyed by the region's name.
+
+    ``SeedSequence(seed.entropy, spawn_key=seed.spawn_key + (crc32(name),))``: it depends
+    on the name only, not on the region's position in the circuit file, so adding,
+    removing or reordering regions leaves every other region's random stream unchanged.
+    """
+    return np.random.SeedSequence(seed.entropy, spawn_key=(*seed.spawn_key, zlib.crc32(name.encode("utf-8"))),
+                                  pool_size=seed.pool_size)
 
 
 class Simulator:
     """A circuit instantiated on a world with a seed; see :meth:`neurocur.circuit.Circuit.build`.
 
-    ``regions``: name -> region instance. Random generators come from
-    ``SeedSequence(seed).spawn(n_regions)``, one per region in declaration order.
+    ``regions``: name -> region instance. Each region's random generator comes from
+    :func:`region_seed` (a child of ``seed`` keyed by the region's name).
     """
 
     def __init__(self, circuit, world, seed, *, record_frames: bool = False):
@@ -35,10 +48,13 @@ class Simulator:
         self.seed_sequence = seed if isinstance(seed, np.random.SeedSequence) else np.random.SeedSequence(seed)
         names = list(circuit.specs)
         self.regions = {name: circuit.specs[name].make() for name in names}
-        for name, child in zip(names, self.seed_sequence.spawn(len(names))):
+        children = {name: region_seed(self.seed_sequence, name) for name in names}
+        if len({child.spawn_key for child in children.values()}) < len(names):
+            raise ValueError(f"two of the region names {names} have the same seed key (crc32); rename one")
+        for name in names:
             region = self.regions[name]
             region.bind(world)
-            region.reset(np.random.default_rng(child))
+            region.reset(np.random.default_rng(children[name]))
 
         slot: dict[tuple[str, str], int] = {}
         values: list = []

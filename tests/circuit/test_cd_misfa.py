@@ -80,6 +80,17 @@ def test_modules_table_and_library(run):
     np.testing.assert_allclose(y, ec.adaptive.transform(episode.frames), atol=1e-10)
 
 
+def test_region_seeds_follow_names_not_positions(circuit, make_world):
+    from neurocur.circuit import Circuit
+
+    reordered = Circuit(dict(reversed(list(circuit.specs.items()))), circuit.links)
+    assert reordered.step_order == circuit.step_order and list(reordered.specs) != list(circuit.specs)
+    a = circuit.build(make_world(), seed=5).run(20 * 120)
+    b = reordered.build(make_world(), seed=5).run(20 * 120)
+    pd.testing.assert_frame_equal(a.episodes(), b.episodes())
+    pd.testing.assert_frame_equal(a.products()["modules"], b.products()["modules"])
+
+
 def test_same_seed_same_tables(circuit, make_world):
     a = circuit.build(make_world(), seed=5).run(20 * 120)
     b = circuit.build(make_world(), seed=5).run(20 * 120)
