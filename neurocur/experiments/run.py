@@ -35,7 +35,8 @@ def _gates(episodes: pd.DataFrame, modules: pd.DataFrame, names: Sequence[str]) 
 def run_one(condition: Condition, run: int, steps: int, seed: np.random.SeedSequence, *, progress=None) -> RunResult:
     """Simulate one run of ``condition`` for ``steps`` frames from ``seed``.
 
-    Adds ``run`` and ``condition`` in front of the episodes and modules tables, and per
+    Adds ``condition``, ``run`` and the condition's sweep values (one column per swept key)
+    in front of the episodes and modules tables, and per
     module ``source`` (the source of the context it was learned in), ``quality`` and the
     world's further columns (:meth:`~neurocur.contexts.base.World.module_report`, which
     may also add per-run tables, e.g. the iCub's ``features``), and ``gates`` (the names
@@ -58,9 +59,12 @@ def run_one(condition: Condition, run: int, steps: int, seed: np.random.SeedSequ
     for table in (episodes, modules, *tables.values()):
         table.insert(0, "condition", condition.name)
         table.insert(1, "run", int(run))
+        for i, (key, value) in enumerate(condition.sweep.items()):  # a sweep point's values, as columns
+            table.insert(2 + i, key, value)
     summary = {
         "condition": condition.name,
         "run": int(run),
+        **({"sweep": dict(condition.sweep)} if condition.sweep else {}),
         "seed": {"entropy": seed.entropy, "spawn_key": list(seed.spawn_key)},
         "steps": int(steps),
         "frames": int(episodes["n_frames"].sum()),

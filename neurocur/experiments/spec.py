@@ -51,7 +51,7 @@ from __future__ import annotations
 
 import tomllib
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -72,9 +72,11 @@ from neurocur.config import (
 from neurocur.contexts import WORLDS, World
 from neurocur.registry import UnknownType
 
+from .sweep import grid, point_label, sweep_table, world_layer
+
 __all__ = ["Condition", "Experiment", "load_experiment", "parse_set"]
 
-TOP_KEYS = ("name", "description", "circuit", "runs", "steps", "seed", "world", "params", "conditions")
+TOP_KEYS = ("name", "description", "circuit", "runs", "steps", "seed", "world", "params", "sweep", "conditions")
 SCALAR_KEYS = ("name", "description", "circuit", "runs", "steps", "seed")
 CONDITION_KEYS = ("description", "circuit", "params", "world")
 DEFAULT_CONDITION = "default"
@@ -92,6 +94,8 @@ class Condition:
     circuit: Circuit
     world_params: object = None
     description: str = ""
+    #: the sweep point of this condition (``{"LC.gain": 0.5}``); empty without a sweep
+    sweep: dict = field(default_factory=dict)
 
     @property
     def world_type(self) -> str:
@@ -127,14 +131,18 @@ class Experiment:
         return replace(self, seed=int(seed))
 
     def select(self, names: Sequence[str] | None = None) -> list[Condition]:
-        """The named conditions (all when ``names`` is empty); unknown names list the known ones."""
+        """The named conditions (all when ``names`` is empty); a condition's name without a sweep
+        point selects all its points; unknown names list the known ones."""
         if not names:
             return list(self.conditions.values())
-        unknown = [n for n in names if n not in self.conditions]
-        if unknown:
-            raise ConfigError(f"--condition {unknown[0]}", None, f"one of {', '.join(self.conditions)}",
-                              "an unknown condition")
-        return [self.conditions[n] for n in dict.fromkeys(names)]
+        chosen = {}
+        for n in names:
+            found = [c for c in self.conditions.values() if n in (c.name, c.name.partition("@")[0])]
+            if not found:
+                known = dict.fromkeys(n.partition("@")[0] for n in self.conditions)
+                raise ConfigError(f"--condition {n}", None, f"one of {', '.join(known)}", "an unknown condition")
+            chosen.update((c.name, c) for c in found)
+        return list(chosen.values())
 
     def resolved(self) -> dict:
         """The fully resolved experiment, as written to a results folder's ``config.toml``."""
@@ -145,6 +153,7 @@ class Experiment:
                 "circuit": str(cond.circuit_path),
                 "params": dict(cond.params),
                 "world": dict(cond.world),
+                **({"sweep": dict(cond.sweep)} if cond.sweep else {}),
                 "resolved_circuit": cond.circuit.to_dict(),
             }
         return {
@@ -162,17 +171,31 @@ class Experiment:
         }
 
 
+class Values(list):
+    """Several values of one ``--set KEY=V1,V2``: the key is swept over them."""
+
+
 def parse_set(item: str) -> tuple[str, object]:
-    """``"KEY=VALUE"`` → ``(KEY, value)``; VALUE is a TOML literal, else taken as a string."""
+    """``"KEY=VALUE"`` → ``(KEY, value)``; VALUE is a TOML literal, else taken as a string.
+
+    ``KEY=V1,V2,...`` (comma-separated values that are not one TOML literal) gives
+    :class:`Values`, the values of a swept key.
+    """
     key, eq, text = str(item).partition("=")
-    key = key.strip()
+    key, text = key.strip(), text.strip()
     if not eq or not key:
         raise ConfigError(f"--set {item}", None, "KEY=VALUE (e.g. HPC.threshold=0.3)", describe(item))
-    try:
-        value = tomllib.loads(f"v = {text.strip()}")["v"]
-    except tomllib.TOMLDecodeError:
-        value = text.strip()
+    value = _literal(text)
+    if isinstance(value, str) and "," in text:
+        return key, Values(_literal(part.strip()) for part in text.split(","))
     return key, value
+
+
+def _literal(text: str):
+    try:
+        return tomllib.loads(f"v = {text}")["v"]
+    except tomllib.TOMLDecodeError:
+        return text
 
 
 def load_experiment(path, *, sets: Sequence[str] = (), runs: int | None = None, steps: int | None = None,
@@ -182,7 +205,14 @@ def load_experiment(path, *, sets: Sequence[str] = (), runs: int | None = None, 
     raw = load_toml(path)
     check_keys(raw, TOP_KEYS, source=path)
     here, cwd = path.parent, Path.cwd()
-    top_sets, world_sets, param_sets = _classify_sets(sets)
+    top_sets, world_sets, param_sets, sweep_sets = _classify_sets(sets)
+    sweep = {**sweep_table(raw.get("sweep"), path), **sweep_sets}
+    for key in [k for k in param_sets if k in sweep]:  # one value restricts a swept key
+        sweep[key] = [param_sets.pop(key)]
+    for key in [k for k in sweep if k.startswith("world.")]:
+        found = _pop_dotted(world_sets, key.split(".")[1:])
+        if found is not _ABSENT:
+            sweep[key] = [found]
 
     scalars = {}
     for key in SCALAR_KEYS:
@@ -218,15 +248,19 @@ def load_experiment(path, *, sets: Sequence[str] = (), runs: int | None = None, 
         else:
             raise ConfigError(path, "circuit", "a circuit file path (here or in every condition)", "nothing")
         cond_world = require(table, "world", dict, source=path, prefix=prefix, expected="a table", default={})
-        world, world_params = _world([(base_world, path, "world", here), (cond_world, path, f"{prefix}.world", here),
-                                      (world_sets, "--set", "world", cwd)], path)
         cond_params = _flatten_params(
             require(table, "params", dict, source=path, prefix=prefix, expected="a table", default={}),
             path, f"{prefix}.params")
-        built = _load_circuit(circuit, base_params, cond_params, param_sets, path, name)
-        params = {**base_params, **cond_params, **param_sets}
         description = require(table, "description", str, source=path, prefix=prefix, expected="a string", default="")
-        conditions[name] = Condition(name, circuit, params, world, built, world_params, description)
+        for point in grid(sweep):
+            point_params = {k: v for k, v in point.items() if not k.startswith("world.")}
+            world, world_params = _world([(base_world, path, "world", here), (cond_world, path, f"{prefix}.world", here),
+                                          (world_layer(point), path, "sweep.world", here),
+                                          (world_sets, "--set", "world", cwd)], path)
+            built = _load_circuit(circuit, base_params, {**cond_params, **point_params}, param_sets, path, name)
+            params = {**base_params, **cond_params, **point_params, **param_sets}
+            label = f"{name}@{point_label(point)}" if point else name
+            conditions[label] = Condition(label, circuit, params, world, built, world_params, description, point)
 
     return Experiment(
         name=scalars.get("name", path.stem),
@@ -239,12 +273,30 @@ def load_experiment(path, *, sets: Sequence[str] = (), runs: int | None = None, 
     )
 
 
+_ABSENT = object()
+
+
+def _pop_dotted(table: dict, parts: list[str]):
+    """Remove and return ``table[p0][p1]...`` (``_ABSENT`` when there is none)."""
+    node = table
+    for part in parts[:-1]:
+        node = node.get(part)
+        if not isinstance(node, dict):
+            return _ABSENT
+    return node.pop(parts[-1], _ABSENT)
+
+
 def _classify_sets(sets):
-    top, world, params = {}, {}, {}
+    top, world, params, sweep = {}, {}, {}, {}
     for item in sets:
         key, value = parse_set(item)
         head, _, rest = key.partition(".")
-        if head in SCALAR_KEYS:
+        if isinstance(value, Values):
+            if head in SCALAR_KEYS or not rest or head in ("params", "conditions"):
+                raise ConfigError(f"--set {key}", None, "several values only for a REGION.param or world.KEY",
+                                  describe(list(value)))
+            sweep[key] = list(value)
+        elif head in SCALAR_KEYS:
             if rest:
                 raise ConfigError(f"--set {key}", None, f"'{head}' without a sub-key", describe(key))
             top[head] = value
@@ -263,7 +315,7 @@ def _classify_sets(sets):
         else:
             raise ConfigError(f"--set {key}", None,
                               "runs, steps, seed, circuit, name, description, world.KEY or REGION.param", describe(key))
-    return top, world, params
+    return top, world, params, sweep
 
 
 def _check_scalar(key, value, source, dotted, base_dir):

@@ -1,0 +1,101 @@
+"""Grid sweeps: the [sweep] table, --set KEY=V1,V2, sweep columns, a folder that grows by points."""
+
+import os
+import textwrap
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+from neurocur.config import ConfigError
+from neurocur.experiments import load_experiment, parse_set, run_experiment
+from neurocur.experiments.spec import Values
+from neurocur.results import ResultsStore, load
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def write(tmp_path, sweep='"PFC.discount" = [0.5, 0.9]\n"world.normalise" = ["global", "image"]'):
+    path = tmp_path / "sweep.toml"
+    path.write_text(textwrap.dedent(f"""\
+        circuit = "{ROOT / 'circuits' / 'cd_misfa.toml'}"
+        runs = 2
+        steps = 600
+        seed = 3
+        [world]
+        contexts = ["S-A", "S-B"]
+        [sweep]
+        {sweep}
+        [conditions.curious]
+        [conditions.random]
+        circuit = "{ROOT / 'circuits' / 'lesion_lc_random.toml'}"
+        """))
+    return path
+
+
+def test_the_grid_is_every_condition_at_every_point(tmp_path):
+    exp = load_experiment(write(tmp_path))
+    assert len(exp.conditions) == 2 * 2 * 2
+    cond = exp.conditions["random@PFC.discount=0.9,world.normalise=image"]
+    assert cond.sweep == {"PFC.discount": 0.9, "world.normalise": "image"}
+    assert cond.circuit.specs["PFC"].params.discount == 0.9 and cond.world_params.normalise == "image"
+    assert cond.circuit.lesions == (("LC", "random"),)
+    assert cond.params["PFC.discount"] == 0.9 and "world.normalise" not in cond.params
+    assert [c.name for c in exp.select(["curious"])] == [n for n in exp.conditions if n.startswith("curious@")]
+
+
+def test_set_extends_restricts_and_adds_swept_keys(tmp_path):
+    path = write(tmp_path)
+    grown = load_experiment(path, sets=["PFC.discount=0.5,0.7,0.9"])
+    assert {c.sweep["PFC.discount"] for c in grown.conditions.values()} == {0.5, 0.7, 0.9}
+    restricted = load_experiment(path, sets=["world.normalise=image"])
+    assert len(restricted.conditions) == 4 and {c.world_params.normalise for c in restricted.conditions.values()} == {"image"}
+    added = load_experiment(path, sets=["LC.decay=0.99,0.9"])
+    assert len(added.conditions) == 16 and all("LC.decay" in c.sweep for c in added.conditions.values())
+
+
+def test_parse_set_values():
+    assert parse_set("LC.gain=0.5") == ("LC.gain", 0.5)
+    assert parse_set("world.frame_shape=[10, 10]") == ("world.frame_shape", [10, 10])
+    key, values = parse_set("world.normalise=global,image")
+    assert isinstance(values, Values) and (key, list(values)) == ("world.normalise", ["global", "image"])
+    assert list(parse_set("LC.gain=0.5, 1, 2")[1]) == [0.5, 1, 2]
+
+
+@pytest.mark.parametrize("sweep, key, expected", [
+    ('"PFC.discount" = 0.5', "sweep.PFC.discount", "a non-empty list of values"),
+    ('"PFC.discount" = []', "sweep.PFC.discount", "a non-empty list of values"),
+    ('"PFC.discount" = [0.5, 0.5]', "sweep.PFC.discount", "distinct values"),
+    ('runs = [1, 2]', "sweep.runs", '"REGION.param" or "world.KEY"'),
+    ('"PFC.discount" = [0.5, 2.0]', "PFC.discount", "a number >= 0 and < 1"),
+    ('"world.normalise" = ["global", "pixel"]', "sweep.world.normalise", "one of 'global', 'image'"),
+])
+def test_bad_sweeps_name_the_key(tmp_path, sweep, key, expected):
+    with pytest.raises(ConfigError) as info:
+        load_experiment(write(tmp_path, sweep))
+    assert key in info.value.key and expected in info.value.expected
+
+
+def test_bad_multi_value_set():
+    with pytest.raises(ConfigError, match="several values only for a REGION.param or world.KEY"):
+        load_experiment(ROOT / "experiments" / "synthetic.toml", sets=["runs=1,2"])
+
+
+def test_sweep_columns_and_a_folder_that_grows_by_points(tmp_path):
+    path, out = write(tmp_path, '"PFC.discount" = [0.5, 0.9]'), tmp_path / "out"
+    run_experiment(load_experiment(path), out, jobs=2, progress=False)
+    episodes, modules = load(out)
+    assert list(episodes.columns[:3]) == ["condition", "run", "PFC.discount"]
+    assert list(modules.columns[:3]) == ["condition", "run", "PFC.discount"]
+    assert episodes.groupby("PFC.discount")["condition"].nunique().to_dict() == {0.5: 2, 0.9: 2}
+    store = ResultsStore(out)
+    before = {p: os.stat(p / "run.json").st_mtime_ns for p in store.run_dirs()}
+    run_experiment(load_experiment(path, sets=["PFC.discount=0.5,0.7,0.9"]), out, jobs=2, progress=False)
+    after = {p: os.stat(p / "run.json").st_mtime_ns for p in store.run_dirs()}
+    assert len(after) == 12 and all(after[p] == t for p, t in before.items())  # nothing re-run
+    grown, _ = load(out)
+    old = grown[grown["PFC.discount"] == 0.5].reset_index(drop=True)
+    pd.testing.assert_frame_equal(old, episodes[episodes["PFC.discount"] == 0.5].reset_index(drop=True))
+    # paired seeds: run i starts in the same context at every point and in every condition
+    first = grown[grown["episode"] == 0].groupby("run")["context"].nunique()
+    assert (first == 1).all()
