@@ -19,8 +19,46 @@ class LCParams:
         check_params(self)
 
 
+class LCRole(Region):
+    """The LC role's ports, shared by every LC model: reads the context, Q (engage, disengage)
+    and the module-learned event; decides the action and the next context (eq 13); records
+    the decision and tonic and phasic NE (:data:`DECISION_PROBES` first)."""
+
+    inputs = (
+        Signal("context", "int64", ()),
+        Signal("q", "float64", (2,)),
+        Signal("module_learned", "bool", ()),
+    )
+    outputs = (
+        Signal("action", "int64", (), "0 engage, 1 disengage", initial=None),
+        Signal("next_context", "int64", (), "context of the next episode", initial=None),
+    )
+
+    def bind(self, world) -> None:
+        if world.n_contexts < 2:
+            raise ValueError(f"{self.name}: engage/disengage needs at least 2 contexts; got {world.n_contexts}")
+        self.n_contexts = world.n_contexts
+
+
+#: The decision's probes, recorded first by every LC model.
+DECISION_PROBES = (
+    Probe("action", "category", "", "decision at the end of this episode", categories=ACTIONS),
+    Probe("next_context", "int", "index", "context of the next episode"),
+)
+
+
+def phasic_ne(action: int, module_learned: bool, q_engage: float, q_disengage: float) -> float:
+    """Phasic NE: 1 at a module-learned event; else, on an engage decision, the burst that
+    commits to the task, max(0, tanh(Q_eng - Q_dis)); else 0."""
+    if module_learned:
+        return 1.0
+    if action == ENGAGE:
+        return max(0.0, math.tanh(q_engage - q_disengage))
+    return 0.0
+
+
 @register("lc.epsilon_greedy")
-class EpsilonGreedyLC(Region):
+class EpsilonGreedyLC(LCRole):
     """Decaying epsilon-greedy engage/disengage (section 2.8.1) with NE read-outs.
 
     Per pass: on a module-learned event epsilon is reset to ``epsilon0``; with
@@ -42,28 +80,13 @@ class EpsilonGreedyLC(Region):
     """
 
     Params = LCParams
-    inputs = (
-        Signal("context", "int64", ()),
-        Signal("q", "float64", (2,)),
-        Signal("module_learned", "bool", ()),
-    )
-    outputs = (
-        Signal("action", "int64", (), "0 engage, 1 disengage", initial=None),
-        Signal("next_context", "int64", (), "context of the next episode", initial=None),
-    )
     probes = (
-        Probe("action", "category", "", "decision at the end of this episode", categories=ACTIONS),
-        Probe("next_context", "int", "index", "context of the next episode"),
+        *DECISION_PROBES,
         Probe("epsilon", "float", "probability", "exploration rate used for this decision"),
         Probe("ne_tonic", "float", "probability", "P(disengage | Q, epsilon)"),
         Probe("ne_phasic", "float", "[0, 1]", "event-locked burst (1 at module storage, engage advantage)"),
     )
     lesions = {"random": {"epsilon0": 1.0, "decay": 1.0}}
-
-    def bind(self, world) -> None:
-        if world.n_contexts < 2:
-            raise ValueError(f"{self.name}: engage/disengage needs at least 2 contexts; got {world.n_contexts}")
-        self.n_contexts = world.n_contexts
 
     def reset(self, rng) -> None:
         self.rng = rng
@@ -83,12 +106,7 @@ class EpsilonGreedyLC(Region):
             action = DISENGAGE if g == 1.0 else ENGAGE
         nxt = next_context(context, action, self.n_contexts, rng)
         tonic = 0.5 * eps + (1.0 - eps) * g
-        if module_learned:
-            phasic = 1.0
-        elif action == ENGAGE:
-            phasic = max(0.0, math.tanh(q_eng - q_dis))
-        else:
-            phasic = 0.0
+        phasic = phasic_ne(action, module_learned, q_eng, q_dis)
         self.epsilon = eps * self.params.decay
         self._rec = (action, nxt, eps, tonic, phasic)
         return action, nxt

@@ -13,8 +13,9 @@ import math
 from dataclasses import dataclass
 
 from ..config import check_params, param
-from .base import Probe, Region, Signal, register
-from .pfc import ACTIONS, DISENGAGE, ENGAGE, next_context
+from .base import Probe, register
+from .lc import DECISION_PROBES, LCRole, phasic_ne
+from .pfc import DISENGAGE, ENGAGE, next_context
 
 
 @dataclass(frozen=True)
@@ -26,37 +27,22 @@ class SoftmaxLCParams:
 
 
 @register("lc.softmax")
-class SoftmaxLC(Region):
+class SoftmaxLC(LCRole):
     """P(disengage) = sigma(gain * (Q_dis - Q_eng)), sigma the logistic function.
 
     Per pass the action is drawn with that probability (one ``rng.random`` draw), then
     the next context as in eq 13 (:func:`~neurocur.regions.pfc.next_context`).
     ``gain = 0`` switches at random, a large gain is greedy. NE, as for the
-    epsilon-greedy LC: tonic NE = P(disengage | Q, gain); phasic NE = 1 at a
-    module-learned event, else on engage max(0, tanh(Q_eng - Q_dis)), else 0.
+    epsilon-greedy LC: tonic NE = P(disengage | Q, gain); phasic NE as
+    :func:`~neurocur.regions.lc.phasic_ne`. The ports are the LC role's (:class:`LCRole`).
     """
 
     Params = SoftmaxLCParams
-    inputs = (
-        Signal("context", "int64", ()),
-        Signal("q", "float64", (2,)),
-        Signal("module_learned", "bool", ()),
-    )
-    outputs = (
-        Signal("action", "int64", (), "0 engage, 1 disengage", initial=None),
-        Signal("next_context", "int64", (), "context of the next episode", initial=None),
-    )
     probes = (
-        Probe("action", "category", "", "decision at the end of this episode", categories=ACTIONS),
-        Probe("next_context", "int", "index", "context of the next episode"),
+        *DECISION_PROBES,
         Probe("ne_tonic", "float", "probability", "P(disengage | Q, gain)"),
         Probe("ne_phasic", "float", "[0, 1]", "event-locked burst (1 at module storage, engage advantage)"),
     )
-
-    def bind(self, world) -> None:
-        if world.n_contexts < 2:
-            raise ValueError(f"{self.name}: engage/disengage needs at least 2 contexts; got {world.n_contexts}")
-        self.n_contexts = world.n_contexts
 
     def reset(self, rng) -> None:
         self.rng = rng
@@ -67,7 +53,7 @@ class SoftmaxLC(Region):
         tonic = 0.5 * (1.0 + math.tanh(0.5 * self.params.gain * advantage))  # the logistic, overflow-free
         action = DISENGAGE if self.rng.random() < tonic else ENGAGE
         nxt = next_context(context, action, self.n_contexts, self.rng)
-        phasic = 1.0 if module_learned else max(0.0, math.tanh(-advantage)) if action == ENGAGE else 0.0
+        phasic = phasic_ne(action, module_learned, float(q[ENGAGE]), float(q[DISENGAGE]))
         self._rec = (action, nxt, tonic, phasic)
         return action, nxt
 
