@@ -1,16 +1,32 @@
 """Analysis of a results folder: tidy tables, statistics and seaborn figures.
 
 ``load(DIR)`` reads the episodes and modules tables of every run (through
-:class:`neurocur.results.ResultsStore`), and ``write_summary(DIR)`` writes ``summary.json``; the functions of
-:mod:`neurocur.analysis.stats` turn them into tidy statistics and those of
-:mod:`neurocur.analysis.figures` into matplotlib Figures (paper Figures 4D–G);
-:mod:`neurocur.analysis.icub` does the same for the iCub experiment (Figures 6B–D) and
-:mod:`neurocur.analysis.invariance` draws Figure 5.
+:class:`neurocur.results.ResultsStore`), and ``write_summary(DIR)`` writes ``summary.json``.
+One module per question, all re-exported here:
+
+- :mod:`~neurocur.analysis.order` — the module order per run, its counts (Clopper–Pearson
+  intervals) and Kendall τ;
+- :mod:`~neurocur.analysis.learning_time` — the learning time of each source (Figure 4F);
+- :mod:`~neurocur.analysis.comparison` — one condition against another;
+- :mod:`~neurocur.analysis.report` — the order table beside the paper's numbers, and the summary;
+- :mod:`~neurocur.analysis.figures` — matplotlib Figures (paper Figures 4D–G).
+
+Not re-exported: :mod:`~neurocur.analysis.paper` (the paper's numbers, with their sections),
+:mod:`~neurocur.analysis.style` (the figure style and saving),
+:mod:`~neurocur.analysis.reproduction` (the reproduction study's table),
+:mod:`~neurocur.analysis.icub` (the iCub experiment, Figures 6B–D and 7) and
+:mod:`~neurocur.analysis.invariance` (Figure 5).
 """
 
-from neurocur.analysis import figures, stats
+from neurocur.analysis import comparison, figures, learning_time, order, report
+from neurocur.analysis.comparison import *  # noqa: F403
 from neurocur.analysis.figures import *  # noqa: F403
 from neurocur.analysis.io import load, order_tables, run_dirs, source_specs, write_summary
-from neurocur.analysis.stats import *  # noqa: F403
+from neurocur.analysis.learning_time import *  # noqa: F403
+from neurocur.analysis.order import *  # noqa: F403
+from neurocur.analysis.report import *  # noqa: F403
+from neurocur.contexts.base import SourceSpec
+from neurocur.contexts.synthetic import SYNTHETIC
 
-__all__ = ["load", "order_tables", "run_dirs", "source_specs", "write_summary", *stats.__all__, *figures.__all__]
+__all__ = ["load", "order_tables", "run_dirs", "source_specs", "write_summary", "SourceSpec", "SYNTHETIC",
+           *order.__all__, *learning_time.__all__, *comparison.__all__, *report.__all__, *figures.__all__]

@@ -1,29 +1,30 @@
 """Seaborn figures of a results folder (paper Figures 4D–G and more).
 
-Every function returns a :class:`matplotlib.figure.Figure` drawn on an Agg canvas
-(no pyplot state, no window, nothing to close); :func:`write_all` saves them as PNG.
-
-Reward function (Figure 4G): the PFC's running reward estimate per context is
-recomputed from the episodes' intrinsic rewards with eq 14,
-``R_c <- (1 - alpha) R_c + alpha * DA`` at every visit of context ``c`` (R_c = 0 before
-the first reward); ``alpha=None`` gives the sample average instead. The reward of an
-episode is attributed to the context in which it was earned.
+Every function returns a :class:`matplotlib.figure.Figure` in the style of
+:mod:`neurocur.analysis.style`; :func:`write_all` saves them as PNG. Each checks on entry
+that its tables have the columns it reads (:func:`neurocur.contract.require_columns`), so
+a table without, say, an LC's columns gives an error naming them and the role producing
+them; a column that only some region models record (``epsilon``) is drawn when present.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import seaborn as sns
-from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from neurocur.analysis.io import load
-from neurocur.analysis.stats import SYNTHETIC, SourceSpec, learning_times, position_counts
+from neurocur.analysis.learning_time import learning_times, require_learning_columns
+from neurocur.analysis.order import position_counts, require_order_columns
+from neurocur.analysis.style import figure, save_figures, style
+from neurocur.contexts.base import SourceSpec
+from neurocur.contexts.synthetic import SYNTHETIC
+from neurocur.contract import require_columns
+from neurocur.regions.pfc import PFCParams, reward_update
+from neurocur.results import ResultsStore
 
 __all__ = [
     "fig_cumulative_error",
@@ -32,24 +33,13 @@ __all__ = [
     "fig_reward_function",
     "fig_order_counts",
     "fig_neuromodulators",
+    "pfc_alphas",
+    "reward_estimates",
     "write_all",
 ]
 
 #: gid of the vertical lines marking module storage, so they can be told from data lines.
 EVENT_GID = "module_learned"
-
-
-@contextmanager
-def _style() -> Iterator[None]:
-    with sns.axes_style("whitegrid"), sns.plotting_context("notebook", font_scale=0.9):
-        yield
-
-
-def _figure(nrows: int = 1, ncols: int = 1, *, figsize=(7.0, 4.0), **kwargs) -> tuple[Figure, np.ndarray]:
-    fig = Figure(figsize=figsize, layout="constrained")
-    FigureCanvasAgg(fig)
-    axes = fig.subplots(nrows, ncols, squeeze=False, **kwargs)
-    return fig, axes
 
 
 def _condition(episodes: pd.DataFrame, condition: str | None) -> str:
@@ -108,11 +98,12 @@ def fig_cumulative_error(
     ``bin_steps`` frames, then over runs (line ± sd band); one run (``run``, default the
     first) is overlaid at episode resolution. Two lines: the mean, the single run.
     """
+    require_columns(episodes, ["condition", "run", "episode", "step", column], needed_by="fig_cumulative_error")
     condition = _condition(episodes, condition)
     table = episodes[episodes["condition"] == condition]
     _, run, single = _one_run(episodes, condition, run)
-    with _style():
-        fig, axes = _figure()
+    with style():
+        fig, axes = figure()
         ax = axes[0, 0]
         sns.lineplot(data=_binned(table, column, bin_steps), x="step", y=column, errorbar="sd",
                      ax=ax, label=f"mean over {table['run'].nunique()} runs (± sd)")
@@ -144,14 +135,15 @@ def fig_intrinsic_reward(
     """
     if window < 1:
         raise ValueError(f"window must be a positive number of bins, got {window}")
+    require_columns(episodes, ["condition", "run", "step", "da", "familiar"], needed_by="fig_intrinsic_reward")
     condition = _condition(episodes, condition)
     table = episodes[episodes["condition"] == condition]
     if not include_boredom:
         table = table[~table["familiar"].astype(bool)]
     mean = _binned(table, "da", bin_steps).groupby("step")["da"].mean()
     smooth = mean.rolling(window, center=True, min_periods=1).mean()
-    with _style():
-        fig, axes = _figure()
+    with style():
+        fig, axes = figure()
         ax = axes[0, 0]
         sns.lineplot(x=smooth.index, y=smooth.to_numpy(), ax=ax, errorbar=None)
         ax.axhline(0.0, color="0.5", lw=0.8, ls=":")
@@ -178,17 +170,18 @@ def fig_learning_time(
     """Figure 4F: learning time per learnable source in epochs, mean ± sd over runs.
 
     One bar per (source, condition) — all conditions unless ``condition`` is given — with
-    the runs as points. Learning time as in :func:`neurocur.analysis.stats.learning_times`
+    the runs as points. Learning time as in :func:`neurocur.analysis.learning_time.learning_times`
     (first module of each source).
     """
+    require_learning_columns(episodes, modules, needed_by="fig_learning_time")
     times = learning_times(episodes, modules, spec, since=since)
     times = times[times["learnable"] & times["first_of_source"]]
     conditions = sorted(episodes["condition"].unique())
     if condition is not None:
         conditions = [_condition(episodes, condition)]
     times = times[times["condition"].isin(conditions)]
-    with _style():
-        fig, axes = _figure()
+    with style():
+        fig, axes = figure()
         ax = axes[0, 0]
         if times.empty:
             ax.text(0.5, 0.5, "no learnable source was learned", ha="center", va="center",
@@ -202,25 +195,27 @@ def fig_learning_time(
     return fig
 
 
-def _reward_estimates(run: pd.DataFrame, n_contexts: int, alpha: float | None) -> np.ndarray:
-    """(n_episodes, n_contexts) running reward estimate of each context after each episode (eq 14).
+def reward_estimates(run: pd.DataFrame, n_contexts: int, alpha: float) -> np.ndarray:
+    """(n_episodes, n_contexts): each context's reward estimate R_c after each episode of one run.
 
-    Episodes without a defined reward (NaN DA) leave the estimate unchanged.
+    ``run`` is one run's episodes in episode order, from its first. R_c starts at 0 (as the
+    PFC's reward model) and every episode but the first applies eq 14 to the estimate of
+    its context, ``R_c <- reward_update(R_c, DA, alpha)``
+    (:func:`neurocur.regions.pfc.reward_update`); what R_c is in terms of the PFC's model
+    is said in :func:`fig_reward_function`.
     """
-    if alpha is not None and not 0.0 < alpha <= 1.0:
-        raise ValueError(f"alpha must be in (0, 1] or None for the sample average, got {alpha}")
+    require_columns(run, ["context", "da"], needed_by="reward_estimates")
+    if not 0.0 < alpha <= 1.0:
+        raise ValueError(f"alpha must be in (0, 1] (eq 14's learning rate), got {alpha}")
     da = run["da"].to_numpy(dtype=float)
     contexts = run["context"].to_numpy()
-    estimates = np.full((len(run), n_contexts), np.nan)
-    for c in range(n_contexts):
-        visits = (contexts == c) & np.isfinite(da)
-        rewards = pd.Series(da[visits])
-        if alpha is None:
-            running = rewards.expanding().mean()
-        else:  # R starts at 0: y_0 = 0, y_t = (1 - alpha) y_{t-1} + alpha x_t
-            running = pd.concat([pd.Series([0.0]), rewards]).ewm(alpha=alpha, adjust=False).mean().iloc[1:]
-        estimates[visits, c] = running.to_numpy()
-    return pd.DataFrame(estimates).ffill().fillna(0.0).to_numpy()
+    estimate = np.zeros(n_contexts)
+    estimates = np.empty((len(run), n_contexts))
+    for t, (c, reward) in enumerate(zip(contexts, da)):
+        if t > 0:  # the PFC has no previous context at the first episode and leaves its model as it is
+            estimate[c] = reward_update(estimate[c], reward, alpha)
+        estimates[t] = estimate
+    return estimates
 
 
 def fig_reward_function(
@@ -228,33 +223,42 @@ def fig_reward_function(
     run: int | None = None,
     condition: str | None = None,
     *,
-    alpha: float | None = 0.1,
+    alpha: float = PFCParams().alpha,
     symlog: bool = True,
     spec: SourceSpec = SYNTHETIC,
 ) -> Figure:
     """Figure 4G: the reward function per context over time, for one run.
 
-    The running estimate of each context's intrinsic reward, recomputed from the episodes
-    with eq 14 (learning rate ``alpha``, the PFC's; ``None``: sample average). One line per
-    context of the world. With ``symlog`` the y-axis is linear only near zero (as in
-    :func:`fig_neuromodulators`), so the rise of the learning-progress reward shows beside
-    the boredom-driven drop.
+    The PFC's reward model is ``R[o, a, o']`` per (previous context, action, context); after
+    each episode but the run's first it applies eq 14, ``R <- (1 - alpha) R + alpha * DA``
+    (:func:`neurocur.regions.pfc.reward_update`), to the entry of the episode's previous
+    context ``o``, previous action ``a`` and context ``o'``, with the episode's DA. The
+    plotted R_c (:func:`reward_estimates`) applies the same updates, with the same DA, in
+    the same order, to one value per context ``c = o'``: it is the reward model the PFC
+    would have if it pooled its entries ``R[., ., c]`` over the previous context and action,
+    starting from 0. ``alpha`` is eq 14's learning rate: pass the run's PFC ``alpha``
+    (:func:`write_all` reads it from the results folder's config.toml with
+    :func:`pfc_alphas`); the default is the PFC's default, ``PFCParams().alpha``. One line
+    per context of the world, a step after each episode. With ``symlog`` the y-axis is
+    linear only near zero (as in :func:`fig_neuromodulators`), so the rise of the
+    learning-progress reward shows beside the boredom-driven drop.
     """
+    require_columns(episodes, ["condition", "run", "episode", "step", "n_frames", "context", "da", "familiar"],
+                    needed_by="fig_reward_function")
     condition, run, table = _one_run(episodes, condition, run)
     n_contexts = len(spec.context_names)
     if table["context"].max() >= n_contexts:
         raise ValueError(f"episodes visit context {table['context'].max()} but the world has {n_contexts}")
-    estimates = _reward_estimates(table, n_contexts, alpha)
+    estimates = reward_estimates(table, n_contexts, alpha)
     steps = table["step"].to_numpy() + table["n_frames"].to_numpy()
-    with _style():
-        fig, axes = _figure()
+    with style():
+        fig, axes = figure()
         ax = axes[0, 0]
         palette = sns.color_palette("colorblind", n_contexts)
         for c, (name, source) in enumerate(zip(spec.context_names, spec.context_sources)):
             ax.plot(steps, estimates[:, c], drawstyle="steps-post", color=palette[c], label=f"{name} ({source})")
-        rule = "sample average" if alpha is None else f"eq 14, α={alpha:g}"
         ax.set(xlabel="global step (frames)", ylabel="estimated reward R(context)",
-               title=f"Reward function — {condition}, run {run} ({rule})")
+               title=f"Reward function — {condition}, run {run} (eq 14, α={alpha:g})")
         if symlog:
             ax.set_yscale("symlog", linthresh=_progress_linthresh(table))
         ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0))
@@ -273,12 +277,14 @@ def fig_order_counts(
     the runs are those of the modules table.
     """
     if episodes is None:
-        episodes = modules[["condition", "run"]].drop_duplicates().assign(episode=0, context=0, n_frames=0)
+        require_columns(modules, ["condition", "run"], needed_by="fig_order_counts (modules table)")
+        episodes = modules[["condition", "run"]].drop_duplicates().assign(n_frames=0)
+    require_order_columns(episodes, modules, needed_by="fig_order_counts")
     counts = position_counts(episodes, modules, spec)
     conditions = sorted(counts["condition"].unique())
     sources = list(dict.fromkeys(counts["source"]))
-    with _style():
-        fig, axes = _figure(1, len(conditions), figsize=(4.0 * len(conditions), 3.8), sharey=True)
+    with style():
+        fig, axes = figure(1, len(conditions), figsize=(4.0 * len(conditions), 3.8), sharey=True)
         for ax, condition in zip(axes[0], conditions):
             table = counts[counts["condition"] == condition]
             sns.barplot(data=table, x="position", y="k", hue="source", hue_order=sources, ax=ax,
@@ -297,20 +303,25 @@ def fig_neuromodulators(
 ) -> Figure:
     """DA, NE tonic, NE phasic and ε per episode for one run, module storage marked.
 
-    Four stacked panels sharing the step axis; each has one trace plus a dashed vertical
-    line (gid ``"module_learned"``) at every module storage. DA is drawn on a symlog axis
-    (linear within ``±da_linthresh``, default the 90th percentile of |DA| on unfamiliar
-    episodes) so the −100 boredom rewards and the small learning-progress rewards both show.
+    Stacked panels sharing the step axis; each has one trace plus a dashed vertical line
+    (gid ``"module_learned"``) at every module storage. The ε panel is drawn only when the
+    table has an ``epsilon`` column (the epsilon-greedy LC records it; other LC models need
+    not), so there are three or four panels. DA is drawn on a symlog axis (linear within
+    ``±da_linthresh``, default the 90th percentile of |DA| on unfamiliar episodes) so the
+    −100 boredom rewards and the small learning-progress rewards both show.
     """
+    require_columns(episodes, ["condition", "run", "episode", "step", "n_frames", "module_learned", "da", "familiar",
+                               "ne_tonic", "ne_phasic"], needed_by="fig_neuromodulators")
     condition, run, table = _one_run(episodes, condition, run)
     steps = table["step"].to_numpy()
     events = (table["step"] + table["n_frames"])[table["module_learned"].astype(bool)].to_numpy()
     if da_linthresh is None:
         da_linthresh = _progress_linthresh(table)
-    panels = (("da", "DA (intrinsic reward)"), ("ne_tonic", "NE tonic"),
-              ("ne_phasic", "NE phasic"), ("epsilon", "ε"))
-    with _style():
-        fig, axes = _figure(len(panels), 1, figsize=(8.0, 7.0), sharex=True)
+    panels = [("da", "DA (intrinsic reward)"), ("ne_tonic", "NE tonic"), ("ne_phasic", "NE phasic")]
+    if "epsilon" in table:
+        panels.append(("epsilon", "ε"))
+    with style():
+        fig, axes = figure(len(panels), 1, figsize=(8.0, 1.75 * len(panels)), sharex=True)
         palette = sns.color_palette("deep", len(panels))
         for ax, color, (column, label) in zip(axes[:, 0], palette, panels):
             ax.plot(steps, table[column].to_numpy(dtype=float), color=color, lw=0.8)
@@ -323,6 +334,19 @@ def fig_neuromodulators(
     return fig
 
 
+def pfc_alphas(results_dir: str | Path) -> dict[str, float]:
+    """Eq 14's learning rate of each condition's PFC, read from the results folder's config.toml
+    (``conditions.<name>.resolved_circuit.regions.PFC.params.alpha``); a condition whose
+    config does not record one is left out."""
+    conditions = (ResultsStore(results_dir).config() or {}).get("conditions", {})
+    alphas = {}
+    for name, condition in conditions.items():
+        pfc = condition.get("resolved_circuit", {}).get("regions", {}).get("PFC", {})
+        if "alpha" in pfc.get("params", {}):
+            alphas[name] = float(pfc["params"]["alpha"])
+    return alphas
+
+
 def write_all(results_dir: str | Path, out_dir: str | Path | None = None, *, dpi: int = 120) -> list[Path]:
     """Draw every figure of a results folder and save them as PNG in ``out_dir``.
 
@@ -330,6 +354,8 @@ def write_all(results_dir: str | Path, out_dir: str | Path | None = None, *, dpi
     ``learning_time.png`` and, per condition, ``cumulative_error_<condition>.png``,
     ``intrinsic_reward_<condition>.png``, ``reward_function_<condition>.png`` and
     ``neuromodulators_<condition>.png`` (the latter two for the condition's first run).
+    The reward function uses the condition's own PFC ``alpha`` (:func:`pfc_alphas`; the
+    :class:`~neurocur.regions.pfc.PFCParams` default when config.toml records none).
     A results folder of the iCub world (``world.type = "icub"`` in its config.toml) gets
     the iCub figures instead (:func:`neurocur.analysis.icub.write_icub_figures`).
     Returns the written paths.
@@ -339,6 +365,7 @@ def write_all(results_dir: str | Path, out_dir: str | Path | None = None, *, dpi
     if results_world_type(results_dir) == "icub":
         return write_icub_figures(results_dir, out_dir, dpi=dpi)
     episodes, modules = load(results_dir)
+    alphas = pfc_alphas(results_dir)
     out = Path(results_dir) / "figures" if out_dir is None else Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     figures = {
@@ -346,18 +373,9 @@ def write_all(results_dir: str | Path, out_dir: str | Path | None = None, *, dpi
         "learning_time": fig_learning_time(episodes, modules),
     }
     for condition in sorted(episodes["condition"].unique()):
+        alpha = alphas.get(condition, PFCParams().alpha)
         figures[f"cumulative_error_{condition}"] = fig_cumulative_error(episodes, condition)
         figures[f"intrinsic_reward_{condition}"] = fig_intrinsic_reward(episodes, condition)
-        figures[f"reward_function_{condition}"] = fig_reward_function(episodes, condition=condition)
+        figures[f"reward_function_{condition}"] = fig_reward_function(episodes, condition=condition, alpha=alpha)
         figures[f"neuromodulators_{condition}"] = fig_neuromodulators(episodes, condition=condition)
     return save_figures(figures, out, dpi)
-
-
-def save_figures(figures: dict, out: Path, dpi: int) -> list[Path]:
-    """Write each ``{name: Figure}`` as ``out/<name>.png``; return the paths in order."""
-    paths = []
-    for name, fig in figures.items():
-        path = out / f"{name}.png"
-        fig.savefig(path, dpi=dpi)
-        paths.append(path)
-    return paths

@@ -3,14 +3,13 @@
 A results folder of an iCub experiment (``world.type = "icub"``) holds, besides the usual
 episodes and modules tables, a ``features.parquet`` per run: every stored module's slow
 outputs on the reference episodes of both contexts, with the object's displacement
-(written by :func:`neurocur.experiment.icub_module_report`). The modules table has the
+(written by :meth:`neurocur.contexts.icub.ICubWorld.module_report`). The modules table has the
 columns ``quality`` (|corr| of the slowest output y₀ with the object's displacement in the
 module's own context), ``arm_corr`` (|corr| of y₀ with the arm's joint state there),
 ``other_quality`` (with the displacement in the other context) and ``context_corr``
 (with the context index over both contexts).
 
-Figures (each a :class:`matplotlib.figure.Figure`, seaborn style as in
-:mod:`neurocur.analysis.figures`):
+Figures (each a :class:`matplotlib.figure.Figure` in the style of :mod:`neurocur.analysis.style`):
 
 - :func:`fig_module_error` — Figures 6B (``module=0``) and 6C (``module=1``): the
   adaptive module's estimation error while the k-th module learns;
@@ -33,23 +32,19 @@ import pandas as pd
 import seaborn as sns
 from matplotlib.figure import Figure
 
-from neurocur.analysis.figures import (
-    _condition,
-    _figure,
-    _style,
-    fig_neuromodulators,
-    fig_order_counts,
-    fig_reward_function,
-    save_figures,
-)
-from neurocur.analysis.stats import order_counts
+from neurocur.analysis.figures import _condition, fig_neuromodulators, fig_order_counts, fig_reward_function, pfc_alphas
+from neurocur.analysis.order import order_counts, require_order_columns
+from neurocur.analysis.paper import ICUB_CURIOUS
+from neurocur.analysis.style import figure, save_figures, style
 from neurocur.contexts import build_world
 from neurocur.contexts.icub import ICUB
+from neurocur.contract import require_columns
+from neurocur.learn.correlation import abs_corr
+from neurocur.regions.pfc import PFCParams
 from neurocur.results import ResultsStore, load
 
 __all__ = [
     "ICUB",
-    "PAPER",
     "results_world_type",
     "load_features",
     "learning_segments",
@@ -62,10 +57,6 @@ __all__ = [
     "fig_feature_output",
     "write_icub_figures",
 ]
-
-#: The paper's numbers (section 4.2).
-PAPER = {"omega": {"topple": 0.9982, "roll": 0.9988}, "topple first": "14/15"}
-
 
 def results_world_type(results_dir: str | Path) -> str:
     """The world type of a results folder, read from its ``config.toml`` ("synthetic" by default)."""
@@ -87,6 +78,8 @@ def learning_segments(episodes: pd.DataFrame) -> pd.DataFrame:
     size before it (``n_modules`` minus the module stored at this episode). ``frames_in``
     counts the frames since that module started learning (its first episode's ``step``).
     """
+    require_columns(episodes, ["condition", "run", "step", "n_modules", "module_learned"],
+                    needed_by="learning_segments")
     table = episodes.copy()
     table["learning_module"] = table["n_modules"] - table["module_learned"].astype(int)
     start = table.groupby(["condition", "run", "learning_module"])["step"].transform("min")
@@ -101,6 +94,7 @@ def encoding_table(modules: pd.DataFrame) -> pd.DataFrame:
     modules of ``quality`` (|corr| with the displacement), ``arm_corr``, ``other_quality``
     and ``context_corr`` (see the module docstring).
     """
+    require_columns(modules, ["condition", "run", "module", "source"], needed_by="encoding_table")
     metrics = ["quality", "arm_corr", "other_quality", "context_corr"]
     first = modules.sort_values("module").drop_duplicates(["condition", "run", "source"])
     rows = []
@@ -127,6 +121,9 @@ def arm_invariance(features: pd.DataFrame, modules: pd.DataFrame) -> pd.DataFram
     y₀ from 10 frames after contact on − mean y₀ before contact| / sd(y₀).
     One row per stored module: condition, run, module, source and those four columns.
     """
+    require_columns(features, ["condition", "run", "module", "context", "frame", "contact_frame", "state",
+                               "displacement", "y0"], needed_by="arm_invariance (features table)")
+    require_columns(modules, ["condition", "run", "module", "source"], needed_by="arm_invariance (modules table)")
     info = modules.set_index(["condition", "run", "module"])
     rows = []
     for (condition, run, m), table in features.groupby(["condition", "run", "module"], sort=True):
@@ -137,8 +134,8 @@ def arm_invariance(features: pd.DataFrame, modules: pd.DataFrame) -> pd.DataFram
         sd = own["y0"].std()
         rows.append({
             "condition": condition, "run": run, "module": m, "source": row["source"],
-            "corr_displacement": _abs_corr(own["y0"], own["displacement"]),
-            "corr_arm_at_rest": _abs_corr(rest["y0"], rest["state"]),
+            "corr_displacement": abs_corr(own["y0"], own["displacement"]),
+            "corr_arm_at_rest": abs_corr(rest["y0"], rest["state"]),
             "rest_sd_ratio": rest["y0"].std() / sd if sd > 0 else math.nan,
             "jump": abs(after["y0"].mean() - rest["y0"].mean()) / sd if sd > 0 else math.nan,
         })
@@ -146,15 +143,9 @@ def arm_invariance(features: pd.DataFrame, modules: pd.DataFrame) -> pd.DataFram
     return pd.DataFrame(rows, columns=columns)
 
 
-def _abs_corr(a: pd.Series, b: pd.Series) -> float:
-    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
-    if len(a) < 2 or a.std() == 0 or b.std() == 0:
-        return math.nan
-    return float(abs(np.corrcoef(a, b)[0, 1]))
-
-
 def first_module_counts(episodes: pd.DataFrame, modules: pd.DataFrame) -> pd.DataFrame:
     """Order outcomes per condition ("topple first", "roll second", ...) with 95 % intervals."""
+    require_order_columns(episodes, modules, needed_by="first_module_counts")
     return order_counts(episodes, modules, ICUB)
 
 
@@ -180,6 +171,8 @@ def fig_module_error(
         raise ValueError(f"module must be >= 0, got {module}")
     if bin_frames <= 0:
         raise ValueError(f"bin_frames must be a positive number of frames, got {bin_frames}")
+    require_columns(episodes, ["condition", "run", "step", "n_modules", "module_learned", "error"],
+                    needed_by="fig_module_error")
     table = learning_segments(episodes)
     table = table[(table["learning_module"] == module) & table["error"].notna()]
     table = table.assign(frames_in=table["frames_in"] // bin_frames * bin_frames + bin_frames / 2)
@@ -188,8 +181,8 @@ def fig_module_error(
     binned = binned[reached >= min(min_runs, binned["run"].nunique())]
     conditions = sorted(episodes["condition"].unique())
     label = "6B" if module == 0 else "6C" if module == 1 else ""
-    with _style():
-        fig, axes = _figure()
+    with style():
+        fig, axes = figure()
         ax = axes[0, 0]
         if binned.empty:
             ax.text(0.5, 0.5, f"no run reached module {module + 1}", ha="center", va="center", transform=ax.transAxes)
@@ -212,10 +205,12 @@ def fig_module_error(
 def fig_order(modules: pd.DataFrame, episodes: pd.DataFrame) -> Figure:
     """Figure 6D: which object was stored first and second, counted over runs, per condition.
 
-    The paper: the easier topple representation was learned first in 14 of 15 runs.
+    The paper: the easier topple representation was learned first in 14 of 15 runs
+    (:data:`neurocur.analysis.paper.ICUB_CURIOUS`).
     """
+    require_order_columns(episodes, modules, needed_by="fig_order")
     fig = fig_order_counts(modules, episodes, spec=ICUB)
-    fig.suptitle(f"Figure 6D: storage order (paper: topple first {PAPER['topple first']})")
+    fig.suptitle(f"Figure 6D: storage order (paper: topple first {ICUB_CURIOUS['topple first'].value})")
     return fig
 
 
@@ -227,8 +222,8 @@ def fig_frames(world, episode_index: int = 0, n_frames: int = 5) -> Figure:
     """
     if n_frames < 2:
         raise ValueError(f"n_frames must be >= 2, got {n_frames}")
-    with _style():
-        fig, axes = _figure(world.n_contexts, n_frames, figsize=(2.2 * n_frames, 2.0 * world.n_contexts))
+    with style():
+        fig, axes = figure(world.n_contexts, n_frames, figsize=(2.2 * n_frames, 2.0 * world.n_contexts))
         for c, name in enumerate(world.context_names):
             ep = world.episode(c, episode_index)
             d = world.displacement(c, episode_index)
@@ -267,6 +262,10 @@ def fig_feature_output(
     (vertical lines separate episodes; dots mark the hand's first contact), and |corr|
     between the two over every cached episode of the module's own context (``quality``).
     """
+    require_columns(features, ["condition", "run", "module", "context", "episode_index", "frame", "contact_frame",
+                               "displacement", "y0"], needed_by="fig_feature_output (features table)")
+    require_columns(modules, ["condition", "run", "module", "source", "quality", "other_quality"],
+                    needed_by="fig_feature_output (modules table)")
     condition = _condition(features, condition)
     run = _feature_run(features, condition, run)
     table = features[(features["condition"] == condition) & (features["run"] == run)]
@@ -274,8 +273,8 @@ def fig_feature_output(
     ranks = sorted(table["module"].unique())
     contexts = sorted(table["context"].unique())
     palette = sns.color_palette("deep", 2)
-    with _style():
-        fig, axes = _figure(len(ranks), len(contexts), figsize=(5.0 * len(contexts), 2.6 * len(ranks)), sharex="col")
+    with style():
+        fig, axes = figure(len(ranks), len(contexts), figsize=(5.0 * len(contexts), 2.6 * len(ranks)), sharex="col")
         for r, m in enumerate(ranks):
             for k, c in enumerate(contexts):
                 ax = axes[r, k]
@@ -321,12 +320,14 @@ def write_icub_figures(results_dir: str | Path, out_dir: str | Path | None = Non
     (6D), ``frames.png`` (the world's episode 0 of each context; the world is rebuilt from
     ``config.toml``, reading the episode cache), per condition ``feature_output_<condition>.png``
     (when it stored a module), ``reward_function_<condition>.png`` and
-    ``neuromodulators_<condition>.png``. Returns the written paths.
+    ``neuromodulators_<condition>.png``. The reward function uses the condition's own PFC
+    ``alpha``, as in :func:`neurocur.analysis.figures.write_all`. Returns the written paths.
     """
     results_dir = Path(results_dir)
     episodes, modules = load(results_dir)
     features = load_features(results_dir)
     config = ResultsStore(results_dir).config()
+    alphas = pfc_alphas(results_dir)
     thresholds = set(_thresholds(config).values())
     threshold = thresholds.pop() if len(thresholds) == 1 else None
     out = results_dir / "figures" if out_dir is None else Path(out_dir)
@@ -341,6 +342,8 @@ def write_icub_figures(results_dir: str | Path, out_dir: str | Path | None = Non
     for condition in sorted(episodes["condition"].unique()):
         if (features["condition"] == condition).any():
             figures[f"feature_output_{condition}"] = fig_feature_output(features, modules, condition)
-        figures[f"reward_function_{condition}"] = fig_reward_function(episodes, condition=condition, spec=ICUB)
+        alpha = alphas.get(condition, PFCParams().alpha)
+        figures[f"reward_function_{condition}"] = fig_reward_function(episodes, condition=condition, alpha=alpha,
+                                                                      spec=ICUB)
         figures[f"neuromodulators_{condition}"] = fig_neuromodulators(episodes, condition=condition)
     return save_figures(figures, out, dpi)

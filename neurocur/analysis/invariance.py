@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
-from neurocur.analysis.figures import _figure, _style
+from neurocur.analysis.style import figure, style
 from neurocur.config import ConfigError, check_keys, describe, load_toml, require
 from neurocur.contexts.sources import LEARNABLE, SLOW_DIM, UNLEARNABLE
 from neurocur.contexts.synthetic import NORMALISATIONS, SyntheticWorld, mix_frames
@@ -177,8 +177,8 @@ def fig_invariance(demo: InvarianceDemo, *, frame_shape=None, n_frames: int = 4)
         raise ValueError(f"n_frames must be between 1 and {T}; got {n_frames}")
     shown = np.linspace(0, T - 1, n_frames + 2).round().astype(int)[1:-1]
     t = np.arange(T)
-    with _style():
-        fig, axes = _figure(2, 3, figsize=(11.0, 5.5), gridspec_kw={"width_ratios": [1.0, 1.2, 1.0]})
+    with style():
+        fig, axes = figure(2, 3, figsize=(11.0, 5.5), gridspec_kw={"width_ratios": [1.0, 1.2, 1.0]})
         for row, (source, frames, output, label) in enumerate((
             (demo.source, demo.frames, demo.output, "learned"),
             (demo.noisy_source, demo.noisy_frames, demo.noisy_output, "dimension 1 replaced by noise"),
@@ -212,8 +212,8 @@ def write_invariance(spec: InvarianceSpec, out_dir, *, dpi: int = 120) -> tuple[
     demo = spec.run()
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    figure, result = out / FIGURE, out / RESULT
-    fig_invariance(demo).savefig(figure, dpi=dpi)
+    png, result = out / FIGURE, out / RESULT
+    fig_invariance(demo).savefig(png, dpi=dpi)
     payload = {**asdict(spec), "corr": demo.corr, "quality": demo.quality}
     result.write_text(json.dumps(payload, indent=2) + "\n", encoding="utf-8")
-    return demo, [figure, result]
+    return demo, [png, result]

@@ -15,7 +15,7 @@ import pandas as pd
 from neurocur.contexts.base import SourceSpec
 from neurocur.results import ResultsStore, load, run_dirs
 
-from .stats import order_table, summary
+from .report import order_table, summary
 
 __all__ = ["load", "run_dirs", "source_specs", "order_tables", "write_summary"]
 
@@ -36,7 +36,7 @@ def source_specs(results_dir: str | Path) -> dict[str, SourceSpec]:
 
 
 def order_tables(results_dir: str | Path, conditions=None) -> pd.DataFrame:
-    """The order table (:func:`~neurocur.analysis.stats.order_table`) of every condition
+    """The order table (:func:`~neurocur.analysis.report.order_table`) of every condition
     (or of ``conditions``), each with its own world's sources, side by side."""
     episodes, modules = load(results_dir)
     blocks = []
@@ -50,7 +50,7 @@ def order_tables(results_dir: str | Path, conditions=None) -> pd.DataFrame:
 
 
 def write_summary(results_dir: str | Path) -> dict:
-    """Aggregate every finished run into ``summary.json`` (:func:`~neurocur.analysis.stats.summary`).
+    """Aggregate every finished run into ``summary.json`` (:func:`~neurocur.analysis.report.summary`).
 
     One summary when every condition's world has the same sources, else one per condition.
     The reference of the comparisons is the first condition of the folder's ``config.toml``.

@@ -31,6 +31,16 @@ def next_context(context: int, action: int, n_contexts: int, rng: np.random.Gene
     return k if k < context else k + 1
 
 
+def reward_update(r, da, alpha):
+    """Eq 14, one update of the reward model: ``R <- (1 - alpha) R + alpha * DA``.
+
+    ``r`` is the current estimate, ``da`` the reward (dopamine) of the episode and ``alpha``
+    the learning rate (:class:`PFCParams`). Computed as ``r + alpha * (da - r)``, the same
+    value in exact arithmetic; scalars or numpy arrays.
+    """
+    return r + alpha * (da - r)
+
+
 @dataclass(frozen=True)
 class PFCParams:
     alpha: float = param(0.2, float, low=0.0, high=1.0, low_open=True, doc="eq 14 learning rate")
@@ -83,7 +93,7 @@ class PFCLSPI(Region):
         if self.previous_context is not None and action is not None:
             prev = self.previous_context
             r = self.R3[prev, action, context]
-            new = r + self.params.alpha * (da - r)
+            new = reward_update(r, da, self.params.alpha)
             if new != r:  # an unchanged model keeps its Q
                 self.R3[prev, action, context] = new
                 R = np.einsum("oas,oas->oa", self.P, self.R3)

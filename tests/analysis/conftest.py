@@ -61,10 +61,20 @@ def make_run(contexts, stored, *, n_frames=100, seed=0):
     return episodes, modules
 
 
-def write_results(root, runs):
-    """Write a results folder: ``runs`` maps condition -> list of (episodes, modules)."""
+#: eq 14's learning rate recorded for each condition's PFC in the hand-made config.toml
+PFC_ALPHA = {"curious": 0.3, "random_switching": 0.05}
+
+
+def write_results(root, runs, alphas=PFC_ALPHA):
+    """Write a results folder: ``runs`` maps condition -> list of (episodes, modules); the
+    config.toml records each condition's PFC ``alpha`` (``alphas``) as a real one does."""
     root.mkdir(parents=True, exist_ok=True)
-    (root / "config.toml").write_text('circuit = "circuits/cd_misfa.toml"\nseed = 1\n')
+    config = 'circuit = "circuits/cd_misfa.toml"\nseed = 1\n'
+    for condition in runs:
+        if condition in alphas:
+            config += (f"\n[conditions.{condition}.resolved_circuit.regions.PFC.params]\n"
+                       f"alpha = {alphas[condition]}\n")
+    (root / "config.toml").write_text(config)
     for condition, tables in runs.items():
         for run, (episodes, modules) in enumerate(tables):
             folder = root / "runs" / condition / f"run-{run:03d}"
@@ -104,6 +114,22 @@ def results_dir(tmp_path_factory):
         "random_switching": [make_run(CYCLE, stored, seed=10 + i) for i, stored in enumerate(RANDOM)],
     }
     return write_results(root, runs)
+
+
+@pytest.fixture(scope="session")
+def study_dir(tmp_path_factory):
+    """A reproduction-study folder: ``default``, its random-switching twin ``default_random``,
+    and ``alpha_005`` (the same runs as ``default``; it shares default's twin)."""
+    curious = [make_run(CYCLE, stored, seed=i) for i, stored in enumerate(CURIOUS)]
+    runs = {"default": curious, "alpha_005": curious,
+            "default_random": [make_run(CYCLE, stored, seed=10 + i) for i, stored in enumerate(RANDOM)]}
+    return write_results(tmp_path_factory.mktemp("study") / "reproduction", runs, alphas={})
+
+
+@pytest.fixture(scope="session")
+def pfc_alpha():
+    """The PFC ``alpha`` of each condition, as the results folder's config.toml records it."""
+    return dict(PFC_ALPHA)
 
 
 @pytest.fixture(scope="session")

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from types import SimpleNamespace
+
 import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
@@ -15,9 +17,13 @@ from neurocur.analysis import (
     fig_neuromodulators,
     fig_order_counts,
     fig_reward_function,
+    pfc_alphas,
+    reward_estimates,
     write_all,
 )
-from neurocur.analysis.figures import EVENT_GID, _reward_estimates
+from neurocur.analysis import figures as figures_module
+from neurocur.analysis.figures import EVENT_GID
+from neurocur.regions.pfc import DISENGAGE, ENGAGE, PFCLSPI, PFCParams, reward_update
 
 
 def _data_lines(ax):
@@ -63,18 +69,52 @@ def test_learning_time(tables):
     assert len([p for p in only.patches if p.get_height() > 0]) == 3
 
 
+def _eq14_by_hand(run, n_contexts, alpha):
+    """R_c after each episode: eq 14 (reward_update) on every episode but the first, from 0."""
+    estimate, out = np.zeros(n_contexts), []
+    for i, (context, da) in enumerate(zip(run["context"], run["da"])):
+        if i > 0:
+            estimate[context] = reward_update(estimate[context], da, alpha)
+        out.append(estimate.copy())
+    return np.array(out)
+
+
 def test_reward_function(tables):
     episodes, _ = tables
-    fig = fig_reward_function(episodes, run=1, alpha=None)
+    fig = fig_reward_function(episodes, run=1)
     ax = fig.axes[0]
     assert len(fig.axes) == 1 and len(ax.lines) == 5
-    run = episodes[(episodes["condition"] == "curious") & (episodes["run"] == 1)]
-    for c, line in enumerate(ax.lines):
-        # sample average of the context's rewards, at the end of the run
-        assert line.get_ydata()[-1] == pytest.approx(run.loc[run["context"] == c, "da"].mean())
     assert ax.lines[2].get_label() == "C3 (S-B)"
-    ema = fig_reward_function(episodes, run=1, alpha=1.0).axes[0].lines[4].get_ydata()
-    assert ema[-1] == pytest.approx(run.loc[run["context"] == 4, "da"].iloc[-1])
+    assert f"α={PFCParams().alpha:g}" in ax.get_title()  # the PFC's default learning rate
+    run = episodes[(episodes["condition"] == "curious") & (episodes["run"] == 1)].sort_values("episode")
+    expected = _eq14_by_hand(run, 5, PFCParams().alpha)
+    for c, line in enumerate(ax.lines):
+        np.testing.assert_array_equal(line.get_ydata(), expected[:, c])
+        np.testing.assert_array_equal(line.get_xdata(), run["step"] + run["n_frames"])
+    last = fig_reward_function(episodes, run=1, alpha=1.0).axes[0].lines[4].get_ydata()
+    assert last[-1] == pytest.approx(run.loc[run["context"] == 4, "da"].iloc[-1])  # alpha = 1: the last reward
+
+
+def test_write_all_draws_the_reward_function_with_the_folders_alpha(results_dir, tables, pfc_alpha, tmp_path,
+                                                                    monkeypatch):
+    assert pfc_alphas(results_dir) == pfc_alpha
+    drawn, save = {}, figures_module.save_figures
+
+    def keep(figs, out, dpi):
+        drawn.update(figs)
+        return save(figs, out, dpi)
+
+    monkeypatch.setattr(figures_module, "save_figures", keep)
+    write_all(results_dir, tmp_path / "figs")
+    episodes, _ = tables
+    for condition, alpha in pfc_alpha.items():
+        ax = drawn[f"reward_function_{condition}"].axes[0]
+        assert f"α={alpha:g}" in ax.get_title()
+        run = episodes[(episodes["condition"] == condition) & (episodes["run"] == 0)].sort_values("episode")
+        expected = _eq14_by_hand(run, 5, alpha)
+        for c, line in enumerate(ax.lines):
+            np.testing.assert_array_equal(line.get_ydata(), expected[:, c])
+        assert not np.allclose(expected, _eq14_by_hand(run, 5, PFCParams().alpha))  # the alpha matters here
 
 
 def test_order_counts(tables):
@@ -95,6 +135,28 @@ def test_neuromodulators(tables):
         assert len(_data_lines(ax)) == 1
         assert len([line for line in ax.lines if line.get_gid() == EVENT_GID]) == 4  # 4 modules stored
     assert fig.axes[0].get_yscale() == "symlog"
+    assert [ax.get_ylabel() for ax in fig.axes][-1] == "ε"
+
+
+def test_neuromodulators_without_epsilon(tables):
+    # an LC other than the epsilon-greedy one (e.g. lc.softmax) records no epsilon: no ε panel
+    episodes = tables[0].drop(columns="epsilon")
+    fig = fig_neuromodulators(episodes, run=2)
+    assert [ax.get_ylabel() for ax in fig.axes] == ["DA (intrinsic reward)", "NE tonic", "NE phasic"]
+
+
+def test_figures_name_the_missing_column_and_its_role(tables):
+    episodes, modules = tables
+    with pytest.raises(ValueError, match=r"fig_neuromodulators needs the column\(s\) 'ne_tonic' \(from LC\)"):
+        fig_neuromodulators(episodes.drop(columns="ne_tonic"))
+    with pytest.raises(ValueError, match=r"fig_reward_function needs the column\(s\) 'da' \(from VTA\)"):
+        fig_reward_function(episodes.drop(columns="da"))
+    with pytest.raises(ValueError, match=r"fig_cumulative_error needs the column\(s\) 'error' \(from HPC\)"):
+        fig_cumulative_error(episodes.drop(columns="error"))
+    with pytest.raises(ValueError, match=r"fig_learning_time \(modules table\) needs the column\(s\) 'source'"):
+        fig_learning_time(episodes, modules.drop(columns="source"))
+    with pytest.raises(ValueError, match=r"fig_order_counts \(modules table\) needs the column\(s\) 'gates'"):
+        fig_order_counts(modules.drop(columns="gates"), episodes)
 
 
 def test_unknown_condition_or_run(tables):
@@ -117,14 +179,30 @@ def test_write_all(results_dir, tmp_path):
     assert plt.get_fignums() == []  # no pyplot figure left open
 
 
-@pytest.mark.parametrize(
-    ("alpha", "expected"),
-    [
-        # eq 14 from R = 0: C1 0.5 after the reward 1, unchanged by NaN, 0.5*0.5 + 0.5*3 = 1.75
-        (0.5, [[0.5, 0.0], [0.5, 1.0], [0.5, 1.0], [1.75, 1.0]]),
-        (None, [[1.0, 0.0], [1.0, 2.0], [1.0, 2.0], [2.0, 2.0]]),  # sample average
-    ],
-)
-def test_reward_estimates_by_hand(alpha, expected):
-    run = pd.DataFrame({"context": [0, 1, 0, 0], "da": [1.0, 2.0, np.nan, 3.0]})
-    np.testing.assert_allclose(_reward_estimates(run, 2, alpha), expected)
+def test_reward_estimates_by_hand():
+    # eq 14 from R = 0, alpha 0.5; the first episode is skipped (the PFC has no previous
+    # context yet): C2 0.5 * 1 = 0.5, C1 0.5 * 2 = 1, then 0.5 * 1 + 0.5 * 4 = 2.5
+    run = pd.DataFrame({"context": [0, 1, 0, 0], "da": [9.0, 1.0, 2.0, 4.0]})
+    np.testing.assert_allclose(reward_estimates(run, 2, 0.5), [[0.0, 0.0], [0.0, 0.5], [1.0, 0.5], [2.5, 0.5]])
+    with pytest.raises(ValueError, match="alpha must be in"):
+        reward_estimates(run, 2, 0.0)
+
+
+def test_reward_estimates_are_the_pfc_model_pooled_over_previous_context_and_action():
+    # contexts of 7 episodes and the decision at the end of each; every update into C1 goes to
+    # R[C1, engage, C1], so the figure's R_C1 is that entry of the PFC's own model, bit for bit
+    contexts = [0, 0, 0, 1, 1, 2, 2]
+    actions = [ENGAGE, ENGAGE, DISENGAGE, ENGAGE, DISENGAGE, ENGAGE, ENGAGE]
+    da = [0.7, 0.3, -0.2, 0.9, 0.4, -100.0, 0.05]
+    pfc = PFCLSPI(alpha=0.3)
+    pfc.bind(SimpleNamespace(n_contexts=3))
+    pfc.reset(np.random.default_rng(0))
+    model = []
+    for t, (context, reward) in enumerate(zip(contexts, da)):
+        pfc.step(context, reward, None if t == 0 else actions[t - 1])
+        model.append(pfc.R3.copy())
+    estimates = reward_estimates(pd.DataFrame({"context": contexts, "da": da}), 3, 0.3)
+    np.testing.assert_array_equal(estimates[:, 0], [m[0, ENGAGE, 0] for m in model])
+    # C2 is entered by disengaging from C1, then by engaging: the figure pools the two entries
+    assert estimates[-1, 1] == reward_update(model[-1][0, DISENGAGE, 1], da[4], 0.3)
+    assert model[-1][1, ENGAGE, 1] == reward_update(0.0, da[4], 0.3)

@@ -85,6 +85,20 @@ def test_load_rejects_a_folder_that_is_not_results(tmp_path):
 
 # --- per-run metrics and order counts -------------------------------------------------------
 
+def test_statistics_name_the_missing_column(tables):
+    episodes, modules = tables
+    with pytest.raises(ValueError, match=r"per_run \(modules table\) needs the column\(s\) 'gates'"):
+        per_run(episodes, modules.drop(columns="gates"))
+    with pytest.raises(ValueError, match=r"order_counts \(episodes table\) needs the column\(s\) 'n_frames' \(from sensory\)"):
+        order_counts(episodes.drop(columns="n_frames"), modules)
+    with pytest.raises(ValueError, match=r"learning_times \(episodes table\) needs the column\(s\) 'context'"):
+        learning_times(episodes.drop(columns="context"), modules)
+    with pytest.raises(ValueError, match=r"summary \(modules table\) needs the column\(s\) 'episode' \(from HPC\)"):
+        summary(episodes, modules.drop(columns="episode"))
+    with pytest.raises(ValueError, match=r"compare \(modules table\) needs the column\(s\) 'source'"):
+        compare((episodes, modules.drop(columns="source")))
+
+
 def test_per_run_metrics(tables):
     runs = per_run(*tables).set_index(["condition", "run"])
     cur = runs.loc["curious"]
