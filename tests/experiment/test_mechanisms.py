@@ -108,18 +108,18 @@ def check_gating(episodes):
 
 
 FROZEN_BUT_UNFAMILIAR = pytest.mark.xfail(strict=True, reason=(
-    "seed 7: the freeze rule fires (mean stored error < 0.3) on a module whose own errors on "
-    "nine of C1's ten windows are 1-48: it does not recognise the context it was learned in"))
+    "seed 10: the freeze rule fires (mean stored error < 0.3) on a module whose own errors on "
+    "eight of C1's ten windows are 0.36-40: it does not recognise the context it was learned in"))
 
 
-@pytest.mark.parametrize("seed", [0, 3, pytest.param(7, marks=FROZEN_BUT_UNFAMILIAR)])
+@pytest.mark.parametrize("seed", [2, 3, pytest.param(10, marks=FROZEN_BUT_UNFAMILIAR)])
 def test_module_on_sa_gates_c1_and_c2_alike_with_shared_state_clusterers(seed):
     """clusterers = "state": the module frozen in C1 gates C2 exactly where it gates C1.
 
     Familiarity is decided per episode, i.e. per window. The freeze rule bounds the
     *mean* of the stored errors over the context's states, not each window's error, so
     a window whose clusters are older than the others' may stay above threshold (seed
-    0: every window is gated; seed 3, stored after 2.8 epochs: three of ten are not).
+    2: every window is gated; seed 3: three of ten are not).
     Shared clusterers also mix sources: on other seeds the S-A module gates an S-D window.
     """
     world = SyntheticWorld(**SA_WORLD)
@@ -130,7 +130,7 @@ def test_module_on_sa_gates_c1_and_c2_alike_with_shared_state_clusterers(seed):
     sim.run(3 * WINDOWS * world.visit_length)  # every window of C1 and C2 once
     assert sim.products()["modules"]["context"].tolist() == [0]  # one module, learned in C1
     assert windows.mean() < THRESHOLD
-    if seed == 0:
+    if seed == 2:
         assert windows.max() < THRESHOLD
 
     after = with_windows(sim.episodes()).query("episode > @stored_at")
