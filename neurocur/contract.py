@@ -62,6 +62,6 @@ def require_columns(table, names, *, needed_by: str) -> None:
     """Raise ValueError when ``table`` lacks any of ``names``, naming the role that produces each."""
     missing = [n for n in names if n not in table.columns]
     if missing:
-        roles = {c.name: c.role for c in EPISODE_COLUMNS + MODULE_COLUMNS}
+        roles = {c.name: c.role for c in MODULE_COLUMNS + EPISODE_COLUMNS}  # the episodes table's roles win
         detail = ", ".join(f"{n!r} (from {roles.get(n, 'no declared role')})" for n in missing)
         raise ValueError(f"{needed_by} needs the column(s) {detail}; see neurocur.contract")
