@@ -7,7 +7,11 @@ One module per question, all re-exported here:
 - :mod:`~neurocur.analysis.order` — the module order per run, its counts (Clopper–Pearson
   intervals) and Kendall τ;
 - :mod:`~neurocur.analysis.learning_time` — the learning time of each source (Figure 4F);
-- :mod:`~neurocur.analysis.comparison` — one condition against another;
+- :mod:`~neurocur.analysis.comparison` — one condition against another (paired by run), many
+  against a reference, and the multiple-comparison adjustment;
+- :mod:`~neurocur.analysis.significance` — the two-sample tests (Wilcoxon signed-rank and
+  McNemar exact, paired; Mann–Whitney U and Fisher exact, unpaired);
+- :mod:`~neurocur.analysis.bootstrap` — percentile bootstrap intervals over runs and pairs;
 - :mod:`~neurocur.analysis.report` — the order table beside the paper's numbers, and the summary;
 - :mod:`~neurocur.analysis.figures` — matplotlib Figures (paper Figures 4D–G).
 
@@ -18,15 +22,18 @@ Not re-exported: :mod:`~neurocur.analysis.paper` (the paper's numbers, with thei
 :mod:`~neurocur.analysis.invariance` (Figure 5).
 """
 
-from neurocur.analysis import comparison, figures, learning_time, order, report
+from neurocur.analysis import bootstrap, comparison, figures, learning_time, order, report, significance
+from neurocur.analysis.bootstrap import *  # noqa: F403
 from neurocur.analysis.comparison import *  # noqa: F403
 from neurocur.analysis.figures import *  # noqa: F403
 from neurocur.analysis.io import load, order_tables, run_dirs, source_specs, write_summary
 from neurocur.analysis.learning_time import *  # noqa: F403
 from neurocur.analysis.order import *  # noqa: F403
 from neurocur.analysis.report import *  # noqa: F403
+from neurocur.analysis.significance import *  # noqa: F403
 from neurocur.contexts.base import SourceSpec
 from neurocur.contexts.synthetic import SYNTHETIC
 
 __all__ = ["load", "order_tables", "run_dirs", "source_specs", "write_summary", "SourceSpec", "SYNTHETIC",
-           *order.__all__, *learning_time.__all__, *comparison.__all__, *report.__all__, *figures.__all__]
+           *order.__all__, *learning_time.__all__, *comparison.__all__, *significance.__all__, *bootstrap.__all__,
+           *report.__all__, *figures.__all__]

@@ -15,7 +15,8 @@ import pandas as pd
 from neurocur.contexts.base import SourceSpec
 from neurocur.results import ResultsStore, load, run_dirs
 
-from .report import order_table, summary
+from .order import per_run
+from .report import comparison_rows, order_table, summary
 
 __all__ = ["load", "run_dirs", "source_specs", "order_tables", "write_summary"]
 
@@ -35,18 +36,34 @@ def source_specs(results_dir: str | Path) -> dict[str, SourceSpec]:
     return {c: specs[c] for c in sorted(specs, key=lambda c: (order.index(c) if c in order else len(order), c))}
 
 
-def order_tables(results_dir: str | Path, conditions=None) -> pd.DataFrame:
+def order_tables(
+    results_dir: str | Path, conditions=None, *, reference: str | None = None, tests: bool = True
+) -> pd.DataFrame:
     """The order table (:func:`~neurocur.analysis.report.order_table`) of every condition
-    (or of ``conditions``), each with its own world's sources, side by side."""
+    (or of ``conditions``), each with its own world's sources, side by side.
+
+    With ``tests``, the rows of :func:`~neurocur.analysis.report.comparison_rows` follow: the
+    paired tests of ``reference`` (default: the first condition of the folder's
+    ``config.toml`` that has runs) against every other shown condition with the same world's
+    sources, Holm-adjusted together; each row names its test and adjustment.
+    """
     episodes, modules = load(results_dir)
+    specs = {c: s for c, s in source_specs(results_dir).items() if conditions is None or c in conditions}
     blocks = []
-    for condition, spec in source_specs(results_dir).items():
-        if conditions is not None and condition not in conditions:
-            continue
+    for condition, spec in specs.items():
         keep_e, keep_m = episodes["condition"] == condition, modules["condition"] == condition
         blocks.append(order_table(episodes[keep_e], modules[keep_m], spec))
     table = pd.concat(blocks, axis=1)
-    return table.loc[:, ~table.columns.duplicated()]
+    table = table.loc[:, ~table.columns.duplicated()]
+    reference = next(iter(specs), None) if reference is None else reference
+    if tests and reference in specs:
+        group = [c for c, s in specs.items() if s == specs[reference]]
+        keep_e, keep_m = episodes["condition"].isin(group), modules["condition"].isin(group)
+        rows = comparison_rows(per_run(episodes[keep_e], modules[keep_m], specs[reference]), reference,
+                               specs[reference])
+        if len(rows):
+            table = pd.concat([table, rows.reindex(columns=table.columns, fill_value="—")])
+    return table
 
 
 def write_summary(results_dir: str | Path) -> dict:

@@ -3,6 +3,9 @@
 Both gather the statistics of :mod:`~neurocur.analysis.order`,
 :mod:`~neurocur.analysis.learning_time` and :mod:`~neurocur.analysis.comparison`;
 :func:`order_table` sets the paper's numbers (:mod:`~neurocur.analysis.paper`) beside them.
+Every p-value they show is named by its test (paired by run: Wilcoxon 1945 signed-rank,
+McNemar 1947 exact) and its multiple-comparison adjustment (Holm 1979 by default, or
+Benjamini & Hochberg 1995).
 """
 
 from __future__ import annotations
@@ -17,11 +20,18 @@ from neurocur.contexts.base import SourceSpec
 from neurocur.contexts.synthetic import SYNTHETIC
 
 from . import paper
-from .comparison import compare
+from .bootstrap import BOOTSTRAP_SEED, N_BOOT
+from .comparison import ADJUSTMENT_NAMES, _adjustment, compare_conditions
 from .learning_time import learning_time_summary, require_learning_columns
-from .order import condition_summary, order_counts, per_run, require_order_columns
+from .order import _outcome_labels, condition_summary, order_counts, per_run, require_order_columns
+from .significance import TESTS
 
-__all__ = ["order_table", "summary"]
+__all__ = ["TABLE_TESTS", "order_table", "comparison_rows", "summary"]
+
+#: The per-run metrics whose paired test against the reference condition the order table shows.
+TABLE_TESTS = ("exact_order", "gated_sources")
+_NUMERIC_LABELS = {"n_modules": "modules per run", "n_learned": "learnable sources learned",
+                   "gated_sources": "learnable sources gated", "kendall_tau": "Kendall τ vs Ω"}
 
 
 def _mean_sd(mean: float, sd: float) -> str:
@@ -35,11 +45,60 @@ def _paper_cell(numbers: Mapping[str, paper.Reported], label: str) -> str:
     return "—" if reported is None else reported.cell()
 
 
-def order_table(episodes: pd.DataFrame, modules: pd.DataFrame, spec: SourceSpec = SYNTHETIC) -> pd.DataFrame:
+def comparison_rows(
+    runs: pd.DataFrame,
+    reference: str,
+    spec: SourceSpec = SYNTHETIC,
+    *,
+    metrics=TABLE_TESTS,
+    adjust: str | None = "holm",
+) -> pd.DataFrame:
+    """The order table's test rows: ``reference`` against every other condition of the
+    :func:`~neurocur.analysis.order.per_run` table ``runs``, paired by run, one row per metric.
+
+    A row's label names the metric, the reference, the test and the adjustment, e.g.
+    "learnable sources gated vs curious: Wilcoxon signed-rank p (paired; Holm, 4 tests)";
+    the family adjusted together is every p-value of these rows. A cell is the adjusted
+    p-value with the pairs it rests on ("0.0023 (n=25)"; McNemar: "0.031 (7 of 25
+    discordant)"); "—" for the reference and where nothing could be tested. Columns: the
+    conditions of ``runs``. Empty without ``reference`` or another condition.
+    """
+    conditions = sorted(runs["condition"].unique())
+    if reference not in conditions or len(conditions) < 2:
+        return pd.DataFrame(columns=conditions, dtype=object)
+    tests = compare_conditions(runs, reference, metric=list(metrics), spec=spec, adjust=adjust)
+    labels = {**_NUMERIC_LABELS, **_outcome_labels(spec)}
+    adjustment = ADJUSTMENT_NAMES[_adjustment(adjust) or "none"][0]
+    n_tests = int(tests["n_tests"].iloc[0])
+    out: dict[str, dict[str, str]] = {}
+    for metric, rows in tests.groupby("metric", sort=False):
+        test = TESTS[rows["method"].iloc[0]][0]
+        label = f"{labels.get(metric, metric)} vs {reference}: {test} p (paired; {adjustment}, {n_tests} tests)"
+        cells = dict.fromkeys(conditions, "—")
+        for row in rows.itertuples(index=False):
+            if math.isnan(row.p_adjusted):
+                continue
+            pairs = (f"{row.n_nonzero} of {row.n_pairs} discordant" if row.method == "mcnemar_exact"
+                     else f"n={row.n_pairs}")
+            cells[row.b] = f"{row.p_adjusted:.2g} ({pairs})"
+        out[label] = cells
+    return pd.DataFrame.from_dict(out, orient="index", columns=conditions).rename_axis("outcome")
+
+
+def order_table(
+    episodes: pd.DataFrame,
+    modules: pd.DataFrame,
+    spec: SourceSpec = SYNTHETIC,
+    *,
+    reference: str | None = None,
+    adjust: str | None = "holm",
+) -> pd.DataFrame:
     """The compact per-condition table printed by the CLI, beside the paper's numbers.
 
     Rows: the order outcomes ("k/n"), modules per run, learnable sources gated per run and
-    Kendall τ (mean ± sd), learning time per learnable source (epochs, mean ± sd).
+    Kendall τ (mean ± sd), learning time per learnable source (epochs, mean ± sd); with a
+    ``reference`` condition, then the paired tests of :data:`TABLE_TESTS` against it
+    (:func:`comparison_rows`: each row names its test and adjustment).
     Columns: "paper" (curious agent, :data:`~neurocur.analysis.paper.SYNTHETIC_CURIOUS`),
     "paper (random)" (:data:`~neurocur.analysis.paper.SYNTHETIC_RANDOM`), then one column
     per condition. The paper columns are filled only for the synthetic world.
@@ -65,6 +124,9 @@ def order_table(episodes: pd.DataFrame, modules: pd.DataFrame, spec: SourceSpec 
             table.setdefault(f"{source} learning time (epochs)", {})[condition] = (
                 cell if cell == "—" else f"{cell} (n={int(t['n'])})")
     curious, random = (paper.SYNTHETIC_CURIOUS, paper.SYNTHETIC_RANDOM) if spec == SYNTHETIC else ({}, {})
+    if reference is not None:
+        table.update(comparison_rows(per_run(episodes, modules, spec), reference, spec, adjust=adjust)
+                     .to_dict("index"))
     out = pd.DataFrame(
         [{"paper": _paper_cell(curious, label), "paper (random)": _paper_cell(random, label), **cells}
          for label, cells in table.items()],
@@ -94,25 +156,46 @@ def summary(
     spec: SourceSpec = SYNTHETIC,
     *,
     reference: str = "curious",
+    paired: bool = True,
+    adjust: str | None = "holm",
+    n_boot: int = N_BOOT,
+    seed: int = BOOTSTRAP_SEED,
 ) -> dict:
     """A JSON-serialisable summary of a results folder (written as ``summary.json``).
 
     Keys: ``n_runs`` (per condition), ``order_counts``, ``metrics`` (mean/sd per condition),
     ``learning_time`` (epochs per learnable source), ``comparisons`` (``reference`` against
-    every other condition, when both exist). NaN and infinities are written as null.
+    every other condition, when both exist: :func:`~neurocur.analysis.comparison.compare_conditions`,
+    each row with its ``test``, raw ``p_value``, ``p_adjusted`` and ``adjustment``) and
+    ``statistics`` (how the comparisons were made: pairing, the tests by ``method`` code
+    with their references, the adjustment with its reference and family size, the
+    bootstrap). NaN and infinities are written as null.
     """
     require_order_columns(episodes, modules, needed_by="summary")
     require_learning_columns(episodes, modules, needed_by="summary")
     runs = per_run(episodes, modules, spec)
     conditions = sorted(runs["condition"].unique())
-    comparisons = []
-    if reference in conditions:
-        comparisons = [compare(runs, reference, other, spec=spec) for other in conditions if other != reference]
+    comparisons = pd.DataFrame()
+    if reference in conditions and len(conditions) > 1:
+        comparisons = compare_conditions(runs, reference, spec=spec, paired=paired, adjust=adjust,
+                                         n_boot=n_boot, seed=seed)
+    adjustment = _adjustment(adjust) or "none"
+    methods = sorted(set(comparisons["method"])) if len(comparisons) else []
     result = {
         "n_runs": runs.groupby("condition").size().to_dict(),
         "order_counts": order_counts(episodes, modules, spec).to_dict("records"),
         "metrics": condition_summary(episodes, modules, spec).to_dict("records"),
         "learning_time": learning_time_summary(episodes, modules, spec).to_dict("records"),
-        "comparisons": pd.concat(comparisons).to_dict("records") if comparisons else [],
+        "comparisons": comparisons.to_dict("records"),
+        "statistics": {
+            "reference": reference if comparisons.size else None,
+            "paired": paired, "pairing": "run" if paired else None,
+            "tests": {m: {"name": TESTS[m][0], "reference": TESTS[m][1]} for m in methods},
+            "adjustment": {"method": adjustment, "name": ADJUSTMENT_NAMES[adjustment][0],
+                           "reference": ADJUSTMENT_NAMES[adjustment][1],
+                           "n_tests": int(comparisons["n_tests"].iloc[0]) if len(comparisons) else 0},
+            "bootstrap": {"interval": "percentile (Efron & Tibshirani 1993)", "n_boot": n_boot,
+                          "confidence": 0.95, "seed": seed},
+        },
     }
     return _json_safe(result)

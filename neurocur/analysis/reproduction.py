@@ -3,21 +3,27 @@
 One row per condition: the module-order counts (S-A first, S-B second, S-C third,
 exact A→B→C, S-D stored), modules and gated learnable sources per run, Kendall τ
 against the Ω order, then the curious-versus-random comparison on gated sources for
-every condition that has a random-switching twin: Mann–Whitney U p-value and
-rank-biserial effect size. A condition's twin is ``<name>_random``; a condition that
-differs from another only in what the random LC never reads (the reward, its model and
-the discount: ``HPC.reward_error``, ``VTA.*``, ``PFC.*``) shares that one's twin, by
-the paired seeds its runs are the same (see :data:`SHARED_CONTROLS`). The paper's row
-(:data:`neurocur.analysis.paper.SYNTHETIC_CURIOUS`) comes first.
+every condition that has a random-switching twin: the Wilcoxon signed-rank test
+(Wilcoxon 1945) of the run-paired differences (run *i* of every condition has the same
+seed, hence the same world; see :func:`~neurocur.analysis.comparison.compare`), its
+p-value raw and Holm-adjusted (Holm 1979) over the table's comparisons, and the
+matched-pairs rank-biserial effect (+ when curiosity gates more). A condition's twin is
+``<name>_random``; a condition that differs from another only in what the random LC
+never reads (the reward, its model and the discount: ``HPC.reward_error``, ``VTA.*``,
+``PFC.*``) shares that one's twin, by the paired seeds its runs are the same (see
+:data:`SHARED_CONTROLS`). The paper's row (:data:`neurocur.analysis.paper.SYNTHETIC_CURIOUS`)
+comes first.
 """
 
 from __future__ import annotations
+
+import math
 
 import pandas as pd
 
 from neurocur.results import load
 
-from .comparison import compare
+from .comparison import adjust_pvalues, compare
 from .order import per_run
 from .paper import SYNTHETIC_CURIOUS
 from .report import order_table
@@ -32,9 +38,10 @@ SHARED_CONTROLS = {
 }
 _ORDER_ROWS = ("S-A first", "S-B second", "S-C third", "exact S-A→S-B→S-C", "S-D stored", "modules per run",
                "learnable sources gated", "Kendall τ vs Ω")
-_P, _EFFECT = "gated vs random: p", "effect (rank-biserial)"
+_P = "gated vs random: Wilcoxon signed-rank p (paired by run)"
+_P_ADJUSTED, _EFFECT = "Holm-adjusted p", "effect (matched-pairs rank-biserial)"
 #: The columns of :func:`study_table`: rows of the order table, then the comparison with the twin.
-COLUMNS = [*_ORDER_ROWS, _P, _EFFECT]
+COLUMNS = [*_ORDER_ROWS, _P, _P_ADJUSTED, _EFFECT]
 
 
 def study_table(results_dir) -> pd.DataFrame:
@@ -43,14 +50,17 @@ def study_table(results_dir) -> pd.DataFrame:
     table = order_table(episodes, modules).drop(columns=["paper", "paper (random)"]).T
     runs = per_run(episodes, modules)
     conditions = list(table.index)
-    for name in conditions:
-        twin = SHARED_CONTROLS.get(name, f"{name}_random")
-        if twin in conditions:
-            row = compare(runs, a=name, b=twin, metric="gated_sources").iloc[0]
-            table.loc[name, _P] = f"{row.p_value:.2g}"
-            table.loc[name, _EFFECT] = f"{row.effect_size:+.2f}"
-    table = table.reindex(columns=COLUMNS).astype(object).fillna("—")
-    paper_row = {**{label: SYNTHETIC_CURIOUS[label].value for label in _ORDER_ROWS}, _P: "—", _EFFECT: "—"}
+    tests = [compare(runs, a=name, b=twin, metric="gated_sources", adjust=None)
+             for name in conditions if (twin := SHARED_CONTROLS.get(name, f"{name}_random")) in conditions]
+    table = table.reindex(columns=COLUMNS).astype(object)
+    if tests:
+        for row in adjust_pvalues(pd.concat(tests, ignore_index=True), "holm").itertuples(index=False):
+            if not math.isnan(row.p_value):
+                table.loc[row.a, _P], table.loc[row.a, _P_ADJUSTED] = f"{row.p_value:.2g}", f"{row.p_adjusted:.2g}"
+                table.loc[row.a, _EFFECT] = f"{row.effect_size:+.2f}"
+    table = table.fillna("—")
+    paper_row = {**{label: SYNTHETIC_CURIOUS[label].value for label in _ORDER_ROWS},
+                 _P: "—", _P_ADJUSTED: "—", _EFFECT: "—"}
     return pd.concat([pd.DataFrame([paper_row], index=["paper"]), table])
 
 

@@ -84,7 +84,9 @@ def write_results(root, runs, alphas=PFC_ALPHA):
                 table.insert(0, "condition", condition)
                 table.insert(1, "run", run)
                 table.to_parquet(folder / f"{name}.parquet")
-            (folder / "run.json").write_text(json.dumps({"run": run, "condition": condition}))
+            (folder / "run.json").write_text(json.dumps({
+                "run": run, "condition": condition, "learnable": ["S-A", "S-B", "S-C"],
+                "contexts": [{"name": n, "source": s} for n, s in zip(NAMES, SOURCES)]}))
     (root / "summary.json").write_text("{}")
     return root
 

@@ -25,23 +25,28 @@ def test_study_table_on_the_small_results_folder(results_dir):
     table = study_table(results_dir)
     assert list(table.index) == ["paper", "curious", "random_switching"]
     assert list(table.columns) == COLUMNS
-    assert table.loc["paper"].tolist() == [paper.SYNTHETIC_CURIOUS[c].value for c in COLUMNS[:-2]] + ["—", "—"]
+    assert table.loc["paper"].tolist() == [paper.SYNTHETIC_CURIOUS[c].value for c in COLUMNS[:-3]] + ["—"] * 3
     assert table.loc["curious", "S-A first"] == "4/4"
     assert table.loc["curious", "modules per run"] == "3.00 ± 0.82"
     assert table.loc["random_switching", "S-B second"] == "0/3"
     # neither condition has a random-switching twin ("curious_random") here
-    assert (table[["gated vs random: p", "effect (rank-biserial)"]] == "—").all().all()
+    assert (table[COLUMNS[-3:]] == "—").all().all()
 
 
 def test_study_table_compares_each_condition_with_its_twin(study_dir):
     assert SHARED_CONTROLS["alpha_005"] == "default_random"
+    assert COLUMNS[-3:] == ["gated vs random: Wilcoxon signed-rank p (paired by run)", "Holm-adjusted p",
+                            "effect (matched-pairs rank-biserial)"]
     table = study_table(study_dir)
     assert list(table.index) == ["paper", "alpha_005", "default", "default_random"]
     expected = compare(per_run(*load(study_dir)), "default", "default_random", metric="gated_sources").iloc[0]
+    assert expected.method == "wilcoxon" and expected.n_pairs == 3
     for name in ("default", "alpha_005"):
-        assert table.loc[name, "gated vs random: p"] == f"{expected.p_value:.2g}"
-        assert table.loc[name, "effect (rank-biserial)"] == f"{expected.effect_size:+.2f}"
-    assert table.loc["default_random", "gated vs random: p"] == "—"
+        # three pairs, all up: p = 2/2**3; Holm over the table's two comparisons: 2 × 0.25
+        assert table.loc[name, COLUMNS[-3]] == f"{expected.p_value:.2g}" == "0.25"
+        assert table.loc[name, COLUMNS[-2]] == "0.5"
+        assert table.loc[name, COLUMNS[-1]] == f"{expected.effect_size:+.2f}" == "+1.00"
+    assert (table.loc["default_random", COLUMNS[-3:]] == "—").all()
 
 
 def test_markdown_and_the_benchmark_script(study_dir, capsys):

@@ -19,6 +19,7 @@ from neurocur.analysis import (
     load,
     order_counts,
     order_table,
+    order_tables,
     per_run,
     position_counts,
     summary,
@@ -93,7 +94,7 @@ def test_statistics_name_the_missing_column(tables):
         order_counts(episodes.drop(columns="n_frames"), modules)
     with pytest.raises(ValueError, match=r"learning_times \(episodes table\) needs the column\(s\) 'context'"):
         learning_times(episodes.drop(columns="context"), modules)
-    with pytest.raises(ValueError, match=r"summary \(modules table\) needs the column\(s\) 'episode' \(from HPC\)"):
+    with pytest.raises(ValueError, match=r"summary \(modules table\) needs the column\(s\) 'episode' \(from scheduler\)"):
         summary(episodes, modules.drop(columns="episode"))
     with pytest.raises(ValueError, match=r"compare \(modules table\) needs the column\(s\) 'source'"):
         compare((episodes, modules.drop(columns="source")))
@@ -212,12 +213,12 @@ def test_learning_time_summary(tables):
 def test_compare_fully_separated_samples():
     runs = pd.DataFrame({"condition": ["curious"] * 5 + ["random_switching"] * 5,
                          "gated_sources": [3, 3, 2, 3, 3, 0, 1, 0, 0, 1]})
-    row = compare(runs, metric="gated_sources").iloc[0]
-    assert row["test"] == "mann_whitney_u"
+    row = compare(runs, metric="gated_sources", paired=False).iloc[0]
+    assert row["method"] == "mann_whitney_u"
     assert row["effect_size"] == pytest.approx(1.0)
     assert row["statistic"] == pytest.approx(25.0)
     assert row["p_value"] < 0.02
-    reverse = compare(runs, a="random_switching", b="curious", metric="gated_sources").iloc[0]
+    reverse = compare(runs, a="random_switching", b="curious", metric="gated_sources", paired=False).iloc[0]
     assert reverse["effect_size"] == pytest.approx(-1.0)
     assert reverse["p_value"] == pytest.approx(row["p_value"])
 
@@ -225,8 +226,8 @@ def test_compare_fully_separated_samples():
 def test_compare_binary_uses_fisher():
     runs = pd.DataFrame({"condition": ["curious"] * 10 + ["random_switching"] * 10,
                          "exact_order": [True] * 8 + [False] * 2 + [True] * 1 + [False] * 9})
-    row = compare(runs, metric="exact_order").iloc[0]
-    assert row["test"] == "fisher_exact"
+    row = compare(runs, metric="exact_order", paired=False).iloc[0]
+    assert row["method"] == "fisher_exact"
     assert row["effect_size"] == pytest.approx((8 * 9) / (2 * 1))
     # two-sided Fisher p for [[8, 2], [1, 9]] = 0.00547 (hypergeometric tail sum)
     assert row["p_value"] == pytest.approx(0.005477, abs=2e-5)
@@ -234,10 +235,13 @@ def test_compare_binary_uses_fisher():
 
 
 def test_compare_on_tables(tables):
+    unpaired = compare(tables, paired=False).set_index("metric")
+    assert unpaired.loc["gated_sources", "effect_size"] == pytest.approx(2 * 11.5 / 12 - 1)
+    assert unpaired.loc["exact_order", "method"] == "fisher_exact"
     result = compare(tables).set_index("metric")
-    assert result.loc["gated_sources", "effect_size"] == pytest.approx(2 * 11.5 / 12 - 1)
-    assert result.loc["exact_order", "test"] == "fisher_exact"
-    assert result.loc["kendall_tau", "n_b"] == 1
+    assert result.loc["exact_order", "method"] == "mcnemar_exact"
+    assert result.loc["gated_sources", "method"] == "wilcoxon"
+    assert result.loc["kendall_tau", "n_b"] == 1 and result.loc["kendall_tau", "n_pairs"] == 1
     with pytest.raises(ValueError, match="not in the results"):
         compare(tables, b="lesion_lc")
     with pytest.raises(ValueError, match="unknown metric"):
@@ -258,6 +262,33 @@ def test_order_table(tables):
     assert table.loc["S-C learning time (epochs)", "random_switching"] == "—"
 
 
+GATED_ROW = "learnable sources gated vs curious: Wilcoxon signed-rank p (paired; Holm, 2 tests)"
+EXACT_ROW = "exact S-A→S-B→S-C vs curious: McNemar exact p (paired; Holm, 2 tests)"
+
+
+def test_order_table_names_the_test_of_every_p_value(tables):
+    assert order_table(*tables).index[-1] == "S-C learning time (epochs)"      # no reference, no tests
+    table = order_table(*tables, reference="curious")
+    assert list(table.index[-2:]) == [EXACT_ROW, GATED_ROW]
+    # 3 pairs (run 3 has no random twin); exact order 2 discordant, p 0.5; gated 3 of 3 up, p 0.25;
+    # Holm over the two: 2 × 0.25 = 0.5, then max(0.5, 0.5)
+    assert table.loc[GATED_ROW, "random_switching"] == "0.5 (n=3)"
+    assert table.loc[EXACT_ROW, "random_switching"] == "0.5 (2 of 3 discordant)"
+    assert (table.loc[[EXACT_ROW, GATED_ROW], ["paper", "paper (random)", "curious"]] == "—").all().all()
+    bh = order_table(*tables, reference="curious", adjust="bh")
+    assert bh.index[-1] == GATED_ROW.replace("Holm", "Benjamini–Hochberg")
+
+
+def test_order_tables_of_a_folder_test_against_its_first_condition(results_dir):
+    table = order_tables(results_dir)
+    assert list(table.columns) == ["paper", "paper (random)", "curious", "random_switching"]
+    assert table.loc[GATED_ROW, "random_switching"] == "0.5 (n=3)"
+    assert order_tables(results_dir, tests=False).index[-1] == "S-C learning time (epochs)"
+    other = order_tables(results_dir, reference="random_switching")
+    assert other.loc[GATED_ROW.replace("vs curious", "vs random_switching"), "curious"] == "0.5 (n=3)"
+    assert order_tables(results_dir, conditions=["curious"]).index[-1] == "S-C learning time (epochs)"
+
+
 def test_summary_is_json(tables):
     result = summary(*tables)
     text = json.dumps(result, allow_nan=False)
@@ -265,3 +296,20 @@ def test_summary_is_json(tables):
     assert back["n_runs"] == {"curious": 4, "random_switching": 3}
     assert {r["metric"] for r in back["comparisons"]} >= {"gated_sources", "exact_order"}
     assert any(r["outcome"] == "S-A first" and r["k"] == 4 for r in back["order_counts"])
+
+
+def test_summary_records_the_tests_and_the_adjustment(tables):
+    back = json.loads(json.dumps(summary(*tables), allow_nan=False))
+    stats = back["statistics"]
+    assert stats["paired"] is True and stats["pairing"] == "run" and stats["reference"] == "curious"
+    assert stats["tests"] == {"mcnemar_exact": {"name": "McNemar exact", "reference": "McNemar 1947"},
+                              "wilcoxon": {"name": "Wilcoxon signed-rank", "reference": "Wilcoxon 1945"}}
+    assert stats["adjustment"] == {"method": "holm", "name": "Holm", "reference": "Holm 1979", "n_tests": 9}
+    assert stats["bootstrap"]["seed"] == 2013 and stats["bootstrap"]["n_boot"] == 2000
+    gated = next(r for r in back["comparisons"] if r["metric"] == "gated_sources")
+    assert gated["test"].startswith("Wilcoxon signed-rank (paired by run, n=3 pairs")
+    assert gated["p_value"] == pytest.approx(0.25) and gated["p_adjusted"] >= gated["p_value"]
+    assert gated["adjustment"] == "holm" and gated["n_tests"] == 9
+    unpaired = summary(*tables, paired=False, adjust="bh")["statistics"]
+    assert set(unpaired["tests"]) == {"mann_whitney_u", "fisher_exact"} and unpaired["adjustment"]["method"] == "fdr_bh"
+    assert summary(*tables, reference="lesion")["comparisons"] == []
