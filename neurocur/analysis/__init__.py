@@ -12,6 +12,8 @@ One module per question, all re-exported here:
 - :mod:`~neurocur.analysis.significance` — the two-sample tests (Wilcoxon signed-rank and
   McNemar exact, paired; Mann–Whitney U and Fisher exact, unpaired);
 - :mod:`~neurocur.analysis.bootstrap` — percentile bootstrap intervals over runs and pairs;
+- :mod:`~neurocur.analysis.sweeps` — every sweep point against a reference point, every
+  condition against a reference condition at each point;
 - :mod:`~neurocur.analysis.report` — the order table beside the paper's numbers, and the summary;
 - :mod:`~neurocur.analysis.figures` — matplotlib Figures (paper Figures 4D–G).
 
@@ -22,7 +24,7 @@ Not re-exported: :mod:`~neurocur.analysis.paper` (the paper's numbers, with thei
 :mod:`~neurocur.analysis.invariance` (Figure 5).
 """
 
-from neurocur.analysis import bootstrap, comparison, figures, learning_time, order, report, significance
+from neurocur.analysis import bootstrap, comparison, figures, learning_time, order, report, significance, sweeps
 from neurocur.analysis.bootstrap import *  # noqa: F403
 from neurocur.analysis.comparison import *  # noqa: F403
 from neurocur.analysis.figures import *  # noqa: F403
@@ -31,9 +33,10 @@ from neurocur.analysis.learning_time import *  # noqa: F403
 from neurocur.analysis.order import *  # noqa: F403
 from neurocur.analysis.report import *  # noqa: F403
 from neurocur.analysis.significance import *  # noqa: F403
+from neurocur.analysis.sweeps import *  # noqa: F403
 from neurocur.contexts.base import SourceSpec
 from neurocur.contexts.synthetic import SYNTHETIC
 
 __all__ = ["load", "order_tables", "run_dirs", "source_specs", "write_summary", "SourceSpec", "SYNTHETIC",
            *order.__all__, *learning_time.__all__, *comparison.__all__, *significance.__all__, *bootstrap.__all__,
-           *report.__all__, *figures.__all__]
+           *sweeps.__all__, *report.__all__, *figures.__all__]

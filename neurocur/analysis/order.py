@@ -34,7 +34,7 @@ from neurocur.contexts.base import SourceSpec
 from neurocur.contexts.synthetic import SYNTHETIC
 from neurocur.contract import require_columns
 
-__all__ = ["clopper_pearson", "per_run", "order_counts", "position_counts", "condition_summary"]
+__all__ = ["clopper_pearson", "per_run", "sweep_columns", "order_counts", "position_counts", "condition_summary"]
 
 _ORDINALS = ("first", "second", "third", "fourth", "fifth", "sixth", "seventh", "eighth")
 
@@ -110,11 +110,22 @@ def _run_row(order: list[str], gates: list[str], spec: SourceSpec) -> dict:
     return row
 
 
+def sweep_columns(table: pd.DataFrame) -> list[str]:
+    """The swept-key columns of a results table (or of :func:`per_run`): the names with a dot.
+
+    A sweep key is always ``"REGION.param"`` or ``"world.KEY"`` (the experiment file's
+    ``[sweep]`` table) and the runner adds one column per swept key to every results table;
+    no recorded column has a dot in its name.
+    """
+    return [c for c in table.columns if isinstance(c, str) and "." in c]
+
+
 def per_run(episodes: pd.DataFrame, modules: pd.DataFrame, spec: SourceSpec = SYNTHETIC) -> pd.DataFrame:
     """One row per (condition, run): module order and the per-run metrics.
 
     Every run of the episodes table has a row, also a run that stored no module.
-    Columns: condition, run, n_steps, n_modules, order (stored sources, comma-separated),
+    Columns: condition, run, the swept keys of a sweep (:func:`sweep_columns`, the run's
+    value; none without a sweep), n_steps, n_modules, order (stored sources, comma-separated),
     first/second/... (source of that module, "" if none), first_ok/second_ok/... (it is the
     learnable source of that Ω rank), exact_order, unlearnable_stored, n_learned (distinct
     learnable sources with a module), gated_sources, kendall_tau. See the module docstring.
@@ -131,7 +142,13 @@ def per_run(episodes: pd.DataFrame, modules: pd.DataFrame, spec: SourceSpec = SY
             {"condition": condition, "run": run, "n_steps": int(steps[(condition, run)]),
              **_run_row(order, gates, spec)}
         )
-    return pd.DataFrame(rows)
+    table = pd.DataFrame(rows)
+    swept = sweep_columns(episodes)
+    if swept and len(table):
+        points = episodes.groupby(["condition", "run"])[swept].first().reset_index()
+        table = points.merge(table, on=["condition", "run"], how="right")[
+            ["condition", "run", *swept, *table.columns[2:]]]
+    return table
 
 
 def order_counts(
