@@ -14,8 +14,14 @@ The sequential per-sample loops are compiled with numba in ``_kernels`` and
 ``_roc_kernels``; the classes validate input and call them once per block. Each
 learner declares the type and range of its parameters once, as
 :class:`neurocur.config.ParamSpec` objects in its ``param_specs``.
+
+IncSFA, CCIPCA and MCA are scikit-learn transformers (``fit``, ``partial_fit``,
+``transform``, ``get_params``, ``clone``, ``Pipeline``, ``GridSearchCV``; see
+``_estimator``); they pass ``sklearn.utils.estimator_checks.check_estimator`` but for
+the checks :func:`expected_failed_checks` lists with their reasons.
 """
 
+from ._estimator import expected_failed_checks
 from .ccipca import CCIPCA, AmnesicSchedule
 from .incsfa import IncSFA
 from .lspi import lspi, value_iteration
@@ -33,6 +39,7 @@ __all__ = [
     "ROCBank",
     "batch_sfa",
     "derivative_eigenvalues",
+    "expected_failed_checks",
     "lspi",
     "omega",
     "value_iteration",

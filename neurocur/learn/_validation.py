@@ -1,8 +1,10 @@
 """Input checks shared by every learner.
 
-Every public learner entry point passes its data through :func:`check_block`, so a
-bad input fails with one clear ``ValueError`` that says what was expected, never with
-a silent NaN further down a compiled loop.
+Every public learner entry point checks its data once per call, before the compiled
+loop: :func:`check_block` (or scikit-learn's ``validate_data`` for the
+scikit-learn estimators IncSFA, CCIPCA and MCA, see ``_estimator``), so a bad input
+fails with one clear ``ValueError`` that says what was expected, never with a silent
+NaN further down a compiled loop.
 """
 
 from __future__ import annotations

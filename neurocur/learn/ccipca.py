@@ -9,7 +9,7 @@ Rank-deficient input is normal (frames of a 2-d source are rank 2–3 in hundred
 dimensions). Components whose eigenvalue is below ``eig_cutoff`` × the largest, or
 that fall outside the leading ``var_fraction`` of the variance, are *inactive*: the
 whitening uses only the ``n_active_`` active ones, so K above the data's rank cannot
-make it blow up.
+make it blow up. The whitened output keeps K columns: an inactive component's is zero.
 
 Initialisation: the K directions start as random orthonormal vectors (from
 ``random_state``) with eigenvalue 0; the first centred samples then set them.
@@ -26,9 +26,9 @@ from typing import ClassVar
 import numpy as np
 
 from ..config import ConfigError, ParamSpec, check_params, describe, param
-from ._estimator import RANDOM_STATE, Estimator, NotFittedError
+from ._estimator import RANDOM_STATE, Estimator
 from ._kernels import active_mask, ccipca_fit
-from ._validation import check_block, check_nonconstant, check_random_state
+from ._validation import check_random_state
 
 
 @dataclass(frozen=True)
@@ -69,7 +69,7 @@ def init_directions(rng: np.random.Generator, n_components: int, n_features: int
 
 
 class CCIPCA(Estimator):
-    """Incremental PCA and whitening (Algorithm 2).
+    """Incremental PCA and whitening (Algorithm 2), a scikit-learn transformer.
 
     Parameters
     ----------
@@ -80,9 +80,10 @@ class CCIPCA(Estimator):
     eig_cutoff : components with eigenvalue below ``eig_cutoff`` × the largest are inactive.
     random_state : seed of the initial directions.
 
-    Attributes (after ``partial_fit``): ``mean_`` (D,); ``eigenvalues_`` (K,) and
-    ``components_`` (K, D), sorted by descending eigenvalue; ``n_active_``;
-    ``total_variance_`` (trace of the covariance estimate); ``n_samples_seen_``.
+    Attributes (after ``fit`` or ``partial_fit``): ``n_features_in_`` (D); ``mean_`` (D,);
+    ``eigenvalues_`` (K,) and ``components_`` (K, D), sorted by descending eigenvalue;
+    ``n_active_``; ``total_variance_`` (trace of the covariance estimate);
+    ``n_samples_seen_``.
     """
 
     param_specs: ClassVar[dict[str, ParamSpec]] = {
@@ -92,23 +93,24 @@ class CCIPCA(Estimator):
         "eig_cutoff": ParamSpec(float, low=0.0, high=1.0, high_open=True),
         "random_state": RANDOM_STATE,
     }
+    _min_first_rows = 2  # a variance needs two samples
 
-    def __init__(self, n_components, *, amnesic=2.0, var_fraction=None, eig_cutoff=1e-3, random_state=None):
+    def __init__(self, n_components=2, *, amnesic=2.0, var_fraction=None, eig_cutoff=1e-3, random_state=None):
         self.n_components = n_components
         self.amnesic = amnesic
         self.var_fraction = var_fraction
         self.eig_cutoff = eig_cutoff
         self.random_state = random_state
-        self._validate_params()
+        self._checked_params()
 
     def _check_params(self, params: dict) -> None:
-        if hasattr(self, "_dirs") and params["n_components"] != self._dirs.shape[0]:
+        if self.__sklearn_is_fitted__() and params["n_components"] != self._dirs.shape[0]:
             raise ValueError("n_components cannot change after the first partial_fit; make a new CCIPCA")
 
     def _start(self, n_features: int) -> None:
         k = self.n_components
         if k > n_features:
-            raise ValueError(f"n_components={k} exceeds the number of features ({n_features})")
+            raise ValueError(f"n_components={k} exceeds the number of features of X (n_features = {n_features})")
         rng = check_random_state(self.random_state)
         self._dirs = init_directions(rng, k, n_features)
         self._lam = np.zeros(k)
@@ -117,16 +119,15 @@ class CCIPCA(Estimator):
         self.n_samples_seen_ = 0
         self._work = np.empty(n_features)
 
-    def partial_fit(self, X):
+    def partial_fit(self, X, y=None):
         """Update the estimates with the rows of ``X`` (samples × features); returns ``self``.
 
-        The first call needs at least two rows that are not all equal.
+        The first call needs at least two rows that are not all equal. ``y`` is ignored.
         """
-        params = self._validate_params()
-        fitted = hasattr(self, "_dirs")
-        X = check_block(X, n_features=self.mean_.shape[0] if fitted else None, min_rows=1 if fitted else 2)
-        if not fitted:
-            check_nonconstant(X)
+        params = self._checked_params()
+        first = not self.__sklearn_is_fitted__()
+        X = self._check_X(X, learn=True)
+        if first:
             self._start(X.shape[1])
         t1, t2, c, r = amnesic_params(params["amnesic"])
         self.n_samples_seen_, self._total = ccipca_fit(
@@ -134,14 +135,10 @@ class CCIPCA(Estimator):
         )
         return self
 
-    def _check_fitted(self) -> None:
-        if not hasattr(self, "_dirs"):
-            raise NotFittedError(f"this {type(self).__name__} is not fitted yet; call partial_fit first")
-
     def _active(self) -> np.ndarray:
         """Indices of the active components, by descending eigenvalue."""
         self._check_fitted()
-        params = self._validate_params()
+        params = self._checked_params()
         frac = 0.0 if params["var_fraction"] is None else params["var_fraction"]  # 0: off
         mask = np.zeros(self._lam.shape[0], dtype=np.bool_)
         active_mask(self._lam, self._total, params["eig_cutoff"], frac, mask)
@@ -168,12 +165,17 @@ class CCIPCA(Estimator):
         return float(self._total)
 
     def whitening_matrix(self) -> np.ndarray:
-        """S (D, n_active): v̂_i / √λ_i for the active components; z = Sᵀ(x − mean_)."""
+        """S (D, K), z = Sᵀ(x − mean_): column i is v̂_i / √λ_i for the i-th component by
+        descending eigenvalue if it is active (the active ones are the leading
+        ``n_active_``), zeros if it is not."""
         idx = self._active()
-        return self._dirs[idx].T / np.sqrt(self._lam[idx])
+        S = np.zeros((self._dirs.shape[1], self._dirs.shape[0]))
+        S[:, : idx.size] = self._dirs[idx].T / np.sqrt(self._lam[idx])
+        return S
 
     def transform(self, X) -> np.ndarray:
-        """Whitened signal (X − mean_) S, shape (T, n_active_)."""
-        self._check_fitted()
-        X = check_block(X, n_features=self.mean_.shape[0])
+        """Whitened signal (X − mean_) S, shape (T, n_components): the leading ``n_active_``
+        columns are the active components by descending eigenvalue, the other columns
+        (inactive or not yet learned components) are zeros."""
+        X = self._check_X(X, learn=False)
         return (X - self.mean_) @ self.whitening_matrix()

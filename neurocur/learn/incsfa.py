@@ -33,15 +33,15 @@ from typing import ClassVar
 import numpy as np
 
 from ..config import ParamSpec
-from ._estimator import Estimator, NotFittedError
+from ._estimator import Estimator
 from ._kernels import incsfa_fit
-from ._validation import check_block, check_nonconstant, check_random_state
+from ._validation import check_random_state
 from .ccipca import CCIPCA, amnesic_params, init_directions
 from .mca import AUTO_GAMMA_FACTOR, MCA, gamma_code, init_weights
 
 
 class IncSFA(Estimator):
-    """Online linear slow feature analysis.
+    """Online linear slow feature analysis, a scikit-learn transformer.
 
     Parameters
     ----------
@@ -54,10 +54,13 @@ class IncSFA(Estimator):
     gamma : CIMCA's lateral weight, a number > 0 (4 is safe for whitened input) or "auto".
     random_state : seed of the initial CCIPCA directions and CIMCA vectors.
 
-    Attributes (after ``partial_fit``): ``mean_`` (D,); ``projection_`` (D, J) with
-    ``transform(X) == (X − mean_) @ projection_``; ``n_samples_seen_``; ``n_active_``
-    (whitened components in use); ``eigenvalues_`` (K,) CCIPCA's estimates, descending;
-    ``gamma_`` (the γ in use).
+    ``fit(X)`` learns ``X`` as one episode on a fresh state; ``partial_fit`` continues
+    the learned state with another episode; ``score`` is the negative slowness.
+
+    Attributes (after ``fit`` or ``partial_fit``): ``n_features_in_`` (D); ``mean_`` (D,);
+    ``projection_`` (D, J) with ``transform(X) == (X − mean_) @ projection_``;
+    ``n_samples_seen_``; ``n_active_`` (whitened components in use); ``eigenvalues_`` (K,)
+    CCIPCA's estimates, descending; ``gamma_`` (the γ in use).
     """
 
     # the whitening's parameters are CCIPCA's, the slow-feature extraction's are MCA's
@@ -71,6 +74,7 @@ class IncSFA(Estimator):
         "gamma": MCA.param_specs["gamma"],
         "random_state": CCIPCA.param_specs["random_state"],
     }
+    _min_first_rows = 2  # a derivative needs two samples
 
     def __init__(
         self,
@@ -92,19 +96,19 @@ class IncSFA(Estimator):
         self.mca_rate = mca_rate
         self.gamma = gamma
         self.random_state = random_state
-        self._validate_params()
+        self._checked_params()
 
     def _check_params(self, params: dict) -> None:
         j, k = params["n_components"], params["n_pca"]
         if j > k:
             raise ValueError(f"n_components={j} must not exceed n_pca={k}")
-        if hasattr(self, "_W") and (j, k) != self._W.shape:
+        if self.__sklearn_is_fitted__() and (j, k) != self._W.shape:
             raise ValueError("n_components and n_pca cannot change after the first partial_fit; make a new IncSFA")
 
     def _start(self, n_features: int) -> None:
         j, k = self.n_components, self.n_pca
         if k > n_features:
-            raise ValueError(f"n_pca={k} exceeds the number of features ({n_features})")
+            raise ValueError(f"n_pca={k} exceeds the number of features of X (n_features = {n_features})")
         rng = check_random_state(self.random_state)
         self._dirs = init_directions(rng, k, n_features)
         self._W = init_weights(rng, j, k)
@@ -124,18 +128,17 @@ class IncSFA(Estimator):
             np.empty(k), np.empty(k), np.empty(j), np.empty(k),
         )
 
-    def partial_fit(self, X, *, continues: bool = False):
+    def partial_fit(self, X, y=None, *, continues: bool = False):
         """Learn from one episode ``X`` (rows are consecutive time steps); returns ``self``.
 
         The derivative is taken only between rows of ``X``; with ``continues=True`` the
         first row is also differenced against the last row of the previous call. The
-        first call needs at least two rows that are not all equal.
+        first call needs at least two rows that are not all equal. ``y`` is ignored.
         """
-        params = self._validate_params()
-        fitted = hasattr(self, "_W")
-        X = check_block(X, n_features=self.mean_.shape[0] if fitted else None, min_rows=1 if fitted else 2)
-        if not fitted:
-            check_nonconstant(X)
+        params = self._checked_params()
+        first = not self.__sklearn_is_fitted__()
+        X = self._check_X(X, learn=True)
+        if first:
             self._start(X.shape[1])
         t1, t2, c, r = amnesic_params(params["amnesic"])
         frac = 0.0 if params["var_fraction"] is None else params["var_fraction"]  # 0: off
@@ -150,10 +153,6 @@ class IncSFA(Estimator):
         )
         self._has_prev = True
         return self
-
-    def _check_fitted(self) -> None:
-        if not hasattr(self, "_W"):
-            raise NotFittedError("this IncSFA is not fitted yet; call partial_fit first")
 
     @property
     def projection_(self) -> np.ndarray:
@@ -170,24 +169,38 @@ class IncSFA(Estimator):
     @property
     def gamma_(self) -> float:
         """The γ in use: the given one, or AUTO_GAMMA_FACTOR × the current λ̂_1(ż)."""
-        gamma = gamma_code(self._validate_params()["gamma"])
+        gamma = gamma_code(self._checked_params()["gamma"])
         if gamma > 0:
             return gamma
         self._check_fitted()
         return AUTO_GAMMA_FACTOR * float(self._glam[0])
 
     def transform(self, X) -> np.ndarray:
-        """Slow features (X − mean_) @ projection_, shape (T, n_components), slowest first."""
-        self._check_fitted()
-        X = check_block(X, n_features=self.mean_.shape[0])
+        """Slow features (X − mean_) @ projection_, shape (T, n_components), slowest first.
+
+        Always n_components columns; while no whitened component is active (``n_active_``
+        is 0: no sample has yet carried variance) every column is zero.
+        """
+        X = self._check_X(X, learn=False)
         return (X - self.mean_) @ self.projection_
 
     def delta(self, X) -> np.ndarray:
         """Slowness Δ_j = ⟨ẏ_j²⟩ (eq 4) of each output on ``X``, outputs scaled to unit variance."""
-        self._check_fitted()
-        X = check_block(X, n_features=self.mean_.shape[0], min_rows=2)
-        y = self.transform(X)
+        X = self._check_X(X, learn=False, min_rows=2)
+        y = (X - self.mean_) @ self.projection_
         sd = y.std(axis=0)
         if not np.all(sd > 0):
             raise ValueError("delta needs X on which every output varies; some output is constant on X")
         return np.mean(np.diff(y / sd, axis=0) ** 2, axis=0)
+
+    def score(self, X, y=None) -> float:
+        """Negative slowness −mean_j Δ_j of the outputs on ``X`` (see :meth:`delta`): higher
+        is slower, so model selection (``GridSearchCV``) prefers the slowest features.
+
+        ``X`` is one episode of consecutive time steps; ``y`` is ignored. Each output is
+        scaled to unit variance on ``X`` first (SFA's constraint, eq 5), so the score does
+        not depend on the outputs' scale. Decorrelation (eq 6) is not scored: outputs that
+        repeat one slow direction are not penalised, so compare models by this score with
+        ``n_components=1`` or with outputs known to be decorrelated.
+        """
+        return -float(np.mean(self.delta(X)))

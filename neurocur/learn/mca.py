@@ -1,7 +1,7 @@
 """Minor components analysis by CIMCA (Peng & Yi 2006; paper eqs 8, 16, 17).
 
 The J vectors w_1..w_J converge to the eigenvectors of the *smallest* eigenvalues of
-the second-moment matrix C = E[z zᵀ] (w_1 the smallest), one sample at a time:
+the second-moment matrix C = E[z zᵀ] of the input rows z (w_1 the smallest), one sample at a time:
 
     w_i ← (1 − η) w_i − η [(z·w_i) z + γ Σ_{j<i} (w_j·w_i) w_j],   w_i ← w_i / ||w_i||
 
@@ -23,9 +23,9 @@ from typing import ClassVar
 import numpy as np
 
 from ..config import ParamSpec
-from ._estimator import RANDOM_STATE, Estimator, NotFittedError
+from ._estimator import RANDOM_STATE, Estimator
 from ._kernels import cimca_fit
-from ._validation import check_block, check_random_state
+from ._validation import check_random_state
 
 #: Safety factor over the online estimate of λ_1 when ``gamma="auto"``.
 AUTO_GAMMA_FACTOR = 2.0
@@ -43,20 +43,25 @@ def init_weights(rng: np.random.Generator, n_components: int, n_features: int) -
 
 
 class MCA(Estimator):
-    """Online minor components (CIMCA) of the second moment of the rows of ``Z``.
+    """Online minor components (CIMCA) of the second moment of the rows of ``X``, a
+    scikit-learn transformer.
 
     Parameters
     ----------
     n_components : J, the number of minor components.
     learning_rate : η in (0, 0.5].
-    gamma : the lateral weight γ > λ_1, or ``"auto"``. A given γ is checked against the
-        online estimate λ̂_1 after each ``partial_fit``: if γ ≤ λ̂_1 the call is undone
-        and raises ``ValueError``.
+    gamma : the lateral weight γ > λ_1, or ``"auto"`` (the default). A given γ is
+        checked against the online estimate λ̂_1 after each ``partial_fit``: if γ ≤ λ̂_1
+        the call is undone and raises ``ValueError``.
     random_state : seed of the initial vectors.
 
-    Attributes (after ``partial_fit``): ``components_`` (J, D), unit rows, the first
-    the estimate of the minor eigenvector; ``gamma_`` (the γ in use);
-    ``n_samples_seen_``.
+    CIMCA is not scale-free: it converges at a rate set by η times the eigenvalues, and
+    needs η λ_1 < 0.5 (eq 20), so the input's scale matters (whitened input, as in IncSFA,
+    has λ_1 ≤ 4 for its derivative).
+
+    Attributes (after ``fit`` or ``partial_fit``): ``n_features_in_`` (D);
+    ``components_`` (J, D), unit rows, the first the estimate of the minor eigenvector;
+    ``gamma_`` (the γ in use); ``n_samples_seen_``.
     """
 
     param_specs: ClassVar[dict[str, ParamSpec]] = {
@@ -65,22 +70,23 @@ class MCA(Estimator):
         "gamma": ParamSpec(float, low=0.0, low_open=True, choices=("auto",)),
         "random_state": RANDOM_STATE,
     }
+    _centred = False  # CIMCA learns the second moment E[z zᵀ], not the covariance
 
-    def __init__(self, n_components, *, learning_rate=0.05, gamma=4.0, random_state=None):
+    def __init__(self, n_components=2, *, learning_rate=0.05, gamma="auto", random_state=None):
         self.n_components = n_components
         self.learning_rate = learning_rate
         self.gamma = gamma
         self.random_state = random_state
-        self._validate_params()
+        self._checked_params()
 
     def _check_params(self, params: dict) -> None:
-        if hasattr(self, "_W") and params["n_components"] != self._W.shape[0]:
+        if self.__sklearn_is_fitted__() and params["n_components"] != self._W.shape[0]:
             raise ValueError("n_components cannot change after the first partial_fit; make a new MCA")
 
     def _start(self, n_features: int) -> None:
         j = self.n_components
         if j > n_features:
-            raise ValueError(f"n_components={j} exceeds the number of features ({n_features})")
+            raise ValueError(f"n_components={j} exceeds the number of features of X (n_features = {n_features})")
         rng = check_random_state(self.random_state)
         self._W = init_weights(rng, j, n_features)
         self._gdir = init_weights(rng, 1, n_features)
@@ -88,43 +94,48 @@ class MCA(Estimator):
         self.n_samples_seen_ = 0
         self._work = (np.ones(n_features, dtype=np.bool_), np.empty(j), np.empty(n_features), np.empty(n_features))
 
-    def partial_fit(self, Z):
-        """Update the minor components with the rows of ``Z``; returns ``self``."""
-        params = self._validate_params()
-        fitted = hasattr(self, "_W")
-        Z = check_block(Z, name="Z", n_features=self._W.shape[1] if fitted else None)
+    def partial_fit(self, X, y=None):
+        """Update the minor components with the rows of ``X``; returns ``self``. ``y`` is ignored."""
+        params = self._checked_params()
+        first = not self.__sklearn_is_fitted__()
+        X = self._check_X(X, learn=True)
         gamma, rate = gamma_code(params["gamma"]), params["learning_rate"]
-        if not fitted:
-            self._start(Z.shape[1])
+        if first:
+            self._start(X.shape[1])
         saved = (self._W.copy(), self._gdir.copy(), self._glam.copy(), self.n_samples_seen_)
         mask, coup, new, res = self._work
         self.n_samples_seen_ = cimca_fit(
-            Z, self._W, rate, gamma, AUTO_GAMMA_FACTOR if gamma < 0 else 0.0,
+            X, self._W, rate, gamma, AUTO_GAMMA_FACTOR if gamma < 0 else 0.0,
             self._gdir, self._glam, self.n_samples_seen_, mask, coup, new, res,
         )
         if 0 < gamma <= self._glam[0]:
             lam1 = float(self._glam[0])
-            self._W, self._gdir, self._glam, self.n_samples_seen_ = saved
-            if not fitted:
-                del self._W
+            if first:
+                self._unfit()
+            else:
+                self._W, self._gdir, self._glam, self.n_samples_seen_ = saved
             raise ValueError(
-                f"gamma={gamma} must exceed the largest eigenvalue of Z's second moment "
+                f"gamma={gamma} must exceed the largest eigenvalue of X's second moment "
                 f"(estimated λ_1 = {lam1:.4g}); use a larger gamma or gamma='auto'"
             )
         return self
 
     @property
     def components_(self) -> np.ndarray:
-        if not hasattr(self, "_W"):
-            raise NotFittedError("this MCA is not fitted yet; call partial_fit first")
+        self._check_fitted()
         return self._W.copy()
 
     @property
     def gamma_(self) -> float:
         """The γ in use: the given one, or AUTO_GAMMA_FACTOR × the current λ̂_1."""
-        gamma = gamma_code(self._validate_params()["gamma"])
+        gamma = gamma_code(self._checked_params()["gamma"])
         if gamma > 0:
             return gamma
-        if not hasattr(self, "_W"):
-            raise NotFittedError("this MCA is not fitted yet; call partial_fit first")
+        self._check_fitted()
         return AUTO_GAMMA_FACTOR * float(self._glam[0])
+
+    def transform(self, X) -> np.ndarray:
+        """Projections X wᵀ_j on the minor components, shape (T, n_components), the minor
+        one first. X is not centred: CIMCA's components are those of the second moment."""
+        X = self._check_X(X, learn=False)
+        return X @ self._W.T

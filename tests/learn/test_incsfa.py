@@ -132,7 +132,7 @@ def test_params():
     with pytest.raises(ValueError, match="mca_rate"):
         model.set_params(mca_rate=0.9)
     assert model.mca_rate == 0.02  # a rejected set_params changes nothing
-    with pytest.raises(ValueError, match="unknown"):
+    with pytest.raises(ValueError, match="Invalid parameter 'eta'"):
         model.set_params(eta=0.1)
     assert repr(model) == (
         "IncSFA(n_components=2, n_pca=3, amnesic=2.0, var_fraction=None, eig_cutoff=0.001, "
@@ -156,7 +156,7 @@ def test_bad_parameters(kwargs):
 def test_bad_input(mixture):
     with pytest.raises(ValueError, match="zero variance"):
         IncSFA().partial_fit(np.ones((10, 5)))
-    with pytest.raises(ValueError, match="at least 2"):
+    with pytest.raises(ValueError, match="1 sample.* minimum of 2"):
         IncSFA().partial_fit(mixture[:1])
     with pytest.raises(ValueError, match="n_pca=3 exceeds"):
         IncSFA().partial_fit(mixture[:10, :2])
@@ -189,12 +189,12 @@ def test_shapes_property(n, d, seed):
 def test_nonfinite_rejected_property(n, d, bad, data):
     X = np.random.default_rng(0).standard_normal((n, d))
     X[data.draw(st.integers(0, n - 1)), data.draw(st.integers(0, d - 1))] = bad
-    with pytest.raises(ValueError, match="NaN or inf"):
+    with pytest.raises(ValueError, match="contains (NaN|infinity)"):
         IncSFA(1, 1).partial_fit(X)
     fitted = IncSFA(1, 1).partial_fit(np.random.default_rng(1).standard_normal((5, d)))
-    with pytest.raises(ValueError, match="NaN or inf"):
+    with pytest.raises(ValueError, match="contains (NaN|infinity)"):
         fitted.partial_fit(X)
-    with pytest.raises(ValueError, match="NaN or inf"):
+    with pytest.raises(ValueError, match="contains (NaN|infinity)"):
         fitted.transform(X)
 
 
