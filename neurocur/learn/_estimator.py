@@ -15,7 +15,8 @@ changes nothing) and again by every ``fit`` and ``partial_fit``.
 Learning is streaming: ``partial_fit`` continues from the learned state, ``fit`` forgets
 it first (``fit(X)`` is ``partial_fit(X)`` on a new instance with the same parameters).
 Input is checked once per call, never per sample: scikit-learn's ``validate_data``
-(2-d, numeric, finite, the feature count seen first, ``n_features_in_``); a fresh
+(2-d, numeric, finite, the feature count seen first, ``n_features_in_``), then the
+learners' own scale check (:func:`~neurocur.learn._validation.check_scale`); a fresh
 learner's first block must also vary.
 
 ``copy`` returns an independent deep copy (learned state included), and ``repr`` shows
@@ -34,7 +35,7 @@ from sklearn.exceptions import NotFittedError
 from sklearn.utils.validation import check_is_fitted, validate_data
 
 from ..config import ParamSpec, coerce_params
-from ._validation import check_nonconstant
+from ._validation import check_nonconstant, check_scale
 
 __all__ = ["RANDOM_STATE", "TWO_FEATURE_CHECKS", "Estimator", "NotFittedError", "expected_failed_checks"]
 
@@ -52,7 +53,7 @@ class Estimator(ClassNamePrefixFeaturesOutMixin, TransformerMixin, BaseEstimator
     param_specs: ClassVar[dict[str, ParamSpec]] = {}
     #: rows the first block of a fresh learner needs
     _min_first_rows: ClassVar[int] = 1
-    #: whether the learner centres its input (then its first block must vary)
+    #: whether the learner centres its input (see ``check_scale``)
     _centred: ClassVar[bool] = True
 
     def set_params(self, **params):
@@ -123,9 +124,10 @@ class Estimator(ClassNamePrefixFeaturesOutMixin, TransformerMixin, BaseEstimator
         """``X`` checked once for this call, as a C-contiguous float64 array (time, features).
 
         ``learn``: the call learns from ``X``; on a fresh learner ``X`` is then the first
-        block, which needs ``_min_first_rows`` rows, sets ``n_features_in_`` and must vary
-        if the learner centres its input. Otherwise (and for ``transform``) the learner
-        must be fitted and ``X`` must have ``n_features_in_`` columns.
+        block, which needs ``_min_first_rows`` rows, sets ``n_features_in_``, must vary if
+        the learner centres its input, and must not be too small in scale. Otherwise (and
+        for ``transform``) the learner must be fitted and ``X`` must have
+        ``n_features_in_`` columns.
         """
         first = learn and not self.__sklearn_is_fitted__()
         if not learn:
@@ -136,6 +138,7 @@ class Estimator(ClassNamePrefixFeaturesOutMixin, TransformerMixin, BaseEstimator
         X = np.ascontiguousarray(X, dtype=np.float64)
         if first and self._centred:
             check_nonconstant(X)
+        check_scale(X, first=first, centred=self._centred)
         return X
 
     @property

@@ -2,9 +2,9 @@
 
 Every public learner entry point checks its data once per call, before the compiled
 loop: :func:`check_block` (or scikit-learn's ``validate_data`` for the
-scikit-learn estimators IncSFA, CCIPCA and MCA, see ``_estimator``), so a bad input
-fails with one clear ``ValueError`` that says what was expected, never with a silent
-NaN further down a compiled loop.
+scikit-learn estimators IncSFA, CCIPCA and MCA, see ``_estimator``) and
+:func:`check_scale`, so a bad input fails with one clear ``ValueError`` that says what
+was expected, never with a silent NaN or all-zero output further down a compiled loop.
 """
 
 from __future__ import annotations
@@ -71,3 +71,43 @@ def check_random_state(random_state) -> np.random.Generator:
     raise ValueError(
         f"random_state must be None, an int, a numpy SeedSequence or a numpy Generator; got {type(random_state).__name__}"
     )
+
+
+#: The accepted scale of the incremental learners' input. Their loops form fourth powers
+#: of the data: CCIPCA's new length ||a v̂ + b r||² = a² + 2ab (r·v̂) + b² ||r||² with
+#: a ∝ λ ∝ x² (Algorithm 2, ``_kernels.ccipca_step``), and CIMCA's ((z·w) z)² for MCA.
+#: float64 spans about 1e±308, so data near 1e±77 overflows to inf/NaN or underflows to
+#: zero eigenvalues (all-zero features). 1e±60 leaves 68 orders of magnitude of headroom
+#: in the fourth power for the number of features and the spread of the eigenvalues.
+MAX_SCALE = 1e60
+MIN_SCALE = 1e-60
+
+
+def check_scale(X: np.ndarray, *, name: str = "X", first: bool = False, centred: bool = True) -> None:
+    """Raise ``ValueError`` when the scale of ``X`` is outside what the learners' loops can represent.
+
+    Every block: the largest absolute value must be at most :data:`MAX_SCALE`. The first
+    block of a fresh learner also sets the scale of its estimates, so its own scale must
+    be at least :data:`MIN_SCALE`: the largest range (max − min) of a feature for a
+    learner that centres its input (CCIPCA, IncSFA), the largest absolute value for one
+    that learns the second moment (MCA). The message names the scale found and the
+    range accepted.
+    """
+    accepted = f"accepted: largest |value| <= {MAX_SCALE:g}"
+    if first:
+        accepted += f" and, on the first fit, {'largest feature range' if centred else 'largest |value|'} >= {MIN_SCALE:g}"
+    biggest = float(np.abs(X).max()) if X.size else 0.0
+    if biggest > MAX_SCALE:
+        raise ValueError(
+            f"{name} is out of the learners' numerical range: its largest |value| is {biggest:.3g}, "
+            f"which would overflow ({accepted}); rescale {name}, e.g. with sklearn's StandardScaler"
+        )
+    if first:
+        low = float(np.ptp(X, axis=0).max()) if centred else biggest
+        if low < MIN_SCALE:
+            what = "largest feature range (max - min)" if centred else "largest |value|"
+            raise ValueError(
+                f"{name} is out of the learners' numerical range: its {what} is {low:.3g}, "
+                f"which would underflow to zero eigenvalues ({accepted}); rescale {name}, "
+                f"e.g. with sklearn's StandardScaler"
+            )
