@@ -17,7 +17,8 @@ it first (``fit(X)`` is ``partial_fit(X)`` on a new instance with the same param
 Input is checked once per call, never per sample: scikit-learn's ``validate_data``
 (2-d, numeric, finite, the feature count seen first, ``n_features_in_``), then the
 learners' own scale check (:func:`~neurocur.learn._validation.check_scale`); a fresh
-learner's first block must also vary.
+learner's first block must also vary and, for IncSFA and CCIPCA, reach past the samples
+that only set the mean (:func:`~neurocur.learn.ccipca.check_first_block`).
 
 ``copy`` returns an independent deep copy (learned state included), and ``repr`` shows
 every parameter. :func:`expected_failed_checks` lists the checks of scikit-learn's
@@ -97,8 +98,8 @@ class Estimator(ClassNamePrefixFeaturesOutMixin, TransformerMixin, BaseEstimator
         tags.input_tags.sparse = False  # dense input only
         tags.input_tags.allow_nan = False  # X must be finite
         tags.transformer_tags.preserves_dtype = ["float64"]  # output is float64 whatever the input
-        # no tag states the rows a first block needs (2 for IncSFA's derivative and CCIPCA's
-        # variance): the first partial_fit checks them
+        # no tag states the rows a first block needs (IncSFA and CCIPCA: more than the
+        # samples that only set the mean, 4 for l = 2): the first partial_fit checks them
         return tags
 
     def fit(self, X, y=None):

@@ -14,7 +14,10 @@ make it blow up. The whitened output keeps K columns: an inactive component's is
 Initialisation: the K directions start as random orthonormal vectors (from
 ``random_state``) with eigenvalue 0; the first centred samples then set them.
 The rate η(t) is capped at 1, so with a constant amnesic l the first ⌊1 + l⌋ samples
-only set the mean (their centred value is 0) and the estimates start after them.
+only set the mean and the estimates start after them. Their centred value is 0 only
+up to round-off (ū + 1·(x − ū) need not equal x), and whitening by an eigenvalue
+learned from round-off alone would amplify it ~1e16-fold, so the first block of a
+fresh learner must reach past them (:func:`check_first_block`).
 """
 
 from __future__ import annotations
@@ -27,7 +30,7 @@ import numpy as np
 
 from ..config import ConfigError, ParamSpec, check_params, describe, param
 from ._estimator import RANDOM_STATE, Estimator
-from ._kernels import active_mask, ccipca_fit
+from ._kernels import active_mask, amnesic_rate, ccipca_fit
 from ._validation import check_random_state
 
 
@@ -60,6 +63,29 @@ def amnesic_params(amnesic) -> tuple[float, float, float, float]:
     if isinstance(amnesic, AmnesicSchedule):
         return float(amnesic.t1), float(amnesic.t2), float(amnesic.c), float(amnesic.r)
     return 0.0, 0.0, float(amnesic), math.inf
+
+
+def check_first_block(X: np.ndarray, amnesic) -> None:
+    """Raise ``ValueError`` unless some row of a fresh learner's first block ``X`` learns,
+    i.e. comes after the samples whose rate η(t) is capped at 1 (they only set the mean)."""
+    t1, t2, c, r = amnesic_params(amnesic)
+    n = X.shape[0]
+    mean_only = 0
+    while mean_only < n and amnesic_rate(mean_only + 1, t1, t2, c, r) >= 1.0:
+        mean_only += 1
+    if mean_only < n:
+        return
+    limit = n + 10_000  # counted on only for the message
+    while mean_only < limit and amnesic_rate(mean_only + 1, t1, t2, c, r) >= 1.0:
+        mean_only += 1
+    if mean_only < limit:
+        count, fix = str(mean_only), f"give a first block of at least {mean_only + 1} rows"
+    else:
+        count, fix = f"more than {limit}", "use an amnesic schedule whose rate drops below 1"
+    raise ValueError(
+        f"the first block has {n} rows, all of which only set the mean: with amnesic={amnesic!r} the rate "
+        f"η(t) is capped at 1 for the first {count} samples, whose centred value is round-off; {fix}"
+    )
 
 
 def init_directions(rng: np.random.Generator, n_components: int, n_features: int) -> np.ndarray:
@@ -122,12 +148,15 @@ class CCIPCA(Estimator):
     def partial_fit(self, X, y=None):
         """Update the estimates with the rows of ``X`` (samples × features); returns ``self``.
 
-        The first call needs at least two rows that are not all equal. ``y`` is ignored.
+        The first call needs rows that are not all equal, more than the samples that only
+        set the mean (⌊1 + l⌋ for a constant amnesic l: at least 4 rows for l = 2; see
+        :func:`check_first_block`). ``y`` is ignored.
         """
         params = self._checked_params()
         first = not self.__sklearn_is_fitted__()
         X = self._check_X(X, learn=True)
         if first:
+            check_first_block(X, params["amnesic"])
             self._start(X.shape[1])
         t1, t2, c, r = amnesic_params(params["amnesic"])
         self.n_samples_seen_, self._total = ccipca_fit(

@@ -36,7 +36,7 @@ from ..config import ParamSpec
 from ._estimator import Estimator
 from ._kernels import incsfa_fit
 from ._validation import check_random_state
-from .ccipca import CCIPCA, amnesic_params, init_directions
+from .ccipca import CCIPCA, amnesic_params, check_first_block, init_directions
 from .mca import AUTO_GAMMA_FACTOR, MCA, gamma_code, init_weights
 
 
@@ -133,12 +133,15 @@ class IncSFA(Estimator):
 
         The derivative is taken only between rows of ``X``; with ``continues=True`` the
         first row is also differenced against the last row of the previous call. The
-        first call needs at least two rows that are not all equal. ``y`` is ignored.
+        first call needs rows that are not all equal, more than the samples that only set
+        the mean (at least 4 rows for the default amnesic l = 2; see
+        :func:`~neurocur.learn.ccipca.check_first_block`). ``y`` is ignored.
         """
         params = self._checked_params()
         first = not self.__sklearn_is_fitted__()
         X = self._check_X(X, learn=True)
         if first:
+            check_first_block(X, params["amnesic"])
             self._start(X.shape[1])
         t1, t2, c, r = amnesic_params(params["amnesic"])
         frac = 0.0 if params["var_fraction"] is None else params["var_fraction"]  # 0: off

@@ -156,13 +156,16 @@ def test_shapes_property(n, d, k, seed):
         with pytest.raises(ValueError):
             CCIPCA(k).partial_fit(X)
         return
+    if n < 4:  # with the constant amnesic l = 2 the rate is 1 up to t = 3: those samples only set the mean
+        with pytest.raises(ValueError, match="first 3 samples.*at least 4 rows"):
+            CCIPCA(k).partial_fit(X)
+        return
     pca = CCIPCA(k, random_state=seed).partial_fit(X)
     Z = pca.transform(X)
     assert Z.shape == (n, k)  # always n_components columns; inactive ones are zeros
     assert np.all(Z[:, pca.n_active_ :] == 0)
-    # with the constant amnesic l = 2 the rate is 1 up to t = 3: those samples only set the mean
-    assert (1 if n >= 4 else 0) <= pca.n_active_ <= k
-    assert np.isfinite(Z).all()
+    assert 1 <= pca.n_active_ <= k
+    assert np.isfinite(Z).all() and np.abs(Z).max() < 1e3  # no whitening of round-off
 
 
 @settings(max_examples=25, deadline=None)

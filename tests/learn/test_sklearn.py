@@ -112,6 +112,18 @@ def test_fixed_output_width_while_learning():
     assert len(set(actives)) > 1  # the case the fixed width is for
 
 
+@pytest.mark.parametrize("cls", [IncSFA, CCIPCA])
+def test_first_block_must_reach_past_the_mean_only_samples(cls):
+    """With the amnesic l = 2 the first 3 samples only set the mean (rate capped at 1): their
+    centred values are round-off, and whitening them gave features of order 1e16."""
+    X = slow_mixture(200)
+    with pytest.raises(ValueError, match="first 3 samples.*at least 4 rows"):
+        cls().fit(X[:3])
+    assert cls().partial_fit(X[:4]).partial_fit(X[4:5]).n_samples_seen_ == 5  # later blocks may be short
+    assert np.abs(cls(random_state=0).fit(X[:4]).transform(X)).max() < 100
+    assert cls(amnesic=0.0).fit(X[:2]).n_samples_seen_ == 2  # l = 0: only the first sample sets the mean
+
+
 def test_incsfa_outputs_zeros_before_any_component_is_active():
     """No whitened component is active until one carries variance: the features are then zeros."""
     X = np.array([[0.0, 0.0, 0.0]] * 2 + [[1.0, 1.0, 1.0]] * 3)  # rows 4-5 equal the mean rows 1-3 set, exactly
