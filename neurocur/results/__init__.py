@@ -1,10 +1,14 @@
 """Results folders: the store that owns their layout, ``config.toml``, resume and loading.
 
 :class:`ResultsStore` is the only code that knows where a run's files go; the experiment
-runner writes through it and :mod:`neurocur.analysis` reads through it (``load``).
+runner writes through it (holding the folder's lock, :mod:`.lock`) and
+:mod:`neurocur.analysis` reads through it (``load``). :mod:`.fingerprint` records what
+determines a run besides its configuration: its input files and the code.
 """
 
-from .store import ResultsStore, RunResult, load, run_dirs
+from .lock import FolderInUse
+from .store import ResultsError, ResultsStore, RunResult, load, run_dirs
 from .tomlio import dumps_toml, first_difference
 
-__all__ = ["ResultsStore", "RunResult", "dumps_toml", "first_difference", "load", "run_dirs"]
+__all__ = ["FolderInUse", "ResultsError", "ResultsStore", "RunResult", "dumps_toml", "first_difference", "load",
+           "run_dirs"]

@@ -1,0 +1,101 @@
+"""Fingerprints of what determines a run besides its resolved configuration: the content
+of its input files and the code.
+
+* An input file (a world parameter declared as a path, e.g. a user source ``.npy``) is
+  recorded by its sha256 (:func:`file_hashes`); a folder is not an input file.
+* The code is recorded as the package version, a sha256 of the source of every module
+  that can compute a run (the package's ``.py`` files except :mod:`neurocur.analysis`,
+  which only reads results folders) and, when the package runs from a git clone, the
+  commit and whether the package has uncommitted changes (:func:`code_fingerprint`).
+  Two fingerprints describe the same code when version and source hash agree.
+
+:meth:`neurocur.results.ResultsStore.open` records both in ``config.toml`` and compares
+them on resume (:func:`changed_input`, :func:`code_changed`).
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import subprocess
+from collections.abc import Iterable, Mapping
+from pathlib import Path
+
+__all__ = ["changed_input", "code_changed", "code_fingerprint", "file_hashes", "same_code"]
+
+PACKAGE = Path(__file__).resolve().parents[1]
+#: subpackages left out of the code fingerprint: they never compute a run
+NOT_RUN_CODE = ("analysis",)
+
+
+def file_hashes(paths: Iterable[str]) -> dict[str, str]:
+    """The sha256 (hex) of each path that is a file, by path; other paths are left out."""
+    return {str(p): _sha256(Path(p)) for p in dict.fromkeys(paths) if Path(p).is_file()}
+
+
+def _sha256(path: Path) -> str:
+    h = hashlib.sha256()
+    with path.open("rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+def changed_input(old: Mapping[str, str], new: Mapping[str, str]) -> str | None:
+    """A description of the first file recorded in both ``old`` and ``new`` whose hash differs."""
+    for path, digest in new.items():
+        if path in old and old[path] != digest:
+            return f"input file {path} changed since this folder's runs were computed (sha256 {old[path][:12]} then, " \
+                   f"{digest[:12]} now)"
+    return None
+
+
+@functools.cache
+def code_fingerprint() -> dict:
+    """``{"version", "source", "commit", "dirty"}`` of the running package (computed once per process).
+
+    ``commit`` is ``""`` and ``dirty`` false when the package does not run from a git clone
+    (or git is not installed).
+    """
+    from neurocur import __version__
+
+    h = hashlib.sha256()
+    for path in sorted(PACKAGE.rglob("*.py")):
+        relative = path.relative_to(PACKAGE)
+        if relative.parts[0] not in NOT_RUN_CODE:
+            h.update(relative.as_posix().encode() + b"\0" + path.read_bytes() + b"\0")
+    commit, dirty = "", False
+    if _git("ls-files", "--", "__init__.py"):  # the package is tracked by the clone it sits in
+        commit = _git("rev-parse", "HEAD") or ""
+        excluded = [f":(exclude){name}" for name in NOT_RUN_CODE]
+        dirty = bool(commit and _git("status", "--porcelain", "--", ".", *excluded))
+    return {"version": __version__, "source": h.hexdigest()[:16], "commit": commit, "dirty": dirty}
+
+
+def same_code(a: Mapping, b: Mapping) -> bool:
+    """Whether two code fingerprints describe the same code (version and source hash)."""
+    return (a.get("version"), a.get("source")) == (b.get("version"), b.get("source"))
+
+
+def code_changed(recorded: list, current: Mapping) -> str | None:
+    """A description of the change when ``current`` matches none of the ``recorded`` fingerprints."""
+    if any(same_code(old, current) for old in recorded if isinstance(old, Mapping)):
+        return None
+    then = describe_code(recorded[-1]) if recorded else "a neurocur that recorded no code fingerprint"
+    return f"the code changed since this folder's runs were computed ({then} then, {describe_code(current)} now)"
+
+
+def describe_code(fp: Mapping) -> str:
+    """``"neurocur 0.1.0, commit 28b7d983e348 with uncommitted changes, source 1a2b3c4d"``."""
+    text = f"neurocur {fp.get('version', '?')}"
+    if fp.get("commit"):
+        text += f", commit {fp['commit'][:12]}" + (" with uncommitted changes" if fp.get("dirty") else "")
+    return text + f", source {str(fp.get('source', '?'))[:8]}"
+
+
+def _git(*args: str) -> str | None:
+    try:
+        done = subprocess.run(["git", "-C", str(PACKAGE), *args], capture_output=True, timeout=10, check=True)
+    except (OSError, subprocess.SubprocessError):
+        return None
+    return done.stdout.decode("utf-8", "replace").strip()
