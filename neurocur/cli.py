@@ -3,14 +3,19 @@
 A thin layer: it parses arguments and calls :mod:`neurocur.experiments`,
 :mod:`neurocur.analysis` (and :mod:`neurocur.analysis.invariance`) and
 :mod:`neurocur.learn.omega`.
-Errors in arguments or configuration are printed as one line naming the key and
-what was expected, with exit status 2.
+Every user-facing error (arguments, configuration, a results folder that cannot be
+written or resumed, unreadable files) is printed as one line naming what was wrong and
+what was expected, with exit status 2. Ctrl-C exits with status 130.
 """
 
 from __future__ import annotations
 
 import argparse
+import os
+import re
+import signal
 import sys
+import threading
 from pathlib import Path
 
 import numpy as np
@@ -25,7 +30,9 @@ examples:
   neurocur omega --experiment experiments/synthetic.toml   Omega of every context's frames
   neurocur invariance experiments/invariance.toml          Figure 5: invariance of a learned slow feature
 
-Running again into the same results folder resumes: finished runs are kept.
+Running again into the same results folder resumes: finished runs are kept. One process at a
+time writes into a results folder; resuming refuses changed input files and (unless
+--accept-code-change) changed code. Ctrl-C finishes the runs in progress; twice abandons them.
 """
 
 
@@ -59,6 +66,13 @@ def _eta(text: str) -> float:
     return value
 
 
+def _memory(text: str) -> int:
+    match = re.fullmatch(r"\s*(\d+(?:\.\d+)?)\s*([kmgt]?)i?b?\s*", text.lower())
+    if not match or float(match.group(1)) <= 0:
+        raise argparse.ArgumentTypeError(f"expected a memory size such as 8G or 512M, got {text!r}")
+    return int(float(match.group(1)) * 1024 ** " kmgt".index(match.group(2) or " "))
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="neurocur",
@@ -90,6 +104,12 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--set", dest="sets", action="extend", nargs="+", default=[], metavar="KEY=VALUE",
                      help="override a setting: runs, steps, seed, circuit, world.KEY or REGION.param; "
                      "VALUE is a TOML literal (0.3, true, [1, 2], \"text\"; a bare word is a string)")
+    run.add_argument("--max-memory", type=_memory, metavar="SIZE",
+                     help="memory the workers may use together, e.g. 8G (default: what the machine has available); "
+                     "estimated from each condition's first episode before any worker starts")
+    run.add_argument("--accept-code-change", action="store_true",
+                     help="resume into a folder whose runs other code computed (the folder records every code "
+                     "version that wrote runs into it); changed input files are always refused")
     bar = run.add_mutually_exclusive_group()
     bar.add_argument("--progress", dest="progress", action="store_true", default=None,
                      help="always show the progress bar (default: only on a terminal)")
@@ -132,13 +152,17 @@ def build_parser() -> argparse.ArgumentParser:
 def _cmd_run(args) -> int:
     import pandas as pd
 
-    from neurocur.analysis import order_tables, write_summary
     from neurocur.experiments import load_experiment, run_experiment
+    from neurocur.results import ResultsStore
 
     exp = load_experiment(args.experiment, sets=args.sets, runs=args.runs, steps=args.steps, seed=args.seed)
     out = Path(args.out) if args.out else Path("results") / exp.name
-    run_experiment(exp, out, jobs=args.jobs, conditions=args.condition, progress=args.progress)
-    write_summary(out)
+    with ResultsStore(out).writing():  # held until the summary is written too
+        run_experiment(exp, out, jobs=args.jobs, conditions=args.condition, progress=args.progress,
+                       max_memory=args.max_memory, accept_code_change=args.accept_code_change)
+        from neurocur.analysis import order_tables, write_summary  # imported once the runs are done
+
+        write_summary(out)
     print(f"results: {out}")
     with pd.option_context("display.width", 200, "display.max_columns", None):
         print(order_tables(out, conditions=list(exp.conditions)).to_string())
@@ -148,6 +172,8 @@ def _cmd_run(args) -> int:
 def _cmd_figures(args) -> int:
     from neurocur.analysis.figures import write_all
 
+    if args.out is not None:
+        _check_writable_folder(Path(args.out), "--out")
     for path in write_all(args.results, args.out):
         print(path)
     return 0
@@ -164,8 +190,19 @@ def _cmd_omega(args) -> int:
         path = Path(args.file)
         if not path.is_file():
             raise ValueError(f"omega: FILE.npy: expected an existing .npy file, got {str(path)!r} (no such file)")
-        X = np.load(path, allow_pickle=False)
-        print(f"{path}: Omega = {omega(X, args.eta):.5f}  (eta = {args.eta:g}, {X.shape[0]} steps)")
+        try:
+            X = np.load(path, allow_pickle=False)
+        except (ValueError, OSError, EOFError) as exc:
+            raise ValueError(f"omega: {path}: expected a .npy array written by numpy.save, got a file numpy "
+                             f"cannot read as one ({exc})") from None
+        if not isinstance(X, np.ndarray):  # a .npz archive
+            X.close()
+            raise ValueError(f"omega: {path}: expected a .npy array written by numpy.save, got a .npz archive")
+        try:
+            value = omega(X, args.eta)
+        except ValueError as exc:
+            raise ValueError(f"omega: {path}: {exc}") from None
+        print(f"{path}: Omega = {value:.5f}  (eta = {args.eta:g}, {X.shape[0]} steps)")
         return 0
     from neurocur.experiments import load_experiment
 
@@ -201,6 +238,18 @@ def _cmd_invariance(args) -> int:
     return 0
 
 
+def _check_writable_folder(path: Path, option: str) -> None:
+    """ValueError unless ``path`` is a folder this process can write into, or can be created as one."""
+    if path.exists() and not path.is_dir():
+        raise ValueError(f"{option}: expected a folder, got {str(path)!r} (a file)")
+    existing = next(p for p in (path, *path.absolute().parents) if p.exists())
+    if not existing.is_dir():
+        raise ValueError(f"{option}: expected a folder, got {str(path)!r} (inside the file {str(existing)!r})")
+    if not os.access(existing, os.W_OK | os.X_OK):
+        raise ValueError(f"{option}: expected a folder you can write into, got {str(path)!r} "
+                         f"({str(existing)!r} is not writable)")
+
+
 def main(argv=None) -> int:
     """Entry point of the ``neurocur`` command; returns the exit status."""
     parser = build_parser()
@@ -209,11 +258,16 @@ def main(argv=None) -> int:
                "invariance": _cmd_invariance}[args.command]
     try:
         return command(args)
-    except ValueError as exc:  # ConfigError is a ValueError: one line naming the key, no traceback
+    except (ValueError, OSError) as exc:  # ConfigError is a ValueError; OSError: a file that cannot be read or written
         print(f"neurocur {args.command}: error: {exc}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        print("neurocur: interrupted; finished runs are kept (run again to resume)", file=sys.stderr)
+    except KeyboardInterrupt as exc:
+        if threading.current_thread() is threading.main_thread():
+            signal.signal(signal.SIGINT, signal.SIG_IGN)  # a further Ctrl-C must not interrupt the exit
+        from neurocur.experiments.pool import Interrupted
+
+        if not isinstance(exc, Interrupted):  # else the runner has said what happened
+            print("neurocur: interrupted; finished runs are kept (run again to resume)", file=sys.stderr)
         return 130
 
 

@@ -39,6 +39,7 @@ __all__ = [
     "make_params",
     "resolve_paths",
     "params_to_dict",
+    "path_values",
     "load_toml",
     "check_keys",
     "require",
@@ -81,15 +82,22 @@ class ConfigError(ValueError):
 
 
 def load_toml(path) -> dict:
-    """Read a TOML file into a dict; a missing file or a syntax error is a ConfigError."""
+    """Read a TOML file into a dict; a missing, unreadable or binary file, a directory or a
+    syntax error is a ConfigError."""
     path = Path(path)
+    if path.is_dir():
+        raise ConfigError(path, None, "a TOML file", "a directory")
     try:
         with path.open("rb") as fh:
             return tomllib.load(fh)
     except FileNotFoundError:
         raise ConfigError(path, None, "an existing TOML file", "no such file") from None
+    except OSError as exc:
+        raise ConfigError(path, None, "a readable TOML file", f"{exc.strerror or exc}") from None
     except tomllib.TOMLDecodeError as exc:
         raise ConfigError(path, None, "valid TOML", f"a syntax error ({exc})") from None
+    except UnicodeDecodeError:
+        raise ConfigError(path, None, "a TOML file (UTF-8 text)", "a binary file") from None
 
 
 def check_keys(table: Mapping, allowed, *, source, prefix: str = "", required=()) -> None:
@@ -398,6 +406,32 @@ def make_params(cls, table: Mapping | None, *, source, prefix: str):
         return cls(**table)
     except ConfigError as exc:
         raise ConfigError(source, _join(prefix, exc.key), exc.expected, exc.got) from None
+
+
+def path_values(obj) -> list[str]:
+    """The values of every path parameter (``ParamSpec(path=True)``) of the parameter
+    dataclass ``obj``, in field order, inside lists, tables and nested parameters too.
+
+    Only string values are listed (an array given in place of a file is not a path).
+    """
+    found: list[str] = []
+
+    def walk(spec: ParamSpec, value) -> None:
+        if spec.path and isinstance(value, str):
+            found.append(value)
+        elif spec.kind is tuple and isinstance(value, (list, tuple)):
+            for item in value:
+                walk(spec.item, item)
+        elif spec.kind is dict and isinstance(value, Mapping):
+            for item in value.values():
+                walk(spec.item, item)
+        elif dataclasses.is_dataclass(spec.kind) and isinstance(value, spec.kind):
+            found.extend(path_values(value))
+
+    for f in dataclasses.fields(obj):
+        if f.metadata.get("spec") is not None:
+            walk(f.metadata["spec"], getattr(obj, f.name))
+    return found
 
 
 def params_to_dict(obj) -> dict[str, Any]:

@@ -4,12 +4,16 @@ The runner knows no region by name: it reads the circuit's end-of-run products
 (:meth:`neurocur.scheduler.Simulator.products`): ``"modules"``, the stored-module table,
 and ``"library"``, the frozen modules, which the world judges against its hidden
 sources (:meth:`neurocur.contexts.base.World.module_report`).
+
+:func:`dry_run` runs a condition's first episode, to check it (and measure its memory)
+before any worker starts.
 """
 
 from __future__ import annotations
 
 import math
 import time
+import tracemalloc
 from collections.abc import Sequence
 
 import numpy as np
@@ -20,7 +24,7 @@ from neurocur.results import RunResult
 
 from .spec import Condition
 
-__all__ = ["run_one"]
+__all__ = ["dry_run", "run_one"]
 
 
 def _gates(episodes: pd.DataFrame, modules: pd.DataFrame, names: Sequence[str]) -> list[str]:
@@ -78,3 +82,36 @@ def run_one(condition: Condition, run: int, steps: int, seed: np.random.SeedSequ
         "seconds": round(time.perf_counter() - started, 3),
     }
     return RunResult(condition.name, int(run), episodes, modules, summary, tables)
+
+
+def dry_run(condition: Condition, seed: np.random.SeedSequence) -> int:
+    """Run ``condition``'s first episode as a run starts (world, circuit, one episode), to check
+    it; returns the peak memory that episode allocates, in bytes.
+
+    The episode runs twice: first to check it and to load the compiled kernels (whose
+    loading ``tracemalloc`` would slow down severalfold), then under ``tracemalloc``, which
+    sees numpy's arrays. A ValueError names the condition and keeps the region's message.
+    """
+    try:
+        _first_episode(condition, seed)
+        tracing = tracemalloc.is_tracing()
+        if tracing:
+            tracemalloc.reset_peak()
+        else:
+            tracemalloc.start()
+        try:
+            base = tracemalloc.get_traced_memory()[0]
+            _first_episode(condition, seed)
+            return tracemalloc.get_traced_memory()[1] - base
+        finally:
+            if not tracing:
+                tracemalloc.stop()
+    except ValueError as exc:
+        raise ValueError(f"condition {condition.name!r}: {exc}") from None
+
+
+def _first_episode(condition: Condition, seed: np.random.SeedSequence) -> None:
+    world = condition.make_world()
+    for spec in condition.circuit.specs.values():
+        spec.make().bind(world)  # the regions' checks against the world, before it renders its frames
+    condition.circuit.build(world, seed=seed).run(1)

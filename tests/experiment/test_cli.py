@@ -48,7 +48,35 @@ def test_bad_values_exit_2_with_one_line(argv, message, capsys):
     assert message in err and "Traceback" not in err and err.count("\n") == 1
 
 
+def _files(tmp: Path) -> dict[str, str]:
+    (tmp / "a_file").write_text("not a folder\n")
+    (tmp / "binary.toml").write_bytes(b"\x80\x81\x00\xff")
+    (tmp / "text.npy").write_text("1 2 3\n")
+    np.savez(tmp / "archive.npz", a=np.zeros((5, 2)))
+    return {"TMP": str(tmp), "FILE": str(tmp / "a_file"), "BINARY": str(tmp / "binary.toml"),
+            "TEXT": str(tmp / "text.npy"), "NPZ": str(tmp / "archive.npz")}
+
+
 @pytest.mark.parametrize("argv, message", [
+    (["run", "{TMP}"], "{TMP}: expected a TOML file, got a directory"),
+    (["run", "{BINARY}"], "{BINARY}: expected a TOML file (UTF-8 text), got a binary file"),
+    (["run", SYNTHETIC, "--out", "{FILE}"], "results folder {FILE}: expected a folder, got a file"),
+    (["run", SYNTHETIC, "--out", "{FILE}/sub"], "results folder {FILE}/sub: cannot create it (Not a directory)"),
+    (["run", SYNTHETIC, "--out", "/proc/neurocur-results"], "results folder /proc/neurocur-results: cannot create it"),
+    (["figures", "{TMP}", "--out", "{FILE}"], "--out: expected a folder, got '{FILE}' (a file)"),
+    (["figures", "{TMP}", "--out", "{FILE}/sub"], "--out: expected a folder, got '{FILE}/sub' (inside the file"),
+    (["omega", "{TEXT}"], "omega: {TEXT}: expected a .npy array written by numpy.save, got a file numpy cannot read"),
+    (["omega", "{NPZ}"], "omega: {NPZ}: expected a .npy array written by numpy.save, got a .npz archive"),
+])
+def test_files_and_folders_that_do_not_fit_exit_2_with_one_line(argv, message, tmp_path, capsys):
+    names = _files(tmp_path)
+    assert main([a.format(**names) for a in argv]) == 2
+    err = capsys.readouterr().err
+    assert message.format(**names) in err and "Traceback" not in err and err.count("\n") == 1
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["run", SYNTHETIC, "--max-memory", "lots"], "argument --max-memory: expected a memory size such as 8G"),
     (["run", SYNTHETIC, "--runs", "0"], "argument --runs: expected a positive integer, got '0'"),
     (["run", SYNTHETIC, "--jobs", "two"], "argument --jobs: expected a positive integer, got 'two'"),
     (["omega", "x.npy", "--eta", "0.9"], "argument --eta: expected a number in (0, 0.5], got '0.9'"),
