@@ -79,9 +79,14 @@ class Estimator(ClassNamePrefixFeaturesOutMixin, TransformerMixin, BaseEstimator
         """The parameters checked by their specs and by ``_check_params``, coerced (ints to
         float, ...); a bad one raises a ``ValueError`` (a ``ConfigError``) naming it, what
         was expected and what was given."""
+        raw = tuple(getattr(self, k) for k in self.param_specs)
+        cached = self.__dict__.get("_params_checked")
+        if cached is not None and _same(cached[0], raw):  # unchanged since the last check
+            return dict(cached[1])
         params = coerce_params(self.param_specs, self.get_params(deep=False), source=type(self).__name__)
         self._check_params(params)
-        return params
+        self._params_checked = (raw, params)
+        return dict(params)
 
     def _check_params(self, params: dict) -> None:
         """Checks beyond each parameter's spec, on the coerced ``params``; none by default."""
@@ -133,6 +138,11 @@ class Estimator(ClassNamePrefixFeaturesOutMixin, TransformerMixin, BaseEstimator
         first = learn and not self.__sklearn_is_fitted__()
         if not learn:
             self._check_fitted()
+        elif not first and _plain_block(X, self.n_features_in_):
+            # the per-episode path of a fitted learner: the same contract as below (finite,
+            # n_features_in_ columns, in range) checked in one pass, without validate_data's overhead
+            check_scale(X, first=False, centred=self._centred)
+            return X
         X = validate_data(
             self, X, reset=first, dtype="numeric", ensure_min_samples=max(min_rows, self._min_first_rows if first else 1)
         )
@@ -191,3 +201,16 @@ def expected_failed_checks(estimator) -> dict[str, str]:
         reason = f"the check fits data with 2 features, fewer than {name}={needed} (it must not exceed the features)"
         failed.update(dict.fromkeys(TWO_FEATURE_CHECKS, reason))
     return failed
+
+
+def _same(a: tuple, b: tuple) -> bool:
+    """Parameter tuples equal value by value, each the same type (``1 == 1.0`` is not enough)."""
+    return len(a) == len(b) and all(type(x) is type(y) and x == y for x, y in zip(a, b))
+
+
+def _plain_block(X, n_features: int) -> bool:
+    """``X`` is already what ``validate_data`` would return: a C-contiguous 2-d float64 ndarray
+    of ``n_features`` columns and at least one row."""
+    return (type(X) is np.ndarray and X.dtype == np.float64 and X.ndim == 2 and X.shape[0] >= 1
+            and X.shape[1] == n_features and X.flags.c_contiguous)
+

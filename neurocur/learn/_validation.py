@@ -97,6 +97,8 @@ def check_scale(X: np.ndarray, *, name: str = "X", first: bool = False, centred:
     if first:
         accepted += f" and, on the first fit, {'largest feature range' if centred else 'largest |value|'} >= {MIN_SCALE:g}"
     biggest = float(np.abs(X).max()) if X.size else 0.0
+    if not np.isfinite(biggest):
+        raise ValueError(f"{name} must be finite: it contains NaN or inf")
     if biggest > MAX_SCALE:
         raise ValueError(
             f"{name} is out of the learners' numerical range: its largest |value| is {biggest:.3g}, "

@@ -159,3 +159,22 @@ def test_set_params_rejects_and_rolls_back():
     with pytest.raises(ValueError, match="key 'eig_cutoff'"):
         model.set_params(mca_rate=0.1, eig_cutoff=1.5)
     assert model.get_params() == IncSFA(random_state=0).get_params()
+
+
+def test_fast_path_of_a_fitted_learner_keeps_the_contract():
+    """A fitted learner's plain float64 blocks skip validate_data but are checked the same way."""
+    X = np.random.default_rng(0).random((50, 6))
+    sfa = IncSFA(2, 3, random_state=0).fit(X)
+    reference = IncSFA(2, 3, random_state=0).fit(X)
+    sfa.partial_fit(X)
+    reference.partial_fit(np.asfortranarray(X))  # not C-contiguous: the validate_data path
+    np.testing.assert_array_equal(sfa.projection_, reference.projection_)
+    bad = X.copy()
+    bad[4, 1] = np.nan
+    with pytest.raises(ValueError, match="finite"):
+        sfa.partial_fit(bad)
+    with pytest.raises(ValueError, match="features"):
+        sfa.partial_fit(X[:, :5].copy())
+    sfa.mca_rate = 0.9  # a parameter changed after the last check is checked again
+    with pytest.raises(ValueError, match="mca_rate"):
+        sfa.partial_fit(X)
