@@ -40,9 +40,10 @@ from pathlib import Path
 
 import networkx as nx
 
-from .config import ConfigError, check_keys, deep_merge, describe, load_toml, make_params, params_to_dict, require
+from .config import ConfigError, describe, make_params, params_to_dict
 from .regions import REGIONS, Region
 from .registry import UnknownType
+from .tables import check_keys, deep_merge, load_toml, require
 
 __all__ = ["Circuit", "RegionSpec", "Link"]
 

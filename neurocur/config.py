@@ -1,9 +1,8 @@
-"""Configuration helpers: TOML loading, errors that name the file and key, typed parameters.
+"""Configuration: errors that name the file and key, and the one parameter system.
 
 Every configuration problem raises :class:`ConfigError`, a ``ValueError`` whose message
 reads ``"<file>: key '<dotted.key>': expected <...>, got <...>"``, so a user can go
-straight to the offending line. Circuits (``circuits/*.toml``) and experiments
-(``experiments/*.toml``) both use these helpers.
+straight to the offending line. Reading the files themselves is :mod:`neurocur.tables`.
 
 Parameters of regions (and of anything else configured from a file) are frozen
 dataclasses whose fields are declared with :func:`param` (or :func:`spec_param` for a
@@ -19,7 +18,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -40,11 +38,8 @@ __all__ = [
     "resolve_paths",
     "params_to_dict",
     "path_values",
-    "load_toml",
-    "check_keys",
-    "require",
-    "deep_merge",
     "describe",
+    "join_key",
 ]
 
 
@@ -74,71 +69,14 @@ class ConfigError(ValueError):
 
     def relocated(self, source=None, prefix: str | None = None) -> ConfigError:
         """The same error reported from another file and/or under a key prefix."""
-        key = _join(prefix, self.key) if prefix else self.key
+        key = join_key(prefix, self.key) if prefix else self.key
         return ConfigError(self.source if source is None else source, key, self.expected, self.got)
 
 
 # --------------------------------------------------------------------------- files
 
 
-def load_toml(path) -> dict:
-    """Read a TOML file into a dict; a missing, unreadable or binary file, a directory or a
-    syntax error is a ConfigError."""
-    path = Path(path)
-    if path.is_dir():
-        raise ConfigError(path, None, "a TOML file", "a directory")
-    try:
-        with path.open("rb") as fh:
-            return tomllib.load(fh)
-    except FileNotFoundError:
-        raise ConfigError(path, None, "an existing TOML file", "no such file") from None
-    except OSError as exc:
-        raise ConfigError(path, None, "a readable TOML file", f"{exc.strerror or exc}") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(path, None, "valid TOML", f"a syntax error ({exc})") from None
-    except UnicodeDecodeError:
-        raise ConfigError(path, None, "a TOML file (UTF-8 text)", "a binary file") from None
-
-
-def check_keys(table: Mapping, allowed, *, source, prefix: str = "", required=()) -> None:
-    """Raise ConfigError for a key of ``table`` outside ``allowed`` or a missing required key."""
-    for key in required:
-        if key not in table:
-            raise ConfigError(source, _join(prefix, key), "this key to be present", "nothing")
-    allowed = tuple(allowed)
-    for key in table:
-        if key not in allowed:
-            raise ConfigError(source, _join(prefix, key), f"one of the keys {list(allowed)}", "an unknown key")
-
-
-_MISSING = object()
-
-
-def require(table: Mapping, key: str, types, *, source, prefix: str = "", expected: str, default=_MISSING):
-    """Return ``table[key]`` checked against ``types`` (bool never passes for int/float)."""
-    if key not in table:
-        if default is not _MISSING:
-            return default
-        raise ConfigError(source, _join(prefix, key), expected, "nothing (the key is missing)")
-    value = table[key]
-    types = types if isinstance(types, tuple) else (types,)
-    if (isinstance(value, bool) and bool not in types) or not isinstance(value, types):
-        raise ConfigError(source, _join(prefix, key), expected, describe(value))
-    return value
-
-
-def deep_merge(base: Mapping, override: Mapping) -> dict:
-    """A new dict: ``override`` merged into ``base``; nested tables merge, other values replace."""
-    out = dict(base)
-    for key, value in override.items():
-        if isinstance(value, Mapping) and isinstance(out.get(key), Mapping):
-            out[key] = deep_merge(out[key], value)
-        else:
-            out[key] = value
-    return out
-
-
-def _join(prefix: str, key: str | None) -> str:
+def join_key(prefix: str, key: str | None) -> str:
     """``prefix.key``; an index key (``[2]``) attaches without a dot; either part may be empty."""
     if not prefix or not key:
         return key or prefix
@@ -286,7 +224,7 @@ class ParamSpec:
         n = len(value) if isinstance(value, (list, tuple)) else -1
         if n < 0 or (self.length is not None and n != self.length) or n < self.min_length:
             raise ConfigError(source, key, self.expected(), describe(value))
-        return tuple(self.item.coerce(v, source=source, key=_join(key or "", f"[{i}]")) for i, v in enumerate(value))
+        return tuple(self.item.coerce(v, source=source, key=join_key(key or "", f"[{i}]")) for i, v in enumerate(value))
 
     def _coerce_table(self, value, source, key) -> dict:
         if not isinstance(value, Mapping):
@@ -295,7 +233,7 @@ class ParamSpec:
         for name, v in value.items():
             if not isinstance(name, str) or not name:
                 raise ConfigError(source, key, "a table whose names are non-empty strings", f"the name {name!r}")
-            out[name] = self.item.coerce(v, source=source, key=_join(key or "", name))
+            out[name] = self.item.coerce(v, source=source, key=join_key(key or "", name))
         return out
 
     def resolved(self, value, base_dir: Path):
@@ -382,10 +320,10 @@ def check_table(cls, table: Mapping, *, source, prefix: str) -> None:
     specs = {f.name: f.metadata.get("spec") for f in dataclasses.fields(cls)}
     for key, value in table.items():
         if key not in specs:
-            raise ConfigError(source, _join(prefix, key), f"a parameter of {cls.__qualname__} ({', '.join(specs)})",
+            raise ConfigError(source, join_key(prefix, key), f"a parameter of {cls.__qualname__} ({', '.join(specs)})",
                               "an unknown parameter")
         if specs[key] is not None:
-            specs[key].coerce(value, source=source, key=_join(prefix, key))
+            specs[key].coerce(value, source=source, key=join_key(prefix, key))
 
 
 def resolve_paths(cls, table: Mapping, base_dir) -> dict:
@@ -400,12 +338,12 @@ def make_params(cls, table: Mapping | None, *, source, prefix: str):
     names = [f.name for f in dataclasses.fields(cls)]
     for key in table:
         if key not in names:
-            raise ConfigError(source, _join(prefix, key), f"a parameter of {cls.__qualname__} ({', '.join(names)})",
+            raise ConfigError(source, join_key(prefix, key), f"a parameter of {cls.__qualname__} ({', '.join(names)})",
                               "an unknown parameter")
     try:
         return cls(**table)
     except ConfigError as exc:
-        raise ConfigError(source, _join(prefix, exc.key), exc.expected, exc.got) from None
+        raise ConfigError(source, join_key(prefix, exc.key), exc.expected, exc.got) from None
 
 
 def path_values(obj) -> list[str]:

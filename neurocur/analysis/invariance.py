@@ -29,12 +29,13 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from neurocur.analysis.style import figure, style
-from neurocur.config import ConfigError, check_keys, describe, load_toml, require
+from neurocur.config import ConfigError, describe
 from neurocur.contexts.sources import LEARNABLE, SLOW_DIM, UNLEARNABLE
 from neurocur.contexts.synthetic import NORMALISATIONS, SyntheticWorld, mix_frames
 from neurocur.learn._validation import check_positive_int
 from neurocur.learn.correlation import abs_corr
 from neurocur.learn.incsfa import IncSFA
+from neurocur.tables import check_keys, load_toml, require
 
 __all__ = ["InvarianceDemo", "InvarianceSpec", "invariance_demo", "load_invariance", "fig_invariance",
            "write_invariance"]

@@ -58,19 +58,10 @@ import numpy as np
 
 import neurocur
 from neurocur.circuit import Circuit
-from neurocur.config import (
-    ConfigError,
-    check_keys,
-    check_table,
-    deep_merge,
-    describe,
-    load_toml,
-    make_params,
-    require,
-    resolve_paths,
-)
+from neurocur.config import ConfigError, check_table, describe, make_params, resolve_paths
 from neurocur.contexts import WORLDS, World
 from neurocur.registry import UnknownType
+from neurocur.tables import check_keys, deep_merge, load_toml, require
 
 from .sweep import grid, point_label, sweep_table, world_layer
 

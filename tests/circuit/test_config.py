@@ -11,15 +11,11 @@ import pytest
 from neurocur.config import (
     ConfigError,
     ParamSpec,
-    check_keys,
     check_params,
     coerce_params,
-    deep_merge,
-    load_toml,
     make_params,
     param,
     params_to_dict,
-    require,
     spec_param,
 )
 from neurocur.learn.ccipca import AmnesicSchedule
@@ -29,6 +25,7 @@ from neurocur.learn.roc import ROCBank
 from neurocur.regions.ec import ECParams
 from neurocur.regions.hpc import HPCParams
 from neurocur.regions.pfc import PFCParams
+from neurocur.tables import check_keys, deep_merge, load_toml, require
 
 
 @dataclass(frozen=True)

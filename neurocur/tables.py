@@ -1,0 +1,75 @@
+"""Reading configuration files: TOML files and the tables in them.
+
+Circuit files (``circuits/*.toml``) and experiment files (``experiments/*.toml``) are read
+with :func:`load_toml` and their tables checked with :func:`check_keys` and
+:func:`require`; every problem is a :class:`~neurocur.config.ConfigError` naming the file
+and the key. The parameters inside the tables are checked by their declared specs
+(:mod:`neurocur.config`). Loading a file never executes code.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from collections.abc import Mapping
+from pathlib import Path
+
+from .config import ConfigError, describe, join_key
+
+__all__ = ["check_keys", "deep_merge", "load_toml", "require"]
+
+
+def load_toml(path) -> dict:
+    """Read a TOML file into a dict; a missing, unreadable or binary file, a directory or a
+    syntax error is a ConfigError."""
+    path = Path(path)
+    if path.is_dir():
+        raise ConfigError(path, None, "a TOML file", "a directory")
+    try:
+        with path.open("rb") as fh:
+            return tomllib.load(fh)
+    except FileNotFoundError:
+        raise ConfigError(path, None, "an existing TOML file", "no such file") from None
+    except OSError as exc:
+        raise ConfigError(path, None, "a readable TOML file", f"{exc.strerror or exc}") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(path, None, "valid TOML", f"a syntax error ({exc})") from None
+    except UnicodeDecodeError:
+        raise ConfigError(path, None, "a TOML file (UTF-8 text)", "a binary file") from None
+
+
+def check_keys(table: Mapping, allowed, *, source, prefix: str = "", required=()) -> None:
+    """Raise ConfigError for a key of ``table`` outside ``allowed`` or a missing required key."""
+    for key in required:
+        if key not in table:
+            raise ConfigError(source, join_key(prefix, key), "this key to be present", "nothing")
+    allowed = tuple(allowed)
+    for key in table:
+        if key not in allowed:
+            raise ConfigError(source, join_key(prefix, key), f"one of the keys {list(allowed)}", "an unknown key")
+
+
+_MISSING = object()
+
+
+def require(table: Mapping, key: str, types, *, source, prefix: str = "", expected: str, default=_MISSING):
+    """Return ``table[key]`` checked against ``types`` (bool never passes for int/float)."""
+    if key not in table:
+        if default is not _MISSING:
+            return default
+        raise ConfigError(source, join_key(prefix, key), expected, "nothing (the key is missing)")
+    value = table[key]
+    types = types if isinstance(types, tuple) else (types,)
+    if (isinstance(value, bool) and bool not in types) or not isinstance(value, types):
+        raise ConfigError(source, join_key(prefix, key), expected, describe(value))
+    return value
+
+
+def deep_merge(base: Mapping, override: Mapping) -> dict:
+    """A new dict: ``override`` merged into ``base``; nested tables merge, other values replace."""
+    out = dict(base)
+    for key, value in override.items():
+        if isinstance(value, Mapping) and isinstance(out.get(key), Mapping):
+            out[key] = deep_merge(out[key], value)
+        else:
+            out[key] = value
+    return out
