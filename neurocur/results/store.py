@@ -51,7 +51,7 @@ from neurocur.config import ConfigError
 
 from .fingerprint import changed_input, code_changed, code_fingerprint, file_hashes
 from .lock import FolderLock, locked
-from .tomlio import dumps_toml, first_difference
+from .tomlio import difference_path, dotted, dumps_toml
 
 __all__ = ["ResultsError", "ResultsStore", "RunResult", "load", "run_dirs"]
 
@@ -65,7 +65,7 @@ Seeds: run i of every condition uses numpy SeedSequence(seeds.entropy, spawn_key
 each region's generator is that seed's child keyed by the region's name (the sensory region's seeds the world).
 conditions.<name>.inputs: the sha256 of each input file; code: every code version that wrote runs into this folder."""
 #: top-level keys compared on resume by their own rules (the code fingerprint), not as configuration
-_NOT_COMPARED = ("code", "neurocur_version")
+_NOT_COMPARED = ("code", "neurocur_version", "runs")
 
 
 class ResultsError(ValueError):
@@ -153,18 +153,20 @@ class ResultsStore:
             changed = changed_input(old_conditions[name].get("inputs", {}), new_conditions[name].get("inputs", {}))
             if changed:
                 raise ResultsError(f"{self.root}: {changed}; use another --out folder")
-        key = first_difference(_comparable({**existing, "conditions": {c: old_conditions[c] for c in shared}}),
-                               _comparable({**config, "conditions": {c: new_conditions[c] for c in shared}}))
-        if key is not None:
-            raise ConfigError(path, key, f"{_lookup(config, key)!r} (this experiment) to resume into this folder",
-                              f"{_lookup(existing, key)!r}; use another --out folder or remove this one")
+        where = difference_path(_comparable({**existing, "conditions": {c: old_conditions[c] for c in shared}}),
+                                _comparable({**config, "conditions": {c: new_conditions[c] for c in shared}}))
+        if where is not None:
+            raise ConfigError(path, dotted(where), f"{_lookup(config, where)} (this experiment) to resume into "
+                              f"this folder", f"{_lookup(existing, where)}; use another --out folder or remove this one")
         recorded = existing.get("code", [])
         changed = code_changed(recorded, code)
         if changed and not accept_code_change:
             raise ResultsError(f"{self.root}: {changed}; resume anyway with --accept-code-change, "
                                "or use another --out folder")
+        more_runs = config["runs"] > existing["runs"]  # a study grows by runs too: run i's seed does not depend on it
         grown = {**existing, "conditions": {**old_conditions, **new_conditions},
-                 "code": [*recorded, code] if changed else recorded}
+                 "code": [*recorded, code] if changed else recorded,
+                 **({"runs": config["runs"], "seeds": config["seeds"]} if more_runs else {})}
         if "description" in config:
             grown["description"] = config["description"]
         return grown if grown != existing else None
@@ -344,8 +346,12 @@ def _run_number(run_folder: Path) -> int:
 
 
 def _comparable(config: Mapping) -> dict:
-    """``config`` as compared on resume: without the keys of :data:`_NOT_COMPARED` nor descriptions."""
-    return _without_descriptions({k: v for k, v in config.items() if k not in _NOT_COMPARED})
+    """``config`` as compared on resume: without the keys of :data:`_NOT_COMPARED`, descriptions, and
+    the number of runs (a folder grows by runs; each run's seed depends only on its index)."""
+    kept = {k: v for k, v in config.items() if k not in _NOT_COMPARED}
+    if isinstance(kept.get("seeds"), Mapping):
+        kept["seeds"] = {k: v for k, v in kept["seeds"].items() if k != "spawn_keys"}
+    return _without_descriptions(kept)
 
 
 def _without_descriptions(tree):
@@ -355,16 +361,16 @@ def _without_descriptions(tree):
     return tree
 
 
-def _lookup(tree, dotted: str):
+def _lookup(tree, path: tuple) -> str:
+    """The value at ``path`` (from :func:`difference_path`) as text: its repr, ``"a table"``, or
+    ``"nothing (not set)"`` when the tree has no such key."""
     node = tree
-    for part in dotted.replace("[", ".[").split("."):
-        if not part:
-            continue
+    for part in path:
         try:
-            node = node[int(part[1:-1])] if part.startswith("[") else node[part]
+            node = node[part]
         except (KeyError, IndexError, TypeError):
-            return "(missing)"
-    return node if not isinstance(node, (dict, list)) else "(a table)" if isinstance(node, dict) else node
+            return "nothing (not set)"
+    return "a table" if isinstance(node, dict) else repr(node)
 
 
 def _atomic_text(path: Path, text: str) -> None:

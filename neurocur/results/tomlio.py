@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["dumps_toml", "first_difference"]
+__all__ = ["difference_path", "dotted", "dumps_toml", "first_difference"]
 
 
 def dumps_toml(data: Mapping, *, header: str = "") -> str:
@@ -68,22 +68,36 @@ def _value(value) -> str:
     raise TypeError(f"cannot write {type(value).__name__} to TOML: {value!r}")
 
 
-def first_difference(old, new, prefix: str = "") -> str | None:
+def first_difference(old, new) -> str | None:
     """The first dotted key at which two plain-data trees differ (None when equal)."""
+    path = difference_path(old, new)
+    return None if path is None else dotted(path)
+
+
+def difference_path(old, new, prefix: tuple = ()) -> tuple | None:
+    """The path (keys, and list indices as ints) of the first difference of two plain-data
+    trees; None when they are equal, ``()`` when they differ at the root."""
     if isinstance(old, Mapping) and isinstance(new, Mapping):
         for key in list(dict.fromkeys([*old, *new])):
-            where = f"{prefix}.{key}" if prefix else str(key)
             if key not in old or key not in new:
-                return where
-            found = first_difference(old[key], new[key], where)
-            if found:
+                return (*prefix, key)
+            found = difference_path(old[key], new[key], (*prefix, key))
+            if found is not None:
                 return found
         return None
     if isinstance(old, list) and isinstance(new, list) and len(old) == len(new):
         for i, (a, b) in enumerate(zip(old, new)):
-            found = first_difference(a, b, f"{prefix}[{i}]")
-            if found:
+            found = difference_path(a, b, (*prefix, i))
+            if found is not None:
                 return found
         return None
     same = old == new or (isinstance(old, float) and isinstance(new, float) and math.isnan(old) and math.isnan(new))
-    return None if same else (prefix or "(root)")
+    return None if same else prefix
+
+
+def dotted(path: tuple) -> str:
+    """A path as a dotted key (list indices as ``[i]``; ``"(root)"`` for the empty path)."""
+    text = ""
+    for part in path:
+        text += f"[{part}]" if isinstance(part, int) else (f".{part}" if text else str(part))
+    return text or "(root)"

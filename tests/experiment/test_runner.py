@@ -104,7 +104,6 @@ def test_nothing_to_do_when_complete(two_jobs):
 
 @pytest.mark.parametrize("change, key", [
     ({"steps": STEPS + 1}, "steps"),
-    ({"runs": RUNS + 1}, "runs"),
     ({"sets": ["seed=1"]}, "seeds.entropy"),
     ({"sets": ["HPC.threshold=0.2"]}, "conditions.curious.params.HPC.threshold"),
 ])

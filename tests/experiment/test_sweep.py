@@ -99,3 +99,35 @@ def test_sweep_columns_and_a_folder_that_grows_by_points(tmp_path):
     # paired seeds: run i starts in the same context at every point and in every condition
     first = grown[grown["episode"] == 0].groupby("run")["context"].nunique()
     assert (first == 1).all()
+
+
+def test_the_shipped_sweep_grows_by_runs_and_by_a_point_without_re_running(tmp_path):
+    """experiments/sweep_pfc.toml: 3 x 3 points x 4 runs, then 6 runs and a fourth discount."""
+    path, out = ROOT / "experiments" / "sweep_pfc.toml", tmp_path / "grid"
+    small = ["world.contexts=['S-A', 'S-B']"]
+    run_experiment(load_experiment(path, steps=300, sets=small), out, jobs=2, progress=False)
+    store = ResultsStore(out)
+    first = {p: os.stat(p / "run.json").st_mtime_ns for p in store.run_dirs()}
+    assert len(first) == 9 * 4
+    grown = load_experiment(path, steps=300, runs=6, sets=[*small, "PFC.discount=0.5,0.9,0.99,0.999"])
+    run_experiment(grown, out, jobs=2, progress=False)
+    after = {p: os.stat(p / "run.json").st_mtime_ns for p in store.run_dirs()}
+    assert len(after) == 12 * 6 and all(after[p] == t for p, t in first.items())  # nothing re-run
+    assert store.config()["runs"] == 6
+    episodes, _ = load(out)
+    assert {"PFC.alpha", "PFC.discount"} <= set(episodes.columns)
+    assert episodes.groupby(["PFC.alpha", "PFC.discount"])["run"].nunique().eq(6).all()
+    assert sorted(episodes["PFC.discount"].unique()) == [0.5, 0.9, 0.99, 0.999]
+
+
+def test_a_changed_point_is_refused_naming_the_key_and_both_values(tmp_path):
+    path, out = write(tmp_path, '"PFC.discount" = [0.5]'), tmp_path / "out"
+    run_experiment(load_experiment(path, runs=1, sets=["HPC.threshold=0.3"]), out, jobs=1, progress=False)
+    with pytest.raises(ConfigError) as info:
+        run_experiment(load_experiment(path, runs=1, sets=["HPC.threshold=0.25"]), out, jobs=1, progress=False)
+    err = info.value  # the key has dots in its names (the point, the parameter): the values are still found
+    assert err.key == "conditions.curious@PFC.discount=0.5.params.HPC.threshold"
+    assert err.expected.startswith("0.25 (this experiment)") and err.got.startswith("0.3;")
+    with pytest.raises(ConfigError) as info:
+        run_experiment(load_experiment(path, runs=1), out, jobs=1, progress=False)
+    assert info.value.expected.startswith("nothing (not set) (this experiment)") and info.value.got.startswith("0.3;")
