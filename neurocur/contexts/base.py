@@ -1,4 +1,4 @@
-"""The context API: a multi-context sensory world with a gymnasium-like interface.
+"""The context API: a multi-context sensory world with gymnasium's reset/step semantics.
 
 A *world* holds several contexts (paper section 2.2.1). Visiting a context yields an
 :class:`Episode`: a block of frames (rows are time, columns are pixels) and the
@@ -6,12 +6,16 @@ context-state of each frame (the local time step in the synthetic world, the arm
 joint state on the iCub). The agent chooses which context to visit next; the world
 never decides that.
 
-    world.reset(seed=...)          -> (episode, info)     # first visit
-    world.step(context)            -> (episode, 0.0, False, False, info)
+    world.reset(seed=None, options=None)   -> (episode, info)     # a new run, first visit
+    world.step(context)                    -> (episode, 0.0, False, False, info)
 
-There is no extrinsic reward, so the reward slot is always 0.0 and episodes never
-terminate the world; the tuple keeps gymnasium's shape so that tooling built for it
-reads naturally.
+Seeding follows gymnasium: ``reset(seed=s)`` re-seeds :attr:`World.np_random` with
+``numpy.random.default_rng(s)``; ``reset()`` without a seed starts a new run from the
+generator as it stands (seeded from the OS only if it never was). ``options`` may carry
+``{"context": i}``, the context of the first visit (default 0; also the keyword
+``context``). There is no extrinsic reward, so the reward slot is always 0.0 and
+episodes never terminate the world. :meth:`World.as_env` wraps a world as a real
+``gymnasium.Env`` (:class:`neurocur.contexts.gym.WorldEnv`).
 """
 
 from __future__ import annotations
@@ -95,17 +99,19 @@ class World(ABC):
     """Base class of multi-context worlds.
 
     Subclasses set ``context_names`` (tuple of str), ``source_names`` (one per
-    context: which hidden driving force or object it shows), ``n_states`` and
-    ``frame_shape``, and implement :meth:`_reset` and :meth:`_visit`.
+    context: which hidden driving force or object it shows), ``n_states``,
+    ``frame_shape`` and, if their visits have a longest length, ``max_frames``, and
+    implement :meth:`_reset` (drawing from :attr:`np_random`) and :meth:`_visit`.
     """
 
     context_names: tuple[str, ...]
     source_names: tuple[str, ...]
     n_states: int
     frame_shape: tuple[int, int]
-
-    def __init__(self) -> None:
-        self.np_random = np.random.default_rng()
+    #: The most frames one visit returns (the padded length of :meth:`as_env`'s observation);
+    #: None if the world does not bound it.
+    max_frames: int | None = None
+    _np_random: np.random.Generator | None = None
 
     @property
     def n_contexts(self) -> int:
@@ -115,11 +121,35 @@ class World(ABC):
     def n_pixels(self) -> int:
         return int(np.prod(self.frame_shape))
 
-    def reset(self, *, seed=None, context: int = 0):
-        """Start a new run (new mixing, clocks, ...) and return the first visit of ``context``."""
-        self.np_random = np.random.default_rng(seed)
+    @property
+    def np_random(self) -> np.random.Generator:
+        """The world's generator: set by ``reset(seed=...)``, seeded from the OS on first use if never seeded."""
+        if self._np_random is None:
+            self._np_random = np.random.default_rng()
+        return self._np_random
+
+    @np_random.setter
+    def np_random(self, value: np.random.Generator) -> None:
+        self._np_random = value
+
+    def reset(self, *, seed=None, options: dict | None = None, context: int | None = None):
+        """Start a new run (new mixing, clocks, ...) and return ``(first visit, info)``.
+
+        ``seed`` re-seeds :attr:`np_random` (``numpy.random.default_rng(seed)``); without
+        one the run is drawn from the generator's current stream. The first visit is of
+        ``options["context"]`` or ``context`` (default 0); ``options`` has no other key.
+        """
+        options = dict(options or {})
+        unknown = set(options) - {"context"}
+        if unknown:
+            raise ValueError(f"reset options may only hold 'context'; got {sorted(unknown)}")
+        if context is not None and "context" in options:
+            raise ValueError("give the first context either as options['context'] or as context=, not both")
+        context = self._check_context(options.get("context", 0 if context is None else context))
+        if seed is not None:
+            self._np_random = np.random.default_rng(seed)
         self._reset()
-        return self._visit(self._check_context(context)), {"context": context}
+        return self._visit(context), {"context": context}
 
     def step(self, context: int):
         """Visit ``context`` and return ``(episode, 0.0, False, False, info)``."""
@@ -134,6 +164,18 @@ class World(ABC):
     def from_params(cls, params) -> World:
         """The world of a :attr:`Params` instance."""
         raise NotImplementedError(f"{cls.__name__} has no parameter class: build it from Python")
+
+    def as_env(self, *, max_frames: int | None = None, render_mode: str | None = "rgb_array"):
+        """This world as a ``gymnasium.Env`` (:class:`neurocur.contexts.gym.WorldEnv`): the action is
+        the context to visit, the observation the visit padded to ``max_frames`` (default
+        :attr:`max_frames`) rows. The env shares this world and its generator."""
+        from .gym import WorldEnv  # here, not at the top: .gym builds on this module
+
+        return WorldEnv(self, max_frames=max_frames, render_mode=render_mode)
+
+    def close(self) -> None:
+        """Release what the world holds open (e.g. simulators). Default: nothing to release."""
+        return None
 
     @classmethod
     def prepare(cls, params) -> None:

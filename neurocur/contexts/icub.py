@@ -103,6 +103,7 @@ class ICubWorld(World):
         self.n_episodes, self.seed = params.n_episodes, params.dataset_seed
         self.scene, self.protocol = params.scene, params.protocol
         self.n_states = self.scene.n_states
+        self.max_frames = self.protocol.max_frames
         key = cache_key(self.scene, self.protocol, self.n_episodes, self.seed)
         self.cache_path = Path(params.cache_dir or default_cache_dir()).expanduser() / f"icub-{key}.npz"
         if self.cache_path.exists():
@@ -122,8 +123,8 @@ class ICubWorld(World):
         """Simulate the episode data set into its cache (constructing the world does that)."""
         cls.from_params(params)
 
-    def reset(self, *, seed=None, context: int = 0):
-        ep, info = super().reset(seed=seed, context=context)
+    def reset(self, *, seed=None, options: dict | None = None, context: int | None = None):
+        ep, info = super().reset(seed=seed, options=options, context=context)
         return ep, {**info, **self.last_info}
 
     def step(self, context: int):

@@ -254,7 +254,7 @@ class SyntheticWorld(World):
         self.context_names = p.context_names or tuple(f"C{i + 1}" for i in range(len(p.contexts)))
         self.n_states = p.n_states
         self.frame_shape = p.frame_shape
-        self.visit_length = p.visit_length
+        self.visit_length = self.max_frames = p.visit_length
         self.normalise = p.normalise
         self.clock_offsets = p.clock_offsets
         self.nonstationary = p.nonstationary

@@ -143,6 +143,16 @@ def test_reset_and_step_cycle_through_the_pool(world):
 
 
 @needs_gl
+def test_as_env_passes_gymnasium_check_env(world, check_env_strictly):
+    env = world.as_env()
+    assert env.observation_space["frames"].shape == (250, 7500)
+    check_env_strictly(env)
+    obs, info = env.reset(seed=2, options={"context": 1})
+    n = len(world.episode(1, info["episode_index"]).frames)
+    assert obs["n_frames"] == n and info["contact_frame"] == world.contact_frame(1, info["episode_index"])
+
+
+@needs_gl
 def test_bad_arguments_raise(world, tmp_path):
     with pytest.raises(ValueError, match="context"):
         world.step(2)

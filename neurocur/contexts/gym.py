@@ -1,0 +1,304 @@
+"""Worlds and gymnasium, both ways: any world as a ``gymnasium.Env``, any rendering env as a world.
+
+:class:`WorldEnv` (``world.as_env()``) is a world as a real ``gymnasium.Env``:
+
+* **action**: the context to visit, ``Discrete(n_contexts)``;
+* **observation**: the whole visit (an :class:`~.base.Episode`) padded to ``max_frames``
+  rows, a ``Dict`` of ``"frames"`` (``Box(0, 1, (max_frames, n_pixels), float64)``, rows
+  are time, zeros after the visit), ``"states"`` (``MultiDiscrete``, the context-state of
+  each row, 0 after the visit), ``"starts"`` (``MultiBinary``, 1 where an independent
+  episode begins) and ``"n_frames"`` (``Discrete(max_frames, start=1)``, the visit's length);
+* **reward** 0.0 (the worlds have no extrinsic reward), never terminated or truncated;
+* ``reset(seed=None, options=None)``: a new run of the world, whose first visit is of
+  ``options["context"]`` (default 0), with the world's seeding (:mod:`.base`): the env's
+  ``np_random`` *is* the world's generator;
+* ``render()``: the last frame shown, as an (H, W, 3) ``uint8`` gray image.
+
+:class:`GymWorld` (world type ``"gym"``) makes CD-MISFA contexts of gymnasium
+environments that render ``rgb_array`` frames: context ``i`` is environment ``envs[i]``
+(optionally reset with a fixed seed or fixed options every time), run by an exploration
+policy (uniform random actions by default). A visit runs ``visit_length`` steps of that
+environment, continuing its episode where the previous visit left it and resetting it
+when it terminates or is truncated; every reset inside a visit is a segment start
+(``Episode.starts``), so no temporal derivative spans two episodes. Each row is the
+environment's rendered state, converted to gray (ITU-R BT.601 luma), resized to
+``frame_shape`` (:func:`to_frame`) and scaled to [0, 1]. The context-state of a row is
+its step within the environment's episode (0 at a reset), capped at ``n_states - 1``.
+A context's source is its environment id: the analysis has no ground truth for them.
+
+Per run (:meth:`GymWorld.reset`), the world's generator draws for each context in order
+the seed of its environment's first reset and the seed of its action space; after the
+first reset an environment's own generator continues (unless the context has a fixed
+reset seed).
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+import gymnasium
+import numpy as np
+from gymnasium import spaces
+
+from ..config import ConfigError, ParamSpec, check_params, describe, param, spec_param
+from .base import Episode, World, register_world
+
+__all__ = ["GymParams", "GymWorld", "WorldEnv", "random_policy", "to_frame"]
+
+_LUMA = np.array([0.299, 0.587, 0.114])
+
+
+def to_frame(rgb: np.ndarray, shape: Sequence[int]) -> np.ndarray:
+    """An (H, W, 3) ``uint8`` image as a flat gray frame of ``shape`` (height, width), in [0, 1].
+
+    Gray is the BT.601 luma. Each axis is shrunk by averaging the pixels of ``n`` bins of
+    equal size (to within one pixel), or enlarged by repeating pixels (nearest neighbour).
+    """
+    rgb = np.asarray(rgb)
+    if rgb.ndim != 3 or rgb.shape[2] != 3:
+        raise ValueError(f"expected an (H, W, 3) RGB image; got shape {rgb.shape}")
+    img = rgb.astype(np.float64)
+    for axis, n in enumerate(shape):  # resizing first, then gray: both are linear, resizing is cheaper
+        size = img.shape[axis]
+        if n < size:
+            edges = np.arange(n) * size // n
+            counts = np.diff(np.append(edges, size)).reshape((-1, 1, 1) if axis == 0 else (-1, 1))
+            img = np.add.reduceat(img, edges, axis=axis) / counts
+        elif n > size:
+            img = np.take(img, np.arange(n) * size // n, axis=axis)
+    return np.clip((img @ _LUMA).ravel() / 255.0, 0.0, 1.0)
+
+
+def random_policy(env: gymnasium.Env, observation) -> object:
+    """The default exploration policy: a uniform random action from the env's (seeded) action space."""
+    return env.action_space.sample()
+
+
+class WorldEnv(gymnasium.Env):
+    """A :class:`~.base.World` as a ``gymnasium.Env`` (spaces and seeding: the module docstring).
+
+    ``max_frames``: the observation's rows (default ``world.max_frames``); a visit longer
+    than that raises. The env and the world share state: stepping one steps the other.
+    """
+
+    metadata = {"render_modes": ["rgb_array"], "render_fps": 30}
+
+    def __init__(self, world: World, *, max_frames: int | None = None, render_mode: str | None = "rgb_array"):
+        length = world.max_frames if max_frames is None else max_frames
+        if not (isinstance(length, (int, np.integer)) and length >= 1):
+            raise ValueError(f"{type(world).__name__} does not bound its visits: give max_frames (an int >= 1); "
+                             f"got {length!r}")
+        if render_mode not in (None, "rgb_array"):
+            raise ValueError(f"render_mode must be 'rgb_array' or None; got {render_mode!r}")
+        self.world, self.max_frames, self.render_mode = world, int(length), render_mode
+        self.action_space = spaces.Discrete(world.n_contexts)
+        self.observation_space = spaces.Dict({
+            "frames": spaces.Box(0.0, 1.0, (self.max_frames, world.n_pixels), np.float64),
+            "states": spaces.MultiDiscrete(np.full(self.max_frames, world.n_states, dtype=np.int64)),
+            "starts": spaces.MultiBinary(self.max_frames),
+            "n_frames": spaces.Discrete(self.max_frames, start=1),
+        })
+        self._seed = -1
+        self._last = np.zeros(world.n_pixels)
+
+    @property
+    def np_random(self) -> np.random.Generator:
+        """The world's generator."""
+        return self.world.np_random
+
+    @np_random.setter
+    def np_random(self, value: np.random.Generator) -> None:
+        self.world.np_random = value
+        self._seed = -1
+
+    @property
+    def _np_random(self) -> np.random.Generator | None:
+        return self.world._np_random
+
+    @property
+    def np_random_seed(self) -> int:
+        """The seed of the last seeded reset, or -1 if the generator was not seeded through :meth:`reset`."""
+        return self._seed
+
+    def reset(self, *, seed: int | None = None, options: dict | None = None):
+        episode, info = self.world.reset(seed=seed, options=options)
+        if seed is not None:
+            self._seed = seed
+        return self._observe(episode), info
+
+    def step(self, action):
+        episode, reward, terminated, truncated, info = self.world.step(action)
+        return self._observe(episode), reward, terminated, truncated, info
+
+    def render(self) -> np.ndarray | None:
+        """The last frame shown (black before the first reset), as an (H, W, 3) ``uint8`` image."""
+        if self.render_mode is None:
+            return None
+        gray = np.round(self._last.reshape(self.world.frame_shape) * 255.0).astype(np.uint8)
+        return np.repeat(gray[:, :, None], 3, axis=2)
+
+    def close(self) -> None:
+        self.world.close()
+
+    def _observe(self, episode: Episode) -> dict:
+        n = len(episode.frames)
+        if n > self.max_frames:
+            raise RuntimeError(f"a visit of {n} frames is longer than the env's max_frames = {self.max_frames}")
+        frames = np.zeros((self.max_frames, self.world.n_pixels))
+        frames[:n] = episode.frames
+        states = np.zeros(self.max_frames, dtype=np.int64)
+        states[:n] = episode.states
+        starts = np.zeros(self.max_frames, dtype=np.int8)
+        starts[episode.starts] = 1
+        self._last = frames[n - 1].copy()
+        return {"frames": frames, "states": states, "starts": starts, "n_frames": np.int64(n)}
+
+
+_ID = ParamSpec(str)
+_IDS = ParamSpec.sequence(_ID, min_length=1)
+
+
+@dataclass(frozen=True)
+class GymParams:
+    """Parameters of :class:`GymWorld` (an experiment file's ``[world]`` table, ``type = "gym"``).
+
+    The per-context lists (``context_names``, ``reset_seeds``, ``reset_options``) have one
+    item per environment of ``envs``; every id must be registered with gymnasium.
+    """
+
+    envs: tuple[str, ...] = spec_param(("CartPole-v1", "Pendulum-v1", "Acrobot-v1"), _IDS,
+                                       doc="the gymnasium environment id of each context")
+    context_names: tuple[str, ...] | None = spec_param(
+        None, ParamSpec.sequence(_ID, min_length=1, optional=True), doc="distinct names; default the ids")
+    visit_length: int = param(100, int, low=1, doc="frames (environment steps) per visit")
+    frame_shape: tuple[int, int] = spec_param((20, 20), ParamSpec.sequence(ParamSpec(int, low=1), length=2),
+                                              doc="(height, width) in pixels")
+    n_states: int = param(20, int, low=1, doc="context-states: the step in the environment's episode, capped")
+    max_episode_steps: int | None = param(None, int, low=1, optional=True,
+                                          doc="time limit of the environments' episodes; default each one's own")
+    reset_seeds: tuple[int, ...] | None = spec_param(
+        None, ParamSpec.sequence(ParamSpec(int, low=-1), min_length=1, optional=True),
+        doc="per context, the seed of every reset of its environment (-1: drawn once per run)")
+    reset_options: tuple[dict, ...] | None = spec_param(
+        None, ParamSpec.sequence(ParamSpec.table(ParamSpec(float)), min_length=1, optional=True),
+        doc="per context, the options (numbers) of every reset of its environment")
+
+    def __post_init__(self):
+        check_params(self)
+        where, n = type(self).__name__, len(self.envs)
+        for i, env_id in enumerate(self.envs):
+            if env_id not in gymnasium.registry:
+                raise ConfigError(where, f"envs[{i}]", "a registered gymnasium environment id (e.g. 'CartPole-v1')",
+                                  describe(env_id))
+        for key in ("context_names", "reset_seeds", "reset_options"):
+            value = getattr(self, key)
+            if value is not None and len(value) != n:
+                raise ConfigError(where, key, f"{n} items (one per environment)", describe(value))
+        if self.context_names is not None and len(set(self.context_names)) != n:
+            raise ConfigError(where, "context_names", f"{n} distinct names", describe(self.context_names))
+
+
+def _default_names(ids: Sequence[str]) -> tuple[str, ...]:
+    """The ids, a repeated id numbered by occurrence (``CartPole-v1#1``, ``CartPole-v1#2``)."""
+    seen: dict[str, int] = {}
+    names = []
+    for env_id in ids:
+        seen[env_id] = seen.get(env_id, 0) + 1
+        names.append(env_id if ids.count(env_id) == 1 else f"{env_id}#{seen[env_id]}")
+    return tuple(names)
+
+
+@register_world("gym")
+class GymWorld(World):
+    """Contexts that each show a gymnasium environment run by an exploration policy.
+
+    Parameters as :class:`GymParams` (or ``params=``), plus ``policy``, a function
+    ``(env, observation) -> action`` (default :func:`random_policy`; the world seeds each
+    environment's action space per run, so a policy drawing from it is reproducible).
+    Environments are made with ``render_mode="rgb_array"``; one that cannot render so is
+    an error. Frames, context-states and seeding: the module docstring.
+    """
+
+    Params = GymParams
+
+    def __init__(
+        self,
+        envs: Sequence[str] = GymParams.envs,
+        *,
+        context_names: Sequence[str] | None = None,
+        visit_length: int = 100,
+        frame_shape: Sequence[int] = (20, 20),
+        n_states: int = 20,
+        max_episode_steps: int | None = None,
+        reset_seeds: Sequence[int] | None = None,
+        reset_options: Sequence[dict] | None = None,
+        policy: Callable[[gymnasium.Env, object], object] = random_policy,
+        params: GymParams | None = None,
+    ) -> None:
+        if params is None:
+            params = GymParams(envs=envs, context_names=context_names, visit_length=visit_length,
+                               frame_shape=frame_shape, n_states=n_states, max_episode_steps=max_episode_steps,
+                               reset_seeds=reset_seeds, reset_options=reset_options)
+        p = self.params = params
+        self.context_names = p.context_names or _default_names(p.envs)
+        self.source_names = p.envs
+        self.n_states, self.frame_shape = p.n_states, p.frame_shape
+        self.visit_length = self.max_frames = p.visit_length
+        self.policy = policy
+        if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
+            os.environ.setdefault("SDL_VIDEODRIVER", "dummy")  # headless: pygame renders off screen, quietly
+        self.envs = [gymnasium.make(env_id, render_mode="rgb_array", max_episode_steps=p.max_episode_steps)
+                     for env_id in p.envs]
+        for env_id, env in zip(p.envs, self.envs):
+            if env.render_mode != "rgb_array":
+                self.close()
+                raise ValueError(f"gymnasium environment {env_id!r} cannot render rgb_array frames")
+        n = self.n_contexts
+        self._fixed_seeds = [s if s >= 0 else None for s in p.reset_seeds] if p.reset_seeds else [None] * n
+        self._options = [dict(o) or None for o in p.reset_options] if p.reset_options else [None] * n
+        self._first_seeds: list[int | None] = [None] * n
+        self._observations: list = [None] * n
+        self._steps = [0] * n
+        self._ended = [True] * n
+
+    @classmethod
+    def from_params(cls, params: GymParams) -> GymWorld:
+        return cls(params=params)
+
+    def close(self) -> None:
+        """Close every environment."""
+        for env in self.envs:
+            env.close()
+
+    def _reset(self) -> None:
+        for c, env in enumerate(self.envs):
+            first, action_seed = (int(s) for s in self.np_random.integers(2**63, size=2))
+            env.action_space.seed(action_seed)
+            self._first_seeds[c] = first
+        n = self.n_contexts
+        self._observations, self._steps, self._ended = [None] * n, [0] * n, [True] * n
+
+    def _visit(self, context: int) -> Episode:
+        env = self.envs[context]
+        frames = np.empty((self.visit_length, self.n_pixels))
+        states = np.empty(self.visit_length, dtype=np.int64)
+        starts = [0]
+        for t in range(self.visit_length):
+            if self._ended[context]:
+                seed = self._fixed_seeds[context]
+                if seed is None:
+                    seed, self._first_seeds[context] = self._first_seeds[context], None
+                self._observations[context], _ = env.reset(seed=seed, options=self._options[context])
+                self._steps[context], self._ended[context] = 0, False
+                if t:
+                    starts.append(t)
+            else:
+                action = self.policy(env, self._observations[context])
+                self._observations[context], _, terminated, truncated, _ = env.step(action)
+                self._steps[context] += 1
+                self._ended[context] = terminated or truncated
+            frames[t] = to_frame(env.render(), self.frame_shape)
+            states[t] = min(self._steps[context], self.n_states - 1)
+        return Episode(frames=frames, states=states, context=context, starts=np.array(starts, dtype=np.int64))
