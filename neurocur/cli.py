@@ -97,7 +97,11 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--steps", type=_positive_int, metavar="N", help="frames per run (overrides the file)")
     run.add_argument("--seed", type=_seed, metavar="N",
                      help="root seed of the runs (overrides the file; run i of every condition gets the same child)")
-    run.add_argument("--jobs", type=_positive_int, metavar="N", help="worker processes (default: all cores)")
+    run.add_argument("--jobs", type=_positive_int, metavar="N",
+                     help="worker processes (default: all cores; with --scheduler local, the Dask workers)")
+    run.add_argument("--scheduler", metavar="ADDRESS",
+                     help="compute the runs on Dask: 'local' (a LocalCluster on this machine) or a scheduler's "
+                     "address, tcp://HOST:PORT (docs/cluster.md); default: local worker processes")
     run.add_argument("--out", metavar="DIR", help="results folder (default: results/<experiment name>)")
     run.add_argument("--condition", action="append", metavar="NAME",
                      help="run only this condition (repeatable; default: all)")
@@ -159,7 +163,8 @@ def _cmd_run(args) -> int:
     out = Path(args.out) if args.out else Path("results") / exp.name
     with ResultsStore(out).writing():  # held until the summary is written too
         run_experiment(exp, out, jobs=args.jobs, conditions=args.condition, progress=args.progress,
-                       max_memory=args.max_memory, accept_code_change=args.accept_code_change)
+                       max_memory=args.max_memory, accept_code_change=args.accept_code_change,
+                       scheduler=args.scheduler)
         from neurocur.analysis import order_tables, write_summary  # imported once the runs are done
 
         write_summary(out)

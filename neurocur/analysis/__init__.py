@@ -28,7 +28,7 @@ from neurocur.analysis import bootstrap, comparison, figures, learning_time, ord
 from neurocur.analysis.bootstrap import *  # noqa: F403
 from neurocur.analysis.comparison import *  # noqa: F403
 from neurocur.analysis.figures import *  # noqa: F403
-from neurocur.analysis.io import load, order_tables, run_dirs, source_specs, write_summary
+from neurocur.analysis.io import load, order_tables, run_dirs, source_specs, throughput, write_summary
 from neurocur.analysis.learning_time import *  # noqa: F403
 from neurocur.analysis.order import *  # noqa: F403
 from neurocur.analysis.report import *  # noqa: F403
@@ -37,6 +37,6 @@ from neurocur.analysis.sweeps import *  # noqa: F403
 from neurocur.contexts.base import SourceSpec
 from neurocur.contexts.synthetic import SYNTHETIC
 
-__all__ = ["load", "order_tables", "run_dirs", "source_specs", "write_summary", "SourceSpec", "SYNTHETIC",
+__all__ = ["load", "order_tables", "run_dirs", "source_specs", "throughput", "write_summary", "SourceSpec", "SYNTHETIC",
            *order.__all__, *learning_time.__all__, *comparison.__all__, *significance.__all__, *bootstrap.__all__,
            *sweeps.__all__, *report.__all__, *figures.__all__]

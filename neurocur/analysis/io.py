@@ -18,7 +18,7 @@ from neurocur.results import ResultsStore, load, run_dirs
 from .order import per_run
 from .report import comparison_rows, order_table, summary
 
-__all__ = ["load", "run_dirs", "source_specs", "order_tables", "write_summary"]
+__all__ = ["load", "run_dirs", "source_specs", "order_tables", "throughput", "write_summary"]
 
 
 def source_specs(results_dir: str | Path) -> dict[str, SourceSpec]:
@@ -71,6 +71,8 @@ def write_summary(results_dir: str | Path) -> dict:
 
     One summary when every condition's world has the same sources, else one per condition.
     The reference of the comparisons is the first condition of the folder's ``config.toml``.
+    ``throughput`` records the runs' own compute time (``seconds`` of each ``run.json``, one
+    core each): seconds per run and runs per core-hour.
     """
     store = ResultsStore(results_dir)
     episodes, modules = store.load()
@@ -85,8 +87,18 @@ def write_summary(results_dir: str | Path) -> dict:
             keep_e, keep_m = episodes["condition"] == name, modules["condition"] == name
             result["conditions"][name] = {"spec": _spec_dict(spec),
                                           **summary(episodes[keep_e], modules[keep_m], spec, reference=reference)}
+    result["throughput"] = throughput(results_dir)
     store.write_summary(result)
     return result
+
+
+def throughput(results_dir: str | Path) -> dict:
+    """Runs, mean seconds of one run (its own compute time, one core) and runs per core-hour."""
+    store = ResultsStore(results_dir)
+    seconds = [store.run_info(p).get("seconds") for p in store.run_dirs()]
+    seconds = [s for s in seconds if isinstance(s, (int, float)) and s > 0]
+    mean = sum(seconds) / len(seconds) if seconds else None
+    return {"runs": len(seconds), "seconds_per_run": mean, "runs_per_core_hour": 3600.0 / mean if mean else None}
 
 
 def _spec_dict(spec: SourceSpec) -> dict:

@@ -1,4 +1,4 @@
-"""Running an experiment's runs in local worker processes, into a results folder.
+"""Running an experiment's runs in local worker processes (or on Dask), into a results folder.
 
 This module only schedules: the results store (:class:`neurocur.results.ResultsStore`)
 owns the folder (layout, ``config.toml``, fingerprints, resume, lock, atomic writes) and
@@ -40,6 +40,7 @@ from neurocur.config import path_values
 from neurocur.results import ResultsStore
 from neurocur.results.lock import describe_holder
 
+from .cluster import compute_on_dask
 from .run import dry_run, run_one
 from .spec import Condition, Experiment
 
@@ -146,14 +147,18 @@ def _note(text: str) -> None:
 
 
 def run_experiment(exp: Experiment, out, *, jobs: int | None = None, conditions=None, progress: bool | None = None,
-                   max_memory: int | None = None, accept_code_change: bool = False) -> Path:
+                   max_memory: int | None = None, accept_code_change: bool = False,
+                   scheduler: str | None = None) -> Path:
     """Run every (selected condition × run) of ``exp`` into the results folder ``out``.
 
     ``jobs``: worker processes (default: all cores). ``conditions``: names to run
     (default: all). ``progress``: a tqdm bar of finished runs on stderr; ``None`` shows
     it only when stderr is a terminal. ``max_memory``: bytes the workers may use together
     (default: the memory available). ``accept_code_change``: resume into a folder whose
-    runs other code computed. An experiment without a seed takes the folder's (resume)
+    runs other code computed. ``scheduler``: None for the local worker pool (default),
+    ``"local"`` for a Dask ``LocalCluster`` of ``jobs`` workers, or a Dask scheduler's
+    address (``"tcp://HOST:PORT"``); see :mod:`neurocur.experiments.cluster`. The tables
+    are the same for every choice. An experiment without a seed takes the folder's (resume)
     or a fresh one. Returns ``out``; :func:`neurocur.analysis.write_summary` then
     aggregates the folder into ``summary.json``.
 
@@ -184,7 +189,10 @@ def run_experiment(exp: Experiment, out, *, jobs: int | None = None, conditions=
         try:
             with _CtrlC() as ctrl_c:
                 try:
-                    if todo:
+                    if todo and scheduler is not None:
+                        compute_on_dask(exp, todo, jobs, store, bar, ctrl_c, scheduler, _note,
+                                        _single_threaded_children)
+                    elif todo:
                         _compute(exp, todo, jobs, str(out), bar, ctrl_c)
                 finally:
                     store.clear_partial()

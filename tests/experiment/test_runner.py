@@ -64,6 +64,10 @@ def test_folder_layout(two_jobs):
     summary = json.loads((two_jobs / "summary.json").read_text())
     assert summary["n_runs"] == {"curious": RUNS, "random_switching": RUNS}
     assert summary["spec"]["learnable"] == ["S-A", "S-B", "S-C"]
+    seconds = [json.loads(p.read_text())["seconds"] for p in two_jobs.glob("runs/*/*/run.json")]
+    rate = summary["throughput"]
+    assert rate["runs"] == 2 * RUNS and rate["seconds_per_run"] == pytest.approx(sum(seconds) / len(seconds))
+    assert rate["runs_per_core_hour"] == pytest.approx(3600 * len(seconds) / sum(seconds))
 
 
 def test_same_tables_with_one_or_two_jobs(two_jobs, tmp_path):

@@ -1,0 +1,81 @@
+"""Running an experiment's runs on a Dask cluster (dask.distributed), into a results folder.
+
+``run_experiment(..., scheduler="local")`` starts a ``LocalCluster`` of single-threaded
+worker processes on loopback; ``scheduler="tcp://HOST:PORT"`` connects to an existing
+cluster (docs/cluster.md: SLURM or PBS through dask-jobqueue). Each run is computed by
+:func:`~neurocur.experiments.run.run_one` on a worker from the same seed as in the local
+pool, and returned to this process (the client), which writes it into the results folder
+as soon as it arrives: workers need not see the folder, and a run is never half-written.
+A lost worker loses at most the runs it was computing, which Dask computes again
+elsewhere; a killed client loses the runs in flight, and running again resumes.
+
+Ctrl-C once cancels what has not finished and stops after writing what has; twice stops
+at once. Either way the finished runs are kept.
+"""
+
+from __future__ import annotations
+
+import logging
+import socket
+from contextlib import ExitStack
+
+from neurocur.results import ResultsStore
+
+from .run import run_one
+from .spec import Experiment
+
+__all__ = ["compute_on_dask"]
+
+
+def compute_on_dask(exp: Experiment, todo, jobs: int, store: ResultsStore, bar, ctrl_c, scheduler: str, note,
+                    single_threaded) -> None:
+    """Compute the (condition, run) pairs of ``todo`` on the cluster of ``scheduler`` and write
+    each finished run through ``store``; ``jobs`` sizes a local cluster, ``single_threaded``
+    is the context manager that gives new processes single-threaded numerics."""
+    import dask
+    from distributed import Client, LocalCluster, wait
+
+    with ExitStack() as stack:
+        if scheduler == "local":
+            # Dask's nanny sets MALLOC_TRIM_THRESHOLD_=65536 in its workers: glibc then hands memory
+            # back to the system after nearly every episode, which made a run 1.5-3.5 times slower
+            with single_threaded(), dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}):
+                cluster = stack.enter_context(LocalCluster(
+                    n_workers=jobs, threads_per_worker=1, processes=True, host="127.0.0.1",
+                    dashboard_address=None, silence_logs=logging.CRITICAL))
+            client = stack.enter_context(Client(cluster))
+        else:
+            try:
+                _reachable(scheduler)
+                client = stack.enter_context(Client(scheduler, timeout="20s"))
+            except OSError as exc:
+                raise ValueError(f"--scheduler {scheduler}: expected a reachable dask.distributed scheduler, "
+                                 f"got {exc}") from None
+        running = {client.submit(run_one, c, i, exp.steps, exp.run_seed(i), pure=False,
+                                 key=f"neurocur-{c.name}-run-{i:03d}"): (c, i) for c, i in todo}
+        announced = False
+        while running:
+            if ctrl_c.count and not announced:
+                announced = True
+                note("interrupted; finished runs are kept (run again to resume)")
+                client.cancel([f for f in running if f.status != "finished"])
+                running = {f: item for f, item in running.items() if f.status == "finished"}
+            if ctrl_c.count >= 2:
+                return
+            try:
+                done = wait(list(running), timeout=0.25, return_when="FIRST_COMPLETED").done if running else ()
+            except TimeoutError:  # nothing finished within the timeout: look at Ctrl-C again
+                continue
+            for future in done:
+                running.pop(future)
+                store.write_run(future.result())
+                bar.update(1)
+
+
+def _reachable(address: str) -> None:
+    """Raise OSError at once when nothing listens at a ``tcp://HOST:PORT`` address (before Dask's
+    own connection attempts, which retry for their whole timeout)."""
+    host, _, port = address.removeprefix("tcp://").rpartition(":")
+    if address.startswith("tcp://") and port.isdigit():
+        socket.create_connection((host.strip("[]"), int(port)), timeout=5).close()
+
