@@ -1,8 +1,9 @@
-"""Sensory worlds: multi-context worlds with a gymnasium-like API, registered by type name.
+"""Sensory worlds: multi-context worlds with gymnasium's seeding, registered by type name.
 
-``synthetic`` (:mod:`.synthetic`, section 4.1: mixed driving forces, :mod:`.sources`) and
+``synthetic`` (:mod:`.synthetic`, section 4.1: mixed driving forces, :mod:`.sources`),
 ``icub`` (:mod:`.icub`, section 4.2: MuJoCo episodes, :mod:`.icub_data`,
-:mod:`.icub_scene`). Importing this package imports every module in it, so a world class
+:mod:`.icub_scene`) and ``gym`` (:mod:`.gym`: contexts made of gymnasium environments;
+every world is a ``gymnasium.Env`` through ``world.as_env()``). Importing this package imports every module in it, so a world class
 decorated with ``@register_world("name")`` in a new file here is available by its type
 name; third-party worlds come from the entry-point group ``neurocur.worlds``.
 """
