@@ -4,7 +4,7 @@
     python benchmarks/fingerprint.py --check    # compare with benchmarks/fingerprints.json
     python benchmarks/fingerprint.py --write    # record them (a deliberate change of results)
 
-Runs ``experiments/synthetic.toml`` (every condition) and ``experiments/icub.toml`` (both
+Runs ``neurocur/experiments_data/synthetic.toml`` (every condition) and ``neurocur/experiments_data/icub.toml`` (both
 conditions) small, through the command line, and hashes every table of every run
 (column names, dtypes and values, via ``pandas.util.hash_pandas_object``). A change that
 alters any results table for the same seed changes a fingerprint: such a change must be
@@ -27,8 +27,8 @@ ROOT = Path(__file__).resolve().parents[1]
 RECORD = ROOT / "benchmarks" / "fingerprints.json"
 #: experiment file -> command-line settings of the small run
 CASES = {
-    "synthetic": ["experiments/synthetic.toml", "--runs", "2", "--steps", "30000"],
-    "icub": ["experiments/icub.toml", "--runs", "2", "--steps", "8000", "--set", "HPC.threshold=1.5"],
+    "synthetic": ["synthetic", "--runs", "2", "--steps", "30000"],
+    "icub": ["icub", "--runs", "2", "--steps", "8000", "--set", "HPC.threshold=1.5"],
 }
 
 

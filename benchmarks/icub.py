@@ -5,7 +5,7 @@ build the 2 × ``--episodes`` episode data set into an empty cache with ``--jobs
 worker processes, the time to read it back from the cache, and (with ``--omega``) the
 learning cost Ω of each context (eq 40, η = 0.01, PCA to 98 % of the variance), and
 (with ``--experiment``) the wall time of the whole iCub experiment
-(``experiments/icub.toml``: both conditions × 15 runs, into a temporary folder, the data
+(``neurocur/experiments_data/icub.toml``: both conditions × 15 runs, into a temporary folder, the data
 set already cached) and of one run.
 
     python benchmarks/icub.py [--episodes 70] [--jobs 2] [--omega] [--experiment [--runs 15] [--run-jobs 1]]
@@ -25,7 +25,7 @@ from neurocur.contexts.icub import ICubWorld, omega_episodes, pca_reduce
 from neurocur.contexts.icub_data import EpisodeParams, _Simulation
 from neurocur.contexts.icub_scene import OBJECTS, SceneParams
 
-EXPERIMENT = Path(__file__).resolve().parents[1] / "experiments" / "icub.toml"
+EXPERIMENT = Path(__file__).resolve().parents[1] / "neurocur" / "experiments_data" / "icub.toml"
 
 
 def frames_per_second(n_episodes: int = 4) -> dict:
@@ -42,7 +42,7 @@ def frames_per_second(n_episodes: int = 4) -> dict:
 
 
 def experiment_time(runs: int, jobs: int) -> tuple[float, list[float], int]:
-    """Wall time of ``experiments/icub.toml`` (both conditions, ``runs`` runs each, ``jobs`` workers).
+    """Wall time of ``neurocur/experiments_data/icub.toml`` (both conditions, ``runs`` runs each, ``jobs`` workers).
 
     The data set is built (or read from the default cache) before the clock starts.
     Returns (total seconds, each run's own seconds from its run.json, frames per run).
@@ -66,7 +66,7 @@ def main() -> None:
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--omega", action="store_true", help="also compute Omega of both contexts (~1 min)")
     parser.add_argument("--experiment", action="store_true",
-                        help="also time experiments/icub.toml, both conditions (~20 min at 15 runs, 1 job)")
+                        help="also time neurocur/experiments_data/icub.toml, both conditions (~20 min at 15 runs, 1 job)")
     parser.add_argument("--runs", type=int, default=15, help="runs per condition for --experiment")
     parser.add_argument("--run-jobs", type=int, default=1, help="worker processes for --experiment")
     args = parser.parse_args()

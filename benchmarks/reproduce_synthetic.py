@@ -1,6 +1,6 @@
 """Print the reproduction study's main table from a results folder.
 
-    neurocur run experiments/reproduction.toml --out results/reproduction
+    neurocur run reproduction --out results/reproduction
     python benchmarks/reproduce_synthetic.py results/reproduction [--markdown]
 
 The table is :func:`neurocur.analysis.reproduction.study_table` (its module docstring
@@ -18,7 +18,7 @@ from neurocur.analysis.reproduction import markdown, study_table
 
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("results", help="results folder of experiments/reproduction.toml")
+    parser.add_argument("results", help="results folder of neurocur/experiments_data/reproduction.toml")
     parser.add_argument("--markdown", action="store_true", help="print a Markdown table")
     args = parser.parse_args(argv)
     table = study_table(args.results)

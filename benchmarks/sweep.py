@@ -1,6 +1,6 @@
 """Throughput of a sweep: runs per core-hour on the local worker pool and on a Dask LocalCluster.
 
-    python benchmarks/sweep.py                      # experiments/sweep_pfc.toml, 9 points x 2 runs x 1e5 frames
+    python benchmarks/sweep.py                      # neurocur/experiments_data/sweep_pfc.toml, 9 points x 2 runs x 1e5 frames
     python benchmarks/sweep.py --runs 4 --steps 350000 --jobs 2
 
 Each backend computes the same sweep into a fresh folder (the tables are checked to be
@@ -21,7 +21,7 @@ import pandas as pd
 from neurocur.analysis import throughput
 from neurocur.experiments import load_experiment, run_experiment
 
-EXPERIMENT = Path(__file__).resolve().parents[1] / "experiments" / "sweep_pfc.toml"
+EXPERIMENT = Path(__file__).resolve().parents[1] / "neurocur" / "experiments_data" / "sweep_pfc.toml"
 
 
 def timed(exp, out: Path, jobs: int, scheduler: str | None) -> float:

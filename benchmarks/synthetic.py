@@ -3,7 +3,7 @@
     python benchmarks/synthetic.py                          # 25 runs x 3.5e5 frames of 'curious', all cores
     python benchmarks/synthetic.py --runs 4 --steps 50000 --condition random_switching --jobs 2
 
-1. The sweep: ``neurocur run experiments/synthetic.toml`` for one condition, in a
+1. The sweep: ``neurocur run synthetic`` for one condition, in a
    child process, into a temporary folder (deleted afterwards). Reported: wall time,
    seconds per run, the peak resident memory (VmHWM) of the command's process and of
    its largest worker, and the largest summed resident memory of all of them at
@@ -31,7 +31,7 @@ import threading
 import time
 from pathlib import Path
 
-EXPERIMENT = Path(__file__).resolve().parents[1] / "experiments" / "synthetic.toml"
+EXPERIMENT = Path(__file__).resolve().parents[1] / "neurocur" / "experiments_data" / "synthetic.toml"
 
 #: (label, file suffix, function name): top-level calls whose cumulative times do not nest.
 COMPONENTS = (
@@ -140,7 +140,7 @@ def main(argv=None) -> int:
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--runs", type=int, default=25, help="runs of the sweep (default 25)")
     parser.add_argument("--steps", type=int, default=350_000, help="frames per run (default 3.5e5)")
-    parser.add_argument("--condition", default="curious", help="condition of experiments/synthetic.toml")
+    parser.add_argument("--condition", default="curious", help="condition of neurocur/experiments_data/synthetic.toml")
     parser.add_argument("--jobs", type=int, default=os.cpu_count(), help="worker processes (default: all cores)")
     parser.add_argument("--no-profile", dest="profile", action="store_false", help="skip the per-component profile")
     args = parser.parse_args(argv)

@@ -13,7 +13,8 @@ A circuit file declares regions and edges::
     # input = "familiar"                     # the consumer's input (default: same name)
     # delayed = true                         # read the previous pass's value
 
-A variant file ``extends = "cd_misfa.toml"`` (a path relative to itself) and adds
+A variant file ``extends = "cd_misfa.toml"`` (a path relative to itself, or the name of a
+circuit shipped with the package, ``extends = "cd_misfa"``) and adds
 ``[[lesion]]`` tables (``region``, ``how``), ``[replace.NAME]`` tables (``type``,
 ``params``), ``[regions.NAME.params]`` overrides or more edges.
 
@@ -27,13 +28,24 @@ Semantics (one scheduler pass = one episode):
   learning without a cycle;
 - a step-graph cycle without a delayed edge is a build error naming the cycle.
 
+**Names and paths.** Wherever a circuit is named (``Circuit.from_toml``, ``extends``, an
+experiment's ``circuit``), a value that is an existing path, ends with ``.toml`` or
+contains a path separator is a path; any other value is the name of a circuit shipped in
+the package (``neurocur/circuits/NAME.toml``, :func:`shipped_files`), found with
+:mod:`importlib.resources` so that it works from an installed wheel. An unknown name is a
+ConfigError listing the shipped names.
+
 Validation errors are :class:`~neurocur.config.ConfigError` naming the file and key.
 """
 
 from __future__ import annotations
 
+import atexit
+import contextlib
 import copy
 import dataclasses
+import importlib.resources
+import os
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -45,7 +57,7 @@ from .regions import REGIONS, Region
 from .registry import UnknownType
 from .tables import check_keys, deep_merge, load_toml, require
 
-__all__ = ["Circuit", "RegionSpec", "Link"]
+__all__ = ["Circuit", "RegionSpec", "Link", "resolve_file", "shipped_files"]
 
 PY = "<python>"
 
@@ -103,8 +115,10 @@ class Circuit:
 
     @classmethod
     def from_toml(cls, path, overrides: Mapping | None = None, *, overrides_source: str = "overrides") -> Circuit:
-        """Load a circuit file (following ``extends``); ``overrides`` maps ``"REGION.param"`` to a value."""
-        path = Path(path)
+        """Load a circuit file (following ``extends``); ``overrides`` maps ``"REGION.param"`` to a value.
+
+        ``path`` is a file path or the name of a shipped circuit (``"cd_misfa"``, :func:`shipped_files`)."""
+        path = resolve_file(path, Path(), "circuit", source=path, key=None)
         data = _read_file(path, ())
         regions = {}
         for name, table in data["regions"].items():
@@ -355,8 +369,8 @@ def _read_file(path: Path, chain: tuple) -> dict:
     raw = load_toml(path)
     check_keys(raw, ("description", "extends", "regions", "edges", "lesion", "replace"), source=path)
     if "extends" in raw:
-        base_name = require(raw, "extends", str, source=path, expected="a circuit file path (string)")
-        data = _read_file(path.parent / base_name, chain + (path,))
+        base_name = require(raw, "extends", str, source=path, expected="a circuit file path or name (string)")
+        data = _read_file(resolve_file(base_name, path.parent, "circuit", source=path, key="extends"), chain + (path,))
     else:
         data = {"regions": {}, "edges": [], "lesion": [], "replace": {}}
     regions = require(raw, "regions", dict, source=path, expected="a table of regions", default={})
@@ -383,3 +397,40 @@ def _read_file(path: Path, chain: tuple) -> dict:
             raise ConfigError(path, f"replace.{name}", "a table with 'type' and 'params'", describe(table))
         data["replace"][name] = {**table, "_origin": path}
     return data
+
+
+# ---------------------------------------------------------------------- shipped files
+
+#: kind -> folder of the package that holds the shipped TOML files of that kind
+SHIPPED = {"circuit": "circuits", "experiment": "experiments_data"}
+_extracted = contextlib.ExitStack()
+atexit.register(_extracted.close)
+
+
+def shipped_files(kind: str) -> dict[str, Path]:
+    """The TOML files of ``kind`` (``"circuit"`` or ``"experiment"``) shipped in the package, by name."""
+    folder = importlib.resources.files(__package__).joinpath(SHIPPED[kind])
+    if not folder.is_dir():
+        return {}
+    found = {}
+    for item in sorted(folder.iterdir(), key=lambda t: t.name):
+        if item.name.endswith(".toml") and item.is_file():
+            path = item if isinstance(item, Path) else _extracted.enter_context(importlib.resources.as_file(item))
+            found[item.name[: -len(".toml")]] = Path(path)
+    return found
+
+
+def resolve_file(value, base_dir: Path, kind: str, *, source, key) -> Path:
+    """The file that ``value`` names: a path (relative to ``base_dir``) when it is an existing
+    path, ends with ``.toml`` or contains a path separator (returned as ``base_dir / value``,
+    not resolved); otherwise the name of a shipped file of ``kind``. An unknown name is a ConfigError (``source``, ``key``) listing the names."""
+    text = os.fspath(value)
+    path = Path(base_dir) / text
+    seps = tuple(s for s in (os.sep, os.altsep) if s)
+    if path.exists() or text.endswith(".toml") or any(s in text for s in seps) or not text:
+        return path
+    shipped = shipped_files(kind)
+    if text in shipped:
+        return shipped[text]
+    raise ConfigError(source, key, f"an existing {kind} file or the name of a shipped {kind} "
+                                   f"({', '.join(shipped) or 'none'})", f"{text!r} (no such file or name)")

@@ -22,13 +22,17 @@ import numpy as np
 
 EPILOG = """\
 examples:
-  neurocur run experiments/synthetic.toml                  the paper's synthetic experiment (25 runs x 3.5e5 steps)
-  neurocur run experiments/synthetic.toml --runs 4 --steps 50000 --jobs 2 --out results/quick
-  neurocur run experiments/synthetic.toml --condition curious --set HPC.threshold=0.25 world.normalise=image
-  neurocur figures results/synthetic                       write the figures into results/synthetic/figures/
-  neurocur omega source.npy --eta 0.05                     learning cost of a signal (rows are time)
-  neurocur omega --experiment experiments/synthetic.toml   Omega of every context's frames
-  neurocur invariance experiments/invariance.toml          Figure 5: invariance of a learned slow feature
+  neurocur run synthetic                     the paper's synthetic experiment (25 runs x 3.5e5 steps)
+  neurocur run synthetic --runs 4 --steps 50000 --jobs 2 --out results/quick
+  neurocur run synthetic --condition curious --set HPC.threshold=0.25 world.normalise=image
+  neurocur run my_experiment.toml            an experiment file of your own (a path)
+  neurocur figures results/synthetic         write the figures into results/synthetic/figures/
+  neurocur omega source.npy --eta 0.05       learning cost of a signal (rows are time)
+  neurocur omega --experiment synthetic      Omega of every context's frames
+  neurocur invariance invariance             Figure 5: invariance of a learned slow feature
+
+EXPERIMENT is a path, or the name of an experiment shipped in the package
+(neurocur/experiments_data/NAME.toml): synthetic, reproduction, sweep_pfc, icub, gym_classic.
 
 Running again into the same results folder resumes: finished runs are kept. One process at a
 time writes into a results folder; resuming refuses changed input files and (unless
@@ -90,7 +94,7 @@ def build_parser() -> argparse.ArgumentParser:
         "to OUT/runs/<condition>/run-<NNN>/ as soon as it finishes; running again into the same folder skips "
         "finished runs. At the end a table of module orders is printed.",
         epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
-    run.add_argument("experiment", metavar="EXPERIMENT", help="experiment TOML file (e.g. experiments/synthetic.toml)")
+    run.add_argument("experiment", metavar="EXPERIMENT", help="experiment TOML file or shipped name (e.g. synthetic)")
     run.add_argument("--runs", type=_positive_int, metavar="N", help="number of runs per condition (overrides the file)")
     run.add_argument("--steps", type=_positive_int, metavar="N", help="frames per run (overrides the file)")
     run.add_argument("--seed", type=_seed, metavar="N",
@@ -128,10 +132,10 @@ def build_parser() -> argparse.ArgumentParser:
         description="Omega = 1 - eta (lambda_{n-1} - lambda_n) / (1 - eta - eta lambda_n) (paper eqs 15, 40): "
         "lower is cheaper to learn, 1 is never learned. Give a .npy file (rows are time), or an experiment "
         "(and optionally a context) to measure the frames of its world.",
-        epilog="examples:\n  neurocur omega signal.npy\n  neurocur omega --experiment experiments/synthetic.toml "
+        epilog="examples:\n  neurocur omega signal.npy\n  neurocur omega --experiment synthetic "
         "--context C3\n", formatter_class=argparse.RawDescriptionHelpFormatter)
     omega.add_argument("file", metavar="FILE.npy", nargs="?", help="a (time, dims) array saved with numpy.save")
-    omega.add_argument("--experiment", metavar="FILE", help="experiment TOML whose world's contexts to measure")
+    omega.add_argument("--experiment", metavar="FILE", help="experiment TOML (or shipped name) whose world's contexts to measure")
     omega.add_argument("--context", metavar="NAME", help="context name (e.g. C3); default: every context")
     omega.add_argument("--condition", metavar="NAME", help="condition whose world to use (default: the first)")
     omega.add_argument("--seed", type=int, default=0, help="world seed (mixing matrices, S-D; default 0)")
@@ -144,9 +148,9 @@ def build_parser() -> argparse.ArgumentParser:
         description="Train IncSFA on one source's frames, replace the source's second dimension by noise and "
         "compare the first feature's output before and after (section 4.1.5). Writes OUT/invariance.png "
         "(Figure 5 A-F) and OUT/invariance.json (the settings, corr and quality).",
-        epilog="example:\n  neurocur invariance experiments/invariance.toml --out results/fig5\n",
+        epilog="example:\n  neurocur invariance invariance --out results/fig5\n",
         formatter_class=argparse.RawDescriptionHelpFormatter)
-    invariance.add_argument("experiment", metavar="EXPERIMENT", help="invariance TOML file (experiments/invariance.toml)")
+    invariance.add_argument("experiment", metavar="EXPERIMENT", help="invariance TOML file or shipped name (invariance)")
     invariance.add_argument("--out", metavar="DIR", help="output folder (default: results/<name in the file>)")
     return parser
 
@@ -230,8 +234,9 @@ def _cmd_omega(args) -> int:
 
 def _cmd_invariance(args) -> int:
     from neurocur.analysis.invariance import load_invariance, write_invariance
+    from neurocur.experiments.spec import resolve_experiment
 
-    spec = load_invariance(args.experiment)
+    spec = load_invariance(resolve_experiment(args.experiment))
     out = Path(args.out) if args.out else Path("results") / spec.name
     demo, paths = write_invariance(spec, out)
     print(f"{spec.source}: corr = {demo.corr:.5f} (first feature before/after the swap), "

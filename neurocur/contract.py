@@ -19,7 +19,7 @@ __all__ = ["Column", "EPISODE_COLUMNS", "MODULE_COLUMNS", "require_columns"]
 @dataclass(frozen=True)
 class Column:
     """A column of a results table: its name, kind (as :class:`~neurocur.regions.base.Probe`),
-    unit, meaning and the circuit role (region name in ``circuits/cd_misfa.toml``) producing it."""
+    unit, meaning and the circuit role (region name in ``neurocur/circuits/cd_misfa.toml``) producing it."""
 
     name: str
     kind: str

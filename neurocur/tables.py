@@ -1,6 +1,6 @@
 """Reading configuration files: TOML files and the tables in them.
 
-Circuit files (``circuits/*.toml``) and experiment files (``experiments/*.toml``) are read
+Circuit files (``neurocur/circuits/*.toml``) and experiment files (``neurocur/experiments_data/*.toml``) are read
 with :func:`load_toml` and their tables checked with :func:`check_keys` and
 :func:`require`; every problem is a :class:`~neurocur.config.ConfigError` naming the file
 and the key. The parameters inside the tables are checked by their declared specs

@@ -1,6 +1,6 @@
 """The invariance demonstration of section 4.1.5 (paper Figure 5), from a TOML file to a figure.
 
-An invariance file (``experiments/invariance.toml``)::
+An invariance file (``neurocur/experiments_data/invariance.toml``)::
 
     name = "invariance"
     source = "S-A"            # a built-in source (S-A, S-B, S-C, S-D)

@@ -1,10 +1,11 @@
 """The experiment spec: a TOML file → validated conditions, each with its circuit built once.
 
-An experiment file (``experiments/*.toml``) names a circuit, the world, the number of
+An experiment file (a path, or the name of one shipped in ``neurocur/experiments_data/``,
+e.g. ``"synthetic"``: :func:`resolve_experiment`) names a circuit, the world, the number of
 runs and steps, the root seed, parameter overrides and, optionally, conditions::
 
     name = "synthetic"
-    circuit = "../circuits/cd_misfa.toml"     # relative to this file
+    circuit = "cd_misfa"                      # a shipped circuit, or a path relative to this file
     runs = 25
     steps = 350000                            # frames per run
     seed = 2013
@@ -19,14 +20,16 @@ runs and steps, the root seed, parameter overrides and, optionally, conditions::
 
     [conditions.curious]                      # a condition: overrides and/or a circuit variant
     [conditions.random_switching]
-    circuit = "../circuits/lesion_lc_random.toml"
+    circuit = "lesion_lc_random"
     params = { "LC.epsilon0" = 1.0 }          # merged over the top-level [params]
     # world = { normalise = "image" }         # merged over the top-level [world]
 
 The world table's keys are the parameters of its type (``world.type``, default
 ``"synthetic"``: :class:`~neurocur.contexts.synthetic.SyntheticParams`; ``"icub"``:
 :class:`~neurocur.contexts.icub.ICubParams`; any type registered in
-:data:`neurocur.contexts.WORLDS`). Paths in it are relative to the experiment file.
+:data:`neurocur.contexts.WORLDS`). Paths in it are relative to the experiment file. A ``circuit`` value is a path when it is
+an existing path, ends with ``.toml`` or contains a path separator, and otherwise the name
+of a circuit shipped in ``neurocur/circuits/`` (:func:`neurocur.circuit.resolve_file`).
 
 Without a ``[conditions]`` table there is one condition, ``default``. Command-line
 ``--set KEY=VALUE`` settings (values are TOML literals; a bare word is a string) win
@@ -57,7 +60,7 @@ from pathlib import Path
 import numpy as np
 
 import neurocur
-from neurocur.circuit import Circuit
+from neurocur.circuit import Circuit, resolve_file, shipped_files
 from neurocur.config import ConfigError, check_table, describe, make_params, resolve_paths
 from neurocur.contexts import WORLDS, World
 from neurocur.registry import UnknownType
@@ -65,7 +68,7 @@ from neurocur.tables import check_keys, deep_merge, load_toml, require
 
 from .sweep import grid, point_label, sweep_table, world_layer
 
-__all__ = ["Condition", "Experiment", "load_experiment", "parse_set"]
+__all__ = ["Condition", "Experiment", "load_experiment", "parse_set", "resolve_experiment", "shipped_experiments"]
 
 TOP_KEYS = ("name", "description", "circuit", "runs", "steps", "seed", "world", "params", "sweep", "conditions")
 SCALAR_KEYS = ("name", "description", "circuit", "runs", "steps", "seed")
@@ -191,8 +194,9 @@ def _literal(text: str):
 
 def load_experiment(path, *, sets: Sequence[str] = (), runs: int | None = None, steps: int | None = None,
                     seed: int | None = None) -> Experiment:
-    """Read and validate an experiment file, applying ``--set`` items and ``--runs``/``--steps``/``--seed``."""
-    path = Path(path).resolve()
+    """Read and validate an experiment file (a path or a shipped experiment's name, e.g. ``"synthetic"``),
+    applying ``--set`` items and ``--runs``/``--steps``/``--seed``."""
+    path = resolve_experiment(path).resolve()
     raw = load_toml(path)
     check_keys(raw, TOP_KEYS, source=path)
     here, cwd = path.parent, Path.cwd()
@@ -313,7 +317,7 @@ def _check_scalar(key, value, source, dotted, base_dir):
     kinds = {
         "name": (str, "a string"),
         "description": (str, "a string"),
-        "circuit": (str, "a circuit file path (string)"),
+        "circuit": (str, "a circuit file path or name (string)"),
         "runs": (int, "a positive integer"),
         "steps": (int, "a positive integer"),
         "seed": (int, "an integer >= 0"),
@@ -322,11 +326,23 @@ def _check_scalar(key, value, source, dotted, base_dir):
     if isinstance(value, bool) or not isinstance(value, kind) or (kind is int and value < (0 if key == "seed" else 1)):
         raise ConfigError(source, dotted, expected, describe(value))
     if key == "circuit":
-        resolved = (base_dir / value).resolve()
+        resolved = resolve_file(value, base_dir, "circuit", source=source, key=dotted).resolve()
         if not resolved.is_file():
             raise ConfigError(source, dotted, "an existing circuit file", f"{value!r} (no such file: {resolved})")
         return resolved
     return value
+
+
+def shipped_experiments() -> dict[str, Path]:
+    """The experiment files shipped in the package (``neurocur/experiments_data/``), by name."""
+    return shipped_files("experiment")
+
+
+def resolve_experiment(value) -> Path:
+    """The experiment file that ``value`` names: a path (relative to the working directory) when
+    it is an existing path, ends with ``.toml`` or contains a path separator; otherwise the name
+    of a shipped experiment. An unknown name is a ConfigError listing the shipped names."""
+    return resolve_file(value, Path(), "experiment", source=value, key=None)
 
 
 def _flatten_params(table: Mapping, source, prefix: str) -> dict:

@@ -4,7 +4,7 @@ Not in the paper (its LC is :mod:`.lc`'s epsilon-greedy rule). The gain reading 
 noradrenaline follows Aston-Jones & Cohen (2005, Annu Rev Neurosci 28:403): NE scales
 the gain of the decision, so a high gain exploits the value difference and a low gain
 explores. This is also the worked example of ``docs/extending.md``: a new LC model is
-this file, a circuit file (``circuits/lc_softmax.toml``) and a test.
+this file, a circuit file (``neurocur/circuits/lc_softmax.toml``) and a test.
 """
 
 from __future__ import annotations

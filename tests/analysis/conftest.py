@@ -69,7 +69,7 @@ def write_results(root, runs, alphas=PFC_ALPHA):
     """Write a results folder: ``runs`` maps condition -> list of (episodes, modules); the
     config.toml records each condition's PFC ``alpha`` (``alphas``) as a real one does."""
     root.mkdir(parents=True, exist_ok=True)
-    config = 'circuit = "circuits/cd_misfa.toml"\nseed = 1\n'
+    config = 'circuit = "neurocur/circuits/cd_misfa.toml"\nseed = 1\n'
     for condition in runs:
         if condition in alphas:
             config += (f"\n[conditions.{condition}.resolved_circuit.regions.PFC.params]\n"

@@ -14,12 +14,12 @@ from neurocur.cli import main
 
 ROOT = Path(__file__).resolve().parents[2]
 NOTEBOOK = ROOT / "analysis" / "synthetic.ipynb"
-SYNTHETIC = ROOT / "experiments" / "synthetic.toml"
+SYNTHETIC = ROOT / "neurocur" / "experiments_data" / "synthetic.toml"
 
 
 @pytest.fixture(scope="module")
 def real_results(tmp_path_factory):
-    """The curious and random-switching conditions of experiments/synthetic.toml, 2 runs x 2e4 frames."""
+    """The curious and random-switching conditions of neurocur/experiments_data/synthetic.toml, 2 runs x 2e4 frames."""
     out = tmp_path_factory.mktemp("notebook") / "synthetic"
     argv = ["run", str(SYNTHETIC), "--runs", "2", "--steps", "20000", "--jobs", "1", "--out", str(out),
             "--condition", "curious", "--condition", "random_switching", "--no-progress"]

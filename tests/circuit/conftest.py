@@ -51,7 +51,7 @@ def make_world():
 
 @pytest.fixture(scope="session")
 def circuits_dir():
-    return Path(__file__).resolve().parents[2] / "circuits"
+    return Path(__file__).resolve().parents[2] / "neurocur" / "circuits"
 
 
 @pytest.fixture(scope="session")

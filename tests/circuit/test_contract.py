@@ -13,7 +13,7 @@ from neurocur.contexts.synthetic import SyntheticWorld
 from neurocur.contract import EPISODE_COLUMNS, MODULE_COLUMNS, require_columns
 from neurocur.regions import REGIONS, Probe, Region, Signal
 
-CIRCUIT = Path(__file__).resolve().parents[2] / "circuits" / "cd_misfa.toml"
+CIRCUIT = Path(__file__).resolve().parents[2] / "neurocur" / "circuits" / "cd_misfa.toml"
 #: the role (region name in cd_misfa.toml) of each built-in type family
 ROLES = {"sensory": "sensory", "ec": "EC", "hpc": "HPC", "vta": "VTA", "pfc": "PFC", "lc": "LC"}
 DTYPES = {"float": np.float64, "int": np.int64, "bool": np.bool_}

@@ -8,7 +8,7 @@ import pytest
 from neurocur.circuit import Circuit
 from neurocur.regions.lc_softmax import SoftmaxLC
 
-CIRCUIT = Path(__file__).resolve().parents[2] / "circuits" / "lc_softmax.toml"
+CIRCUIT = Path(__file__).resolve().parents[2] / "neurocur" / "circuits" / "lc_softmax.toml"
 
 
 class _World:

@@ -13,7 +13,7 @@ from neurocur.contexts.gym import GymParams, GymWorld, to_frame
 from neurocur.contexts.synthetic import SyntheticWorld
 from neurocur.experiments import load_experiment, run_one
 
-EXPERIMENT = Path(__file__).resolve().parents[2] / "experiments" / "gym_classic.toml"
+EXPERIMENT = Path(__file__).resolve().parents[2] / "neurocur" / "experiments_data" / "gym_classic.toml"
 
 
 def _small_synthetic():

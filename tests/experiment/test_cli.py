@@ -9,7 +9,7 @@ import pytest
 from neurocur.cli import main
 from neurocur.contexts.sources import paper_source
 
-SYNTHETIC = str(Path(__file__).resolve().parents[2] / "experiments" / "synthetic.toml")
+SYNTHETIC = str(Path(__file__).resolve().parents[2] / "neurocur" / "experiments_data" / "synthetic.toml")
 
 
 def test_run_then_figures(tmp_path, capsys):
@@ -93,7 +93,7 @@ def test_help_has_examples(capsys):
         main(["--help"])
     text = capsys.readouterr().out
     assert info.value.code == 0
-    for word in ("run", "figures", "omega", "examples:", "neurocur run experiments/synthetic.toml"):
+    for word in ("run", "figures", "omega", "examples:", "neurocur run synthetic"):
         assert word in text
     with pytest.raises(SystemExit):
         main(["run", "--help"])

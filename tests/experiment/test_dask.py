@@ -14,7 +14,7 @@ from neurocur.results import ResultsStore
 
 distributed = pytest.importorskip("distributed")
 
-SYNTHETIC = Path(__file__).resolve().parents[2] / "experiments" / "synthetic.toml"
+SYNTHETIC = Path(__file__).resolve().parents[2] / "neurocur" / "experiments_data" / "synthetic.toml"
 PAIR = ["curious", "random_switching"]
 
 

@@ -14,8 +14,8 @@ from neurocur.experiments import load_experiment, parse_set, run_one
 from neurocur.results import dumps_toml, first_difference
 
 ROOT = Path(__file__).resolve().parents[2]
-SYNTHETIC = ROOT / "experiments" / "synthetic.toml"
-CIRCUIT = ROOT / "circuits" / "cd_misfa.toml"
+SYNTHETIC = ROOT / "neurocur" / "experiments_data" / "synthetic.toml"
+CIRCUIT = ROOT / "neurocur" / "circuits" / "cd_misfa.toml"
 
 
 def write(tmp_path, text, name="exp.toml"):
@@ -29,7 +29,7 @@ def test_synthetic_experiment_has_the_papers_parameters():
     assert (exp.name, exp.runs, exp.steps) == ("synthetic", 25, 350_000)
     assert list(exp.conditions) == ["curious", "random_switching", "literal"]
     cur, rnd, lit = (exp.conditions[c] for c in ("curious", "random_switching", "literal"))
-    assert cur.circuit_path == lit.circuit_path == CIRCUIT and rnd.circuit_path == ROOT / "circuits" / "lesion_lc_random.toml"
+    assert cur.circuit_path == lit.circuit_path == CIRCUIT and rnd.circuit_path == ROOT / "neurocur" / "circuits" / "lesion_lc_random.toml"
     paper = {"HPC.threshold": 0.3, "HPC.n_states": 1000, "HPC.max_clusters": 2, "LC.epsilon0": 0.6,
              "LC.decay": 0.995, "EC.amnesic": 2.0, "EC.mca_rate": 0.05}
     chosen = {"HPC.clusterers": "state", "HPC.freeze": "converged", "HPC.reward_error": "episode",
@@ -236,7 +236,7 @@ def test_resolved_config_round_trips_through_toml():
     assert back["seeds"] == {"entropy": 2026, "spawn_keys": [[0], [1]]}
     assert back["neurocur_version"] == __import__("neurocur").__version__
     cond = back["conditions"]["random_switching"]
-    assert cond["circuit"] == str(ROOT / "circuits" / "lesion_lc_random.toml")
+    assert cond["circuit"] == str(ROOT / "neurocur" / "circuits" / "lesion_lc_random.toml")
     assert cond["params"]["HPC.threshold"] == 0.25
     assert cond["resolved_circuit"]["regions"]["HPC"]["params"]["threshold"] == 0.25
     assert cond["resolved_circuit"]["lesions"] == [{"region": "LC", "how": "random"}]

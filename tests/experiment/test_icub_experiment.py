@@ -18,8 +18,8 @@ from neurocur.contexts.icub import REFERENCE_EPISODES, ICubWorld
 from neurocur.experiments import load_experiment
 
 ROOT = Path(__file__).resolve().parents[2]
-ICUB_TOML = ROOT / "experiments" / "icub.toml"
-CIRCUIT = ROOT / "circuits" / "cd_misfa.toml"
+ICUB_TOML = ROOT / "neurocur" / "experiments_data" / "icub.toml"
+CIRCUIT = ROOT / "neurocur" / "circuits" / "cd_misfa.toml"
 
 
 def _gl_available() -> bool:

@@ -15,7 +15,7 @@ import pytest
 from neurocur.experiments import load_experiment, run_experiment
 from neurocur.results.store import PARTIAL
 
-SYNTHETIC = Path(__file__).resolve().parents[2] / "experiments" / "synthetic.toml"
+SYNTHETIC = Path(__file__).resolve().parents[2] / "neurocur" / "experiments_data" / "synthetic.toml"
 #: runs long enough (about two seconds each) to be in progress when the signal comes
 RUNS, STEPS = 2, 60000
 

@@ -15,7 +15,7 @@ from neurocur.config import ConfigError
 from neurocur.contexts.synthetic import SyntheticWorld, mix_frames
 from neurocur.learn.incsfa import IncSFA
 
-INVARIANCE = Path(__file__).resolve().parents[2] / "experiments" / "invariance.toml"
+INVARIANCE = Path(__file__).resolve().parents[2] / "neurocur" / "experiments_data" / "invariance.toml"
 
 
 @pytest.fixture(scope="module")

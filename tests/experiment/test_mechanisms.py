@@ -1,6 +1,6 @@
 """Mechanisms of the synthetic experiment (section 4.1), asserted on the running circuit.
 
-Not outcome statistics: each test drives ``circuits/cd_misfa.toml`` on a
+Not outcome statistics: each test drives ``neurocur/circuits/cd_misfa.toml`` on a
 ``SyntheticWorld`` through a fixed schedule of contexts (a scripted LC in place of the
 epsilon-greedy one) or with LC lesioned, and checks one mechanism:
 
@@ -32,7 +32,7 @@ from neurocur.contexts.synthetic import SyntheticWorld
 from neurocur.regions.lc import EpsilonGreedyLC
 from neurocur.regions.pfc import DISENGAGE, ENGAGE
 
-CIRCUITS = Path(__file__).resolve().parents[2] / "circuits"
+CIRCUITS = Path(__file__).resolve().parents[2] / "neurocur" / "circuits"
 THRESHOLD = 0.3
 BOREDOM = -100.0
 EPOCH = 1000  # local time steps of a built-in source

@@ -23,7 +23,7 @@ from neurocur.results import FolderInUse, ResultsError, ResultsStore, RunResult,
 from neurocur.results.store import PARTIAL
 
 ROOT = Path(__file__).resolve().parents[2]
-SYNTHETIC = ROOT / "experiments" / "synthetic.toml"
+SYNTHETIC = ROOT / "neurocur" / "experiments_data" / "synthetic.toml"
 RUNS, STEPS = 2, 1000
 
 
@@ -149,7 +149,7 @@ def own_source_experiment(tmp_path, rows=1000, contexts='["S-X", "S-A", "S-D"]')
     t = np.arange(rows) / rows * 2 * np.pi
     np.save(tmp_path / "x.npy", np.stack([np.sin(3 * t), np.cos(40 * t)], axis=1))
     path = tmp_path / "own.toml"
-    path.write_text(f'name = "own"\ncircuit = "{ROOT / "circuits" / "cd_misfa.toml"}"\nruns = 1\nsteps = 300\n'
+    path.write_text(f'name = "own"\ncircuit = "{ROOT / "neurocur" / "circuits" / "cd_misfa.toml"}"\nruns = 1\nsteps = 300\n'
                     f'seed = 1\n\n[world]\ncontexts = {contexts}\n\n[world.sources]\nS-X = "x.npy"\n')
     return path
 

@@ -18,7 +18,7 @@ ROOT = Path(__file__).resolve().parents[2]
 def write(tmp_path, sweep='"PFC.discount" = [0.5, 0.9]\n"world.normalise" = ["global", "image"]'):
     path = tmp_path / "sweep.toml"
     path.write_text(textwrap.dedent(f"""\
-        circuit = "{ROOT / 'circuits' / 'cd_misfa.toml'}"
+        circuit = "{ROOT / 'neurocur' / 'circuits' / 'cd_misfa.toml'}"
         runs = 2
         steps = 600
         seed = 3
@@ -28,7 +28,7 @@ def write(tmp_path, sweep='"PFC.discount" = [0.5, 0.9]\n"world.normalise" = ["gl
         {sweep}
         [conditions.curious]
         [conditions.random]
-        circuit = "{ROOT / 'circuits' / 'lesion_lc_random.toml'}"
+        circuit = "{ROOT / 'neurocur' / 'circuits' / 'lesion_lc_random.toml'}"
         """))
     return path
 
@@ -78,7 +78,7 @@ def test_bad_sweeps_name_the_key(tmp_path, sweep, key, expected):
 
 def test_bad_multi_value_set():
     with pytest.raises(ConfigError, match="several values only for a REGION.param or world.KEY"):
-        load_experiment(ROOT / "experiments" / "synthetic.toml", sets=["runs=1,2"])
+        load_experiment(ROOT / "neurocur" / "experiments_data" / "synthetic.toml", sets=["runs=1,2"])
 
 
 def test_sweep_columns_and_a_folder_that_grows_by_points(tmp_path):
@@ -102,8 +102,8 @@ def test_sweep_columns_and_a_folder_that_grows_by_points(tmp_path):
 
 
 def test_the_shipped_sweep_grows_by_runs_and_by_a_point_without_re_running(tmp_path):
-    """experiments/sweep_pfc.toml: 3 x 3 points x 4 runs, then 6 runs and a fourth discount."""
-    path, out = ROOT / "experiments" / "sweep_pfc.toml", tmp_path / "grid"
+    """neurocur/experiments_data/sweep_pfc.toml: 3 x 3 points x 4 runs, then 6 runs and a fourth discount."""
+    path, out = ROOT / "neurocur" / "experiments_data" / "sweep_pfc.toml", tmp_path / "grid"
     small = ["world.contexts=['S-A', 'S-B']"]
     run_experiment(load_experiment(path, steps=300, sets=small), out, jobs=2, progress=False)
     store = ResultsStore(out)
