@@ -16,19 +16,28 @@ generator as it stands (seeded from the OS only if it never was). ``options`` ma
 ``context``). There is no extrinsic reward, so the reward slot is always 0.0 and
 episodes never terminate the world. :meth:`World.as_env` wraps a world as a real
 ``gymnasium.Env`` (:class:`neurocur.contexts.gym.WorldEnv`).
+
+**The frame contract** (:func:`conform_frames`) is enforced by :meth:`World.reset` and
+:meth:`World.step`, where every episode leaves a world: frames are float64 in [0, 1].
+uint8 frames are divided by 255; frames of another numeric type are converted to float64
+when their values lie in [0, 1] (up to :data:`FRAME_TOLERANCE`, values kept as they are);
+any other frames are a ``ValueError`` naming the world, the context and the range found.
+One pass over the frames per episode.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
 from typing import ClassVar
 
 import numpy as np
+from numba import njit
 
 from ..registry import Registry
 
-__all__ = ["WORLDS", "Episode", "SourceSpec", "World", "register_world"]
+__all__ = ["FRAME_TOLERANCE", "WORLDS", "Episode", "SourceSpec", "World", "conform_frames", "register_world"]
 
 #: World types by name; third-party world types come from the entry-point group ``neurocur.worlds``.
 WORLDS = Registry("world", "neurocur.worlds")
@@ -40,7 +49,8 @@ register_world = WORLDS.register
 class Episode:
     """One visit of a context.
 
-    ``frames``: float64 (T, n_pixels), values in [0, 1].
+    ``frames``: float64 (T, n_pixels), values in [0, 1]; :meth:`World.reset` and
+    :meth:`World.step` enforce it (:func:`conform_frames`).
     ``states``: int64 (T,), the context-state of each frame, in ``range(world.n_states)``.
     ``context``: index of the visited context.
     ``starts``: row indices where an independent episode begins inside this block
@@ -57,6 +67,62 @@ class Episode:
         bounds = list(self.starts) + [len(self.frames)]
         for a, b in zip(bounds[:-1], bounds[1:]):
             yield self.frames[a:b], self.states[a:b]
+
+
+#: How far beyond [0, 1] a frame value may lie (floating-point rounding of a normalisation).
+FRAME_TOLERANCE = 1e-9
+
+
+@njit(cache=True, nogil=True)
+def _in_unit_range(flat, tol):  # pragma: no cover - compiled
+    """True when every value is in [-tol, 1 + tol] (NaN is not); stops at the first one outside."""
+    low, high = -tol, 1.0 + tol
+    for i in range(flat.shape[0]):
+        v = flat[i]
+        if not (v >= low and v <= high):
+            return False
+    return True
+
+
+def conform_frames(episode: Episode, world=None) -> Episode:
+    """``episode`` with frames that keep the contract: float64 in [0, 1] (see the module docstring).
+
+    float64 frames in range come back as the same object, untouched; uint8 frames are
+    divided by 255; other integer, boolean or float frames in range are converted to
+    float64. Frames outside [0, 1] (beyond :data:`FRAME_TOLERANCE`), with NaN, or of a
+    non-numeric type raise ``ValueError`` naming ``world``, the context and the range found.
+    """
+    frames = np.asarray(episode.frames)
+    if frames.dtype == np.uint8:
+        return dataclasses.replace(episode, frames=frames / 255.0)
+    if frames.dtype.kind not in "biuf":
+        raise ValueError(f"{_where(world, episode.context)}: frames must be float64 in [0, 1] "
+                         f"(or uint8, divided by 255); got frames of dtype {frames.dtype}")
+    dtype = frames.dtype
+    if dtype.kind == "b" or dtype.itemsize < 4:  # bool, 8/16-bit types: a float64 copy to check
+        frames = frames.astype(np.float64)
+    if frames.size and not _in_unit_range(frames.reshape(-1), FRAME_TOLERANCE):
+        _out_of_range(frames, dtype, world, episode.context)
+    if frames is episode.frames and frames.dtype == np.float64:
+        return episode
+    return dataclasses.replace(episode, frames=frames.astype(np.float64, copy=False))
+
+
+def _where(world, context) -> str:
+    if world is None:
+        return f"context {context}"
+    names = getattr(world, "context_names", ())
+    name = f" {names[context]!r}" if isinstance(context, (int, np.integer)) and 0 <= context < len(names) else ""
+    return f"world {type(world).__name__}, context{name} (index {context})"
+
+
+def _out_of_range(frames, dtype, world, context):
+    finite = frames[np.isfinite(frames)] if frames.dtype.kind == "f" else frames
+    found = f"[{finite.min()}, {finite.max()}]" if finite.size else "no finite value"
+    nan = int(np.isnan(frames).sum()) if frames.dtype.kind == "f" else 0
+    extra = f" and {nan} NaN value(s)" if nan else ""
+    raise ValueError(f"{_where(world, context)}: frames must be float64 in [0, 1] (uint8 frames are divided by 255); "
+                     f"found {dtype} values in {found}{extra}")
 
 
 @dataclass(frozen=True)
@@ -149,11 +215,11 @@ class World(ABC):
         if seed is not None:
             self._np_random = np.random.default_rng(seed)
         self._reset()
-        return self._visit(context), {"context": context}
+        return conform_frames(self._visit(context), self), {"context": context}
 
     def step(self, context: int):
         """Visit ``context`` and return ``(episode, 0.0, False, False, info)``."""
-        ep = self._visit(self._check_context(context))
+        ep = conform_frames(self._visit(self._check_context(context)), self)
         return ep, 0.0, False, False, {"context": context}
 
     #: The parameter dataclass (fields made with :func:`neurocur.config.param`) that an
