@@ -21,17 +21,16 @@ from contextlib import ExitStack
 
 from neurocur.results import ResultsStore
 
+from .processes import note, single_threaded_children
 from .run import run_one
 from .spec import Experiment
 
 __all__ = ["compute_on_dask"]
 
 
-def compute_on_dask(exp: Experiment, todo, jobs: int, store: ResultsStore, bar, ctrl_c, scheduler: str, note,
-                    single_threaded) -> None:
+def compute_on_dask(exp: Experiment, todo, jobs: int, store: ResultsStore, bar, ctrl_c, scheduler: str) -> None:
     """Compute the (condition, run) pairs of ``todo`` on the cluster of ``scheduler`` and write
-    each finished run through ``store``; ``jobs`` sizes a local cluster, ``single_threaded``
-    is the context manager that gives new processes single-threaded numerics."""
+    each finished run through ``store``; ``jobs`` sizes a local cluster."""
     import dask
     from distributed import Client, LocalCluster, wait
 
@@ -39,7 +38,7 @@ def compute_on_dask(exp: Experiment, todo, jobs: int, store: ResultsStore, bar, 
         if scheduler == "local":
             # Dask's nanny sets MALLOC_TRIM_THRESHOLD_=65536 in its workers: glibc then hands memory
             # back to the system after nearly every episode, which made a run 1.5-3.5 times slower
-            with single_threaded(), dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}):
+            with single_threaded_children(), dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}):
                 cluster = stack.enter_context(LocalCluster(
                     n_workers=jobs, threads_per_worker=1, processes=True, host="127.0.0.1",
                     dashboard_address=None, silence_logs=logging.CRITICAL))

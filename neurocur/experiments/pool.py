@@ -41,12 +41,12 @@ from neurocur.results import ResultsStore
 from neurocur.results.lock import describe_holder
 
 from .cluster import compute_on_dask
+from .processes import note, single_threaded_children
 from .run import dry_run, run_one
 from .spec import Condition, Experiment
 
 __all__ = ["Interrupted", "run_experiment"]
 
-_THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS")
 #: a worker's memory before its run: the interpreter with numpy, pandas and numba imported
 #: (measured: about 180 MB), added to a dry run's peak for the estimate
 WORKER_BASE = 200 * 2**20
@@ -72,21 +72,6 @@ def _init_worker() -> None:
 def _exit_with(parent) -> None:
     parent.join()  # returns when the parent process has ended (its sentinel closes)
     os._exit(1)
-
-
-@contextmanager
-def _single_threaded_children():
-    """Worker processes inherit single-threaded BLAS/numba settings (restored afterwards)."""
-    saved = {k: os.environ.get(k) for k in _THREAD_VARS}
-    os.environ.update({k: "1" for k in _THREAD_VARS})
-    try:
-        yield
-    finally:
-        for k, v in saved.items():
-            if v is None:
-                os.environ.pop(k, None)
-            else:
-                os.environ[k] = v
 
 
 @contextmanager
@@ -140,12 +125,6 @@ def _progress_bar(total: int, initial: int, enabled: bool | None):
                 dynamic_ncols=True)
 
 
-def _note(text: str) -> None:
-    from tqdm import tqdm
-
-    tqdm.write(f"neurocur: {text}", file=sys.stderr)
-
-
 def run_experiment(exp: Experiment, out, *, jobs: int | None = None, conditions=None, progress: bool | None = None,
                    max_memory: int | None = None, accept_code_change: bool = False,
                    scheduler: str | None = None) -> Path:
@@ -169,29 +148,28 @@ def run_experiment(exp: Experiment, out, *, jobs: int | None = None, conditions=
     selected = exp.select(conditions)
     with store.writing() as lock:
         if lock.stale:
-            _note(f"cleared the lock of {describe_holder(lock.stale)}, which ended without releasing it")
+            note(f"cleared the lock of {describe_holder(lock.stale)}, which ended without releasing it")
         if exp.seed is None:
             existing = store.config()
             exp = exp.with_seed(existing["seeds"]["entropy"] if existing else
                                 int(np.random.SeedSequence().entropy % 2**63))
         config = exp.resolved()
         inputs = {c.name: path_values(c.world_params) for c in exp.conditions.values() if c.world_params is not None}
-        store.check(config, inputs=inputs, accept_code_change=accept_code_change)
+        grown = store.check(config, inputs=inputs, accept_code_change=accept_code_change)
         names = [c.name for c in selected]
         done = store.completed(names, exp.runs)
         todo = [(c, i) for c in selected for i in range(exp.runs) if (c.name, i) not in done]
         jobs = max(1, min(jobs or os.cpu_count() or 1, len(todo) or 1))
         if todo:
             _preflight(exp, todo, jobs, max_memory)
-        store.open(config, inputs=inputs, accept_code_change=accept_code_change)
+        store.save_config(grown)
         store.clear_partial()
         bar = _progress_bar(len(names) * exp.runs, len(done), progress)
         try:
             with _CtrlC() as ctrl_c:
                 try:
                     if todo and scheduler is not None:
-                        compute_on_dask(exp, todo, jobs, store, bar, ctrl_c, scheduler, _note,
-                                        _single_threaded_children)
+                        compute_on_dask(exp, todo, jobs, store, bar, ctrl_c, scheduler)
                     elif todo:
                         _compute(exp, todo, jobs, str(out), bar, ctrl_c)
                 finally:
@@ -228,7 +206,7 @@ def _compute(exp: Experiment, todo, jobs: int, out: str, bar, ctrl_c: _CtrlC) ->
     running: dict = {}
     error: Exception | None = None
     announced = False
-    with _single_threaded_children():
+    with single_threaded_children():
         pool = ProcessPoolExecutor(max_workers=jobs, mp_context=_mp_context(), initializer=_init_worker)
         try:
             while True:
@@ -241,11 +219,11 @@ def _compute(exp: Experiment, todo, jobs: int, out: str, bar, ctrl_c: _CtrlC) ->
                         running[pool.submit(_worker, c, i, exp.steps, exp.run_seed(i), out)] = item
                 if ctrl_c.count and not announced:
                     announced = True
-                    _note(f"interrupted; finishing the {len(running)} run(s) in progress, then stopping "
+                    note(f"interrupted; finishing the {len(running)} run(s) in progress, then stopping "
                           "(Ctrl-C again to abandon them); finished runs are kept (run again to resume)"
                           if running else "interrupted; finished runs are kept (run again to resume)")
                 if ctrl_c.count >= 2 and running:
-                    _note(f"abandoned the {len(running)} run(s) in progress")
+                    note(f"abandoned the {len(running)} run(s) in progress")
                     _kill(pool)
                     return
                 if not running:

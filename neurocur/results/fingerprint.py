@@ -9,7 +9,7 @@ of its input files and the code.
   commit and whether the package has uncommitted changes (:func:`code_fingerprint`).
   Two fingerprints describe the same code when version and source hash agree.
 
-:meth:`neurocur.results.ResultsStore.open` records both in ``config.toml`` and compares
+:meth:`neurocur.results.ResultsStore.check` records both in ``config.toml`` and compares
 them on resume (:func:`changed_input`, :func:`code_changed`).
 """
 

@@ -24,8 +24,8 @@ incomplete one (its ``run.json`` deleted) is moved aside into ``.partial/`` and 
 ``.partial/`` holds only debris, which the runner clears (:meth:`ResultsStore.clear_partial`)
 before and after computing runs.
 
-**Resume.** :meth:`ResultsStore.open` writes ``config.toml`` into a new folder, or checks
-that an existing folder holds the same experiment (:meth:`ResultsStore.check`).
+**Resume.** :meth:`ResultsStore.check` tells the ``config.toml`` a folder gets for an
+experiment (refusing one that cannot resume there), and :meth:`ResultsStore.save_config` writes it.
 Conditions new to a folder are added to it (a study can grow row by row), and
 descriptions may be reworded; any other difference is refused, naming the first
 differing key. An input file whose content changed is refused, and so is other code
@@ -171,15 +171,12 @@ class ResultsStore:
             grown["description"] = config["description"]
         return grown if grown != existing else None
 
-    def open(self, config: Mapping, *, inputs: Mapping[str, Iterable[str]] | None = None,
-             accept_code_change: bool = False) -> None:
-        """Create the folder with ``config`` as its ``config.toml``, or check that it holds the
-        same experiment and grow it by new conditions (:meth:`check`; resume). Call it while
-        holding the folder's lock (:meth:`writing`)."""
-        grown = self.check(config, inputs=inputs, accept_code_change=accept_code_change)
-        if grown is not None:
+    def save_config(self, config: Mapping | None) -> None:
+        """Write ``config`` (what :meth:`check` returned) as the folder's ``config.toml``, creating
+        the folder; None leaves it as it is. Call it while holding the folder's lock (:meth:`writing`)."""
+        if config is not None:
             self.root.mkdir(parents=True, exist_ok=True)
-            _atomic_text(self.root / CONFIG, dumps_toml(grown, header=_HEADER))
+            _atomic_text(self.root / CONFIG, dumps_toml(config, header=_HEADER))
 
     # ------------------------------------------------------------------ runs
 
