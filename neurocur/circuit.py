@@ -31,7 +31,7 @@ Semantics (one scheduler pass = one episode):
 **Names and paths.** Wherever a circuit is named (``Circuit.from_toml``, ``extends``, an
 experiment's ``circuit``), a value that is an existing path, ends with ``.toml`` or
 contains a path separator is a path; any other value is the name of a circuit shipped in
-the package (``neurocur/circuits/NAME.toml``, :func:`shipped_files`), found with
+the package (``neurocur/circuits/NAME.toml``, :func:`~neurocur.tables.shipped_files`), found with
 :mod:`importlib.resources` so that it works from an installed wheel. An unknown name is a
 ConfigError listing the shipped names.
 
@@ -40,12 +40,8 @@ Validation errors are :class:`~neurocur.config.ConfigError` naming the file and 
 
 from __future__ import annotations
 
-import atexit
-import contextlib
 import copy
 import dataclasses
-import importlib.resources
-import os
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -55,9 +51,9 @@ import networkx as nx
 from .config import ConfigError, describe, make_params, params_to_dict
 from .regions import REGIONS, Region
 from .registry import UnknownType
-from .tables import check_keys, deep_merge, load_toml, require
+from .tables import check_keys, deep_merge, load_toml, require, resolve_file
 
-__all__ = ["Circuit", "RegionSpec", "Link", "resolve_file", "shipped_files"]
+__all__ = ["Circuit", "RegionSpec", "Link"]
 
 PY = "<python>"
 
@@ -117,7 +113,7 @@ class Circuit:
     def from_toml(cls, path, overrides: Mapping | None = None, *, overrides_source: str = "overrides") -> Circuit:
         """Load a circuit file (following ``extends``); ``overrides`` maps ``"REGION.param"`` to a value.
 
-        ``path`` is a file path or the name of a shipped circuit (``"cd_misfa"``, :func:`shipped_files`)."""
+        ``path`` is a file path or the name of a shipped circuit (``"cd_misfa"``, :func:`~neurocur.tables.shipped_files`)."""
         path = resolve_file(path, Path(), "circuit", source=path, key=None)
         data = _read_file(path, ())
         regions = {}
@@ -397,40 +393,3 @@ def _read_file(path: Path, chain: tuple) -> dict:
             raise ConfigError(path, f"replace.{name}", "a table with 'type' and 'params'", describe(table))
         data["replace"][name] = {**table, "_origin": path}
     return data
-
-
-# ---------------------------------------------------------------------- shipped files
-
-#: kind -> folder of the package that holds the shipped TOML files of that kind
-SHIPPED = {"circuit": "circuits", "experiment": "experiments_data"}
-_extracted = contextlib.ExitStack()
-atexit.register(_extracted.close)
-
-
-def shipped_files(kind: str) -> dict[str, Path]:
-    """The TOML files of ``kind`` (``"circuit"`` or ``"experiment"``) shipped in the package, by name."""
-    folder = importlib.resources.files(__package__).joinpath(SHIPPED[kind])
-    if not folder.is_dir():
-        return {}
-    found = {}
-    for item in sorted(folder.iterdir(), key=lambda t: t.name):
-        if item.name.endswith(".toml") and item.is_file():
-            path = item if isinstance(item, Path) else _extracted.enter_context(importlib.resources.as_file(item))
-            found[item.name[: -len(".toml")]] = Path(path)
-    return found
-
-
-def resolve_file(value, base_dir: Path, kind: str, *, source, key) -> Path:
-    """The file that ``value`` names: a path (relative to ``base_dir``) when it is an existing
-    path, ends with ``.toml`` or contains a path separator (returned as ``base_dir / value``,
-    not resolved); otherwise the name of a shipped file of ``kind``. An unknown name is a ConfigError (``source``, ``key``) listing the names."""
-    text = os.fspath(value)
-    path = Path(base_dir) / text
-    seps = tuple(s for s in (os.sep, os.altsep) if s)
-    if path.exists() or text.endswith(".toml") or any(s in text for s in seps) or not text:
-        return path
-    shipped = shipped_files(kind)
-    if text in shipped:
-        return shipped[text]
-    raise ConfigError(source, key, f"an existing {kind} file or the name of a shipped {kind} "
-                                   f"({', '.join(shipped) or 'none'})", f"{text!r} (no such file or name)")

@@ -5,17 +5,26 @@ with :func:`load_toml` and their tables checked with :func:`check_keys` and
 :func:`require`; every problem is a :class:`~neurocur.config.ConfigError` naming the file
 and the key. The parameters inside the tables are checked by their declared specs
 (:mod:`neurocur.config`). Loading a file never executes code.
+
+The circuits and experiments shipped in the package (``neurocur/circuits/``,
+``neurocur/experiments_data/``) are named without path: :func:`resolve_file` tells a name
+from a path, and :func:`shipped_files` finds them with :mod:`importlib.resources`, so they
+are found from an installed wheel too.
 """
 
 from __future__ import annotations
 
+import atexit
+import contextlib
+import importlib.resources
+import os
 import tomllib
 from collections.abc import Mapping
 from pathlib import Path
 
 from .config import ConfigError, describe, join_key
 
-__all__ = ["check_keys", "deep_merge", "load_toml", "require"]
+__all__ = ["check_keys", "deep_merge", "load_toml", "require", "resolve_file", "shipped_files"]
 
 
 def load_toml(path) -> dict:
@@ -73,3 +82,38 @@ def deep_merge(base: Mapping, override: Mapping) -> dict:
         else:
             out[key] = value
     return out
+
+
+#: kind -> folder of the package that holds the shipped TOML files of that kind
+SHIPPED = {"circuit": "circuits", "experiment": "experiments_data"}
+_extracted = contextlib.ExitStack()
+atexit.register(_extracted.close)
+
+
+def shipped_files(kind: str) -> dict[str, Path]:
+    """The TOML files of ``kind`` (``"circuit"`` or ``"experiment"``) shipped in the package, by name."""
+    folder = importlib.resources.files("neurocur").joinpath(SHIPPED[kind])
+    if not folder.is_dir():
+        return {}
+    found = {}
+    for item in sorted(folder.iterdir(), key=lambda t: t.name):
+        if item.name.endswith(".toml") and item.is_file():
+            path = item if isinstance(item, Path) else _extracted.enter_context(importlib.resources.as_file(item))
+            found[item.name[: -len(".toml")]] = Path(path)
+    return found
+
+
+def resolve_file(value, base_dir: Path, kind: str, *, source, key) -> Path:
+    """The file that ``value`` names: a path (relative to ``base_dir``) when it is an existing
+    path, ends with ``.toml`` or contains a path separator (returned as ``base_dir / value``,
+    not resolved); otherwise the name of a shipped file of ``kind``. An unknown name is a ConfigError (``source``, ``key``) listing the names."""
+    text = os.fspath(value)
+    path = Path(base_dir) / text
+    seps = tuple(s for s in (os.sep, os.altsep) if s)
+    if path.exists() or text.endswith(".toml") or any(s in text for s in seps) or not text:
+        return path
+    shipped = shipped_files(kind)
+    if text in shipped:
+        return shipped[text]
+    raise ConfigError(source, key, f"an existing {kind} file or the name of a shipped {kind} "
+                                   f"({', '.join(shipped) or 'none'})", f"{text!r} (no such file or name)")

@@ -29,7 +29,7 @@ The world table's keys are the parameters of its type (``world.type``, default
 :class:`~neurocur.contexts.icub.ICubParams`; any type registered in
 :data:`neurocur.contexts.WORLDS`). Paths in it are relative to the experiment file. A ``circuit`` value is a path when it is
 an existing path, ends with ``.toml`` or contains a path separator, and otherwise the name
-of a circuit shipped in ``neurocur/circuits/`` (:func:`neurocur.circuit.resolve_file`).
+of a circuit shipped in ``neurocur/circuits/`` (:func:`neurocur.tables.resolve_file`).
 
 Without a ``[conditions]`` table there is one condition, ``default``. Command-line
 ``--set KEY=VALUE`` settings (values are TOML literals; a bare word is a string) win
@@ -60,11 +60,11 @@ from pathlib import Path
 import numpy as np
 
 import neurocur
-from neurocur.circuit import Circuit, resolve_file, shipped_files
+from neurocur.circuit import Circuit
 from neurocur.config import ConfigError, check_table, describe, make_params, resolve_paths
 from neurocur.contexts import WORLDS, World
 from neurocur.registry import UnknownType
-from neurocur.tables import check_keys, deep_merge, load_toml, require
+from neurocur.tables import check_keys, deep_merge, load_toml, require, resolve_file, shipped_files
 
 from .sweep import grid, point_label, sweep_table, world_layer
 

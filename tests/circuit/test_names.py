@@ -6,9 +6,10 @@ from pathlib import Path
 
 import pytest
 
-from neurocur.circuit import Circuit, shipped_files
+from neurocur.circuit import Circuit
 from neurocur.config import ConfigError
 from neurocur.experiments.spec import load_experiment, resolve_experiment, shipped_experiments
+from neurocur.tables import shipped_files
 
 PACKAGE = Path(__file__).resolve().parents[2] / "neurocur"
 
