@@ -103,6 +103,11 @@ class Region:
     lesions: ClassVar[dict[str, dict]] = {}
     #: The region that produces the episode: the scheduler counts frames from its ``n_frames``.
     is_clock: ClassVar[bool] = False
+    #: The neuromodulator this region releases (``"da"``, ``"ne"``), or ``""``. A region that
+    #: declares one accepts the drug lesions (clamp, scale, noise; docs/regions.md,
+    #: "Pharmacology") and must pass every released level through :meth:`modulate` before
+    #: using, emitting or recording it.
+    modulator: ClassVar[str] = ""
 
     def __init__(self, name: str = "", params=None, **kwargs):
         if params is not None and kwargs:
@@ -113,6 +118,16 @@ class Region:
             raise ValueError(f"{type(self).__name__} expects params of type {self.Params.__name__}; "
                              f"got {type(self.params).__name__}")
         self.events: list[dict] = []
+        #: Drugs applied to the released neuromodulator, in order (set by the circuit's lesions).
+        self.drugs: tuple = ()
+        #: The drugs' own random stream (noise), set by the simulator; separate from the region's.
+        self.drug_rng: np.random.Generator | None = None
+
+    def modulate(self, level: float) -> float:
+        """The released neuromodulator ``level`` after this region's drugs (identity without any)."""
+        for drug in self.drugs:
+            level = drug.apply(level, self.drug_rng)
+        return level
 
     @property
     def plastic(self) -> bool:
