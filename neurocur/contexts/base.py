@@ -55,12 +55,15 @@ class Episode:
     ``context``: index of the visited context.
     ``starts``: row indices where an independent episode begins inside this block
     (``[0]`` for one episode). A temporal derivative never spans a start.
+    ``reward``: the extrinsic reward the world pays for this visit (0 unless the experiment
+    declares one for the context).
     """
 
     frames: np.ndarray
     states: np.ndarray
     context: int
     starts: np.ndarray = field(default_factory=lambda: np.zeros(1, dtype=np.int64))
+    reward: float = 0.0
 
     def segments(self):
         """Yield ``(frames, states)`` for each independent episode in the block."""
