@@ -254,7 +254,7 @@ class Circuit:
                     raise ConfigError(spec.origin if spec.origin != PY else src, f"regions.{name}",
                                       f"an edge into its input '{sig.name}' ({sig.describe()})", "no edge")
             for sig in _ports(spec, "outputs"):
-                if (name, sig.name) not in used_outputs:
+                if not sig.optional and (name, sig.name) not in used_outputs:
                     raise ConfigError(spec.origin if spec.origin != PY else src, f"regions.{name}",
                                       f"an edge from its output '{sig.name}' ({sig.describe()})", "an output that goes nowhere")
         recorded = {"episode": "the scheduler", "step": "the scheduler"}

@@ -47,13 +47,16 @@ class Signal:
     """A named port. ``dtype`` is a string (``"float64"``, ``"int64"``, ``"bool"``,
     ``"Episode"``); ``shape`` a tuple of ints (fixed sizes) or strings (named sizes
     that vary, e.g. ``"T"`` frames); ``()`` is a scalar. ``initial`` is the value a
-    delayed edge delivers on the first pass."""
+    delayed edge delivers on the first pass. An ``optional`` output may go nowhere (a
+    signal other regions can read when a circuit wires it, e.g. LC's NE); every other
+    output needs an edge."""
 
     name: str
     dtype: str
     shape: tuple = ()
     doc: str = ""
     initial: object = None
+    optional: bool = False
 
     def describe(self) -> str:
         return f"{self.dtype} shape {tuple(self.shape)}"
