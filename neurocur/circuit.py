@@ -16,7 +16,10 @@ A circuit file declares regions and edges::
 A variant file ``extends = "cd_misfa.toml"`` (a path relative to itself, or the name of a
 circuit shipped with the package, ``extends = "cd_misfa"``) and adds
 ``[[lesion]]`` tables (``region``, ``how``), ``[replace.NAME]`` tables (``type``,
-``params``), ``[regions.NAME.params]`` overrides or more edges.
+``params``), ``[regions.NAME.params]`` overrides or more edges. A lesion is one of the
+region type's named lesions (parameter overrides, e.g. ``how = "random"`` for the LC) or,
+for a region that releases a neuromodulator, a drug with its parameters in the same table
+(``how = "clamp"``, ``level = 4.0``; :mod:`neurocur.regions.pharmacology`).
 
 Semantics (one scheduler pass = one episode):
 
@@ -50,6 +53,7 @@ import networkx as nx
 
 from .config import ConfigError, describe, make_params, params_to_dict
 from .regions import REGIONS, Region
+from .regions.pharmacology import DRUGS
 from .registry import UnknownType
 from .tables import check_keys, deep_merge, load_toml, require, resolve_file
 
@@ -60,13 +64,15 @@ PY = "<python>"
 
 @dataclass(frozen=True)
 class RegionSpec:
-    """A declared region: its class and parameters, or a prebuilt (not yet reset) instance."""
+    """A declared region: its class and parameters, or a prebuilt (not yet reset) instance,
+    and the drugs acting on its neuromodulator (:mod:`neurocur.regions.pharmacology`)."""
 
     name: str
     cls: type
     params: object
     instance: Region | None = None
     origin: str = PY
+    drugs: tuple = ()
 
     @property
     def type_name(self) -> str:
@@ -76,8 +82,10 @@ class RegionSpec:
         if self.instance is not None:
             region = copy.deepcopy(self.instance)
             region.name = self.name
-            return region
-        return self.cls(self.name, self.params)
+        else:
+            region = self.cls(self.name, self.params)
+        region.drugs = self.drugs
+        return region
 
 
 @dataclass(frozen=True)
@@ -103,7 +111,8 @@ class Circuit:
         self.source = str(source)
         self.specs: dict[str, RegionSpec] = dict(regions)
         self.links: tuple[Link, ...] = tuple(links)
-        self.lesions: tuple[tuple[str, str], ...] = tuple(lesions)
+        #: ``(region, how, drug parameters)`` of every lesion applied, in order.
+        self.lesions: tuple[tuple[str, str, dict], ...] = tuple(lesions)
         self.graph = nx.DiGraph()
         self._validate()
 
@@ -132,16 +141,19 @@ class Circuit:
             if name not in regions:
                 raise ConfigError(table["_origin"], f"{table['_key']}.region", f"a declared region ({', '.join(regions)})",
                                   describe(name))
-            regions[name] = _lesioned(regions[name], how, source=table["_origin"], key=f"{table['_key']}.how")
-            lesions.append((name, how))
+            drug = {k: v for k, v in table.items() if k not in ("region", "how") and not k.startswith("_")}
+            regions[name] = _lesioned(regions[name], how, drug, source=table["_origin"], key=table["_key"])
+            lesions.append((name, how, drug))
         return cls(regions, links, source=path, lesions=lesions)
 
-    def lesion(self, name: str, how: str) -> Circuit:
-        """A new circuit with region ``name`` lesioned (``how`` is one of its class's ``lesions``)."""
+    def lesion(self, name: str, how: str, **drug) -> Circuit:
+        """A new circuit with region ``name`` lesioned: ``how`` is one of its class's ``lesions``,
+        or, for a region with a ``modulator``, a drug (``"clamp"``, ``"scale"``, ``"noise"``)
+        with its parameters as keywords (``circuit.lesion("LC", "clamp", level=4.0)``)."""
         self._check_region(name)
         specs = dict(self.specs)
-        specs[name] = _lesioned(specs[name], how, source=PY, key=f"lesion.{name}.how")
-        return Circuit(specs, self.links, source=self.source, lesions=self.lesions + ((name, how),))
+        specs[name] = _lesioned(specs[name], how, drug, source=PY, key=f"lesion.{name}")
+        return Circuit(specs, self.links, source=self.source, lesions=self.lesions + ((name, how, drug),))
 
     def replace(self, name: str, region) -> Circuit:
         """A new circuit with region ``name`` replaced by a Region object or a spec mapping
@@ -180,7 +192,7 @@ class Circuit:
                 {"from": k.src, "signal": k.signal, "to": k.dst, "input": k.input, "delayed": k.delayed}
                 for k in self.links
             ],
-            "lesions": [{"region": r, "how": h} for r, h in self.lesions],
+            "lesions": [{"region": r, "how": h, **drug} for r, h, drug in self.lesions],
         }
 
     def schedule(self) -> str:
@@ -198,7 +210,8 @@ class Circuit:
         lines.append("learn-phase edges (this pass, after all steps):")
         lines += [f"  {k}" for k in self.links if not k.delayed and k.input not in self._step_inputs(k.dst)] or ["  (none)"]
         if self.lesions:
-            lines.append("lesions: " + ", ".join(f"{r} ({h})" for r, h in self.lesions))
+            lines.append("lesions: " + ", ".join(f"{r} ({h}{''.join(f', {k}={v}' for k, v in d.items())})"
+                                                 for r, h, d in self.lesions))
         return "\n".join(lines)
 
     def __repr__(self) -> str:
@@ -335,8 +348,8 @@ def _apply_overrides(specs: Mapping[str, RegionSpec], overrides: Mapping, source
         spec = specs[name]
         merged = {**params_to_dict(spec.params), **table}
         params = make_params(spec.cls.Params, merged, source=source, prefix=name)
-        specs[name] = RegionSpec(name, spec.cls, params, instance=None if spec.instance is None else
-                                 _with_params(spec.instance, params), origin=spec.origin)
+        specs[name] = dataclasses.replace(spec, params=params, instance=None if spec.instance is None else
+                                          _with_params(spec.instance, params))
     return specs
 
 
@@ -346,14 +359,24 @@ def _with_params(instance: Region, params) -> Region:
     return region
 
 
-def _lesioned(spec: RegionSpec, how, *, source, key) -> RegionSpec:
-    options = spec.cls.lesions
+def _lesioned(spec: RegionSpec, how, drug: Mapping, *, source, key) -> RegionSpec:
+    """``spec`` with the lesion ``how``: a named lesion of its class (parameter overrides,
+    no further keys) or a drug on its neuromodulator (``drug`` holds the drug's parameters)."""
+    options = dict(spec.cls.lesions)
+    if spec.cls.modulator:
+        options.update({name: f"drug on {spec.cls.modulator}" for name in DRUGS})
     if how not in options:
-        raise ConfigError(source, key, f"a lesion of {spec.type_name} ({', '.join(options) or 'none defined'})",
+        raise ConfigError(source, f"{key}.how", f"a lesion of {spec.type_name} ({', '.join(options) or 'none defined'})",
                           describe(how))
-    params = dataclasses.replace(spec.params, **options[how])
-    instance = None if spec.instance is None else _with_params(spec.instance, params)
-    return RegionSpec(spec.name, spec.cls, params, instance=instance, origin=spec.origin)
+    if how in spec.cls.lesions:
+        if drug:
+            raise ConfigError(source, f"{key}.{next(iter(drug))}", f"no further keys for the lesion '{how}' "
+                              "(it sets the region's parameters)", "a key")
+        params = dataclasses.replace(spec.params, **spec.cls.lesions[how])
+        instance = None if spec.instance is None else _with_params(spec.instance, params)
+        return dataclasses.replace(spec, params=params, instance=instance)
+    made = make_params(DRUGS[how], drug, source=source, prefix=key)
+    return dataclasses.replace(spec, drugs=spec.drugs + (made,))
 
 
 def _read_file(path: Path, chain: tuple) -> dict:
@@ -383,7 +406,8 @@ def _read_file(path: Path, chain: tuple) -> dict:
             if not isinstance(table, dict):
                 raise ConfigError(path, key, f"a {kind} table", describe(table))
             if field_ == "lesion":
-                check_keys(table, ("region", "how"), source=path, prefix=key, required=("region", "how"))
+                check_keys(table, ("region", "how", *{f for d in DRUGS.values() for f in d.__dataclass_fields__}),
+                           source=path, prefix=key, required=("region", "how"))
                 for f in ("region", "how"):
                     require(table, f, str, source=path, prefix=key, expected="a name (string)")
             data[field_].append({**table, "_origin": path, "_key": key})

@@ -39,7 +39,9 @@ class Simulator:
     """A circuit instantiated on a world with a seed; see :meth:`neurocur.circuit.Circuit.build`.
 
     ``regions``: name -> region instance. Each region's random generator comes from
-    :func:`region_seed` (a child of ``seed`` keyed by the region's name).
+    :func:`region_seed` (a child of ``seed`` keyed by the region's name); a region under a
+    drug (:mod:`neurocur.regions.pharmacology`) gets a second one for the drug, keyed
+    ``"drugs"`` under the region's.
     """
 
     def __init__(self, circuit, world, seed, *, record_frames: bool = False):
@@ -55,6 +57,8 @@ class Simulator:
             region = self.regions[name]
             region.bind(world)
             region.reset(np.random.default_rng(children[name]))
+            if region.drugs:  # the drugs' own stream: the region's draws stay those of the untreated run
+                region.drug_rng = np.random.default_rng(region_seed(children[name], "drugs"))
 
         slot: dict[tuple[str, str], int] = {}
         values: list = []

@@ -23,6 +23,7 @@ runs and steps, the root seed, parameter overrides and, optionally, conditions::
     circuit = "lesion_lc_random"
     params = { "LC.epsilon0" = 1.0 }          # merged over the top-level [params]
     # world = { normalise = "image" }         # merged over the top-level [world]
+    # lesion = [{ region = "LC", how = "clamp", level = 8.0 }]   # lesions and drugs on the circuit
 
 The world table's keys are the parameters of its type (``world.type``, default
 ``"synthetic"``: :class:`~neurocur.contexts.synthetic.SyntheticParams`; ``"icub"``:
@@ -52,7 +53,6 @@ Configuration problems raise :class:`~neurocur.config.ConfigError` naming the fi
 
 from __future__ import annotations
 
-import tomllib
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -66,13 +66,13 @@ from neurocur.contexts import WORLDS, World
 from neurocur.registry import UnknownType
 from neurocur.tables import check_keys, deep_merge, load_toml, require, resolve_file, shipped_files
 
+from .sets import SCALAR_KEYS, classify_sets, parse_set
 from .sweep import grid, point_label, sweep_table, world_layer
 
 __all__ = ["Condition", "Experiment", "load_experiment", "parse_set", "resolve_experiment", "shipped_experiments"]
 
 TOP_KEYS = ("name", "description", "circuit", "runs", "steps", "seed", "world", "params", "sweep", "conditions")
-SCALAR_KEYS = ("name", "description", "circuit", "runs", "steps", "seed")
-CONDITION_KEYS = ("description", "circuit", "params", "world")
+CONDITION_KEYS = ("description", "circuit", "params", "world", "lesion")
 DEFAULT_CONDITION = "default"
 
 
@@ -165,33 +165,6 @@ class Experiment:
         }
 
 
-class Values(list):
-    """Several values of one ``--set KEY=V1,V2``: the key is swept over them."""
-
-
-def parse_set(item: str) -> tuple[str, object]:
-    """``"KEY=VALUE"`` → ``(KEY, value)``; VALUE is a TOML literal, else taken as a string.
-
-    ``KEY=V1,V2,...`` (comma-separated values that are not one TOML literal) gives
-    :class:`Values`, the values of a swept key.
-    """
-    key, eq, text = str(item).partition("=")
-    key, text = key.strip(), text.strip()
-    if not eq or not key:
-        raise ConfigError(f"--set {item}", None, "KEY=VALUE (e.g. HPC.threshold=0.3)", describe(item))
-    value = _literal(text)
-    if isinstance(value, str) and "," in text:
-        return key, Values(_literal(part.strip()) for part in text.split(","))
-    return key, value
-
-
-def _literal(text: str):
-    try:
-        return tomllib.loads(f"v = {text}")["v"]
-    except tomllib.TOMLDecodeError:
-        return text
-
-
 def load_experiment(path, *, sets: Sequence[str] = (), runs: int | None = None, steps: int | None = None,
                     seed: int | None = None) -> Experiment:
     """Read and validate an experiment file (a path or a shipped experiment's name, e.g. ``"synthetic"``),
@@ -200,7 +173,7 @@ def load_experiment(path, *, sets: Sequence[str] = (), runs: int | None = None, 
     raw = load_toml(path)
     check_keys(raw, TOP_KEYS, source=path)
     here, cwd = path.parent, Path.cwd()
-    top_sets, world_sets, param_sets, sweep_sets = _classify_sets(sets)
+    top_sets, world_sets, param_sets, sweep_sets = classify_sets(sets)
     sweep = {**sweep_table(raw.get("sweep"), path), **sweep_sets}
     for key in [k for k in param_sets if k in sweep]:  # one value restricts a swept key
         sweep[key] = [param_sets.pop(key)]
@@ -252,7 +225,8 @@ def load_experiment(path, *, sets: Sequence[str] = (), runs: int | None = None, 
             world, world_params = _world([(base_world, path, "world", here), (cond_world, path, f"{prefix}.world", here),
                                           (world_layer(point), path, "sweep.world", here),
                                           (world_sets, "--set", "world", cwd)], path)
-            built = _load_circuit(circuit, base_params, {**cond_params, **point_params}, param_sets, path, name)
+            built = _lesion(_load_circuit(circuit, base_params, {**cond_params, **point_params}, param_sets, path, name),
+                            table.get("lesion", []), path, f"{prefix}.lesion")
             params = {**base_params, **cond_params, **point_params, **param_sets}
             label = f"{name}@{point_label(point)}" if point else name
             conditions[label] = Condition(label, circuit, params, world, built, world_params, description, point)
@@ -279,38 +253,6 @@ def _pop_dotted(table: dict, parts: list[str]):
         if not isinstance(node, dict):
             return _ABSENT
     return node.pop(parts[-1], _ABSENT)
-
-
-def _classify_sets(sets):
-    top, world, params, sweep = {}, {}, {}, {}
-    for item in sets:
-        key, value = parse_set(item)
-        head, _, rest = key.partition(".")
-        if isinstance(value, Values):
-            if head in SCALAR_KEYS or not rest or head in ("params", "conditions"):
-                raise ConfigError(f"--set {key}", None, "several values only for a REGION.param or world.KEY",
-                                  describe(list(value)))
-            sweep[key] = list(value)
-        elif head in SCALAR_KEYS:
-            if rest:
-                raise ConfigError(f"--set {key}", None, f"'{head}' without a sub-key", describe(key))
-            top[head] = value
-        elif head == "world":
-            if not rest:
-                raise ConfigError(f"--set {key}", None, "world.KEY (a parameter of the world type)", "'world'")
-            first, _, sub = rest.partition(".")
-            if sub:  # world.sources.NAME
-                world.setdefault(first, {})[sub] = value
-            else:
-                world[first] = value
-        elif head == "params" and rest:
-            params[rest] = value
-        elif rest and head not in ("conditions",):
-            params[key] = value
-        else:
-            raise ConfigError(f"--set {key}", None,
-                              "runs, steps, seed, circuit, name, description, world.KEY or REGION.param", describe(key))
-    return top, world, params, sweep
 
 
 def _check_scalar(key, value, source, dotted, base_dir):
@@ -385,6 +327,28 @@ def _world(layers, source):
         merged = deep_merge(merged, body)
     params = make_params(cls.Params, merged, source=source, prefix="world")
     return {"type": kind, **merged} if typed else merged, params
+
+
+def _lesion(circuit: Circuit, tables, source, prefix: str) -> Circuit:
+    """``circuit`` with a condition's lesions, each a table like a circuit file's ``[[lesion]]``
+    (``region``, ``how``, and a drug's parameters)."""
+    if not isinstance(tables, list):
+        raise ConfigError(source, prefix, "an array of lesion tables (region, how, ...)", describe(tables))
+    for i, table in enumerate(tables):
+        key = f"{prefix}[{i}]"
+        if not isinstance(table, dict):
+            raise ConfigError(source, key, "a lesion table (region, how, ...)", describe(table))
+        region = require(table, "region", str, source=source, prefix=key, expected="a region name (string)")
+        how = require(table, "how", str, source=source, prefix=key, expected="a lesion name (string)")
+        if region not in circuit.specs:
+            raise ConfigError(source, f"{key}.region", f"a region of the circuit ({', '.join(circuit.specs)})",
+                              describe(region))
+        drug = {k: v for k, v in table.items() if k not in ("region", "how")}
+        try:
+            circuit = circuit.lesion(region, how, **drug)
+        except ConfigError as exc:
+            raise ConfigError(source, f"{key}{exc.key.removeprefix(f'lesion.{region}')}", exc.expected, exc.got) from None
+    return circuit
 
 
 def _load_circuit(circuit: Path, base_params: dict, cond_params: dict, set_params: dict, source,

@@ -23,7 +23,7 @@ def test_circuit_by_name_equals_by_path(monkeypatch, tmp_path):
     monkeypatch.chdir(tmp_path)  # names do not depend on the working directory
     by_name = Circuit.from_toml("lesion_lc_random")
     by_path = Circuit.from_toml(PACKAGE / "circuits" / "lesion_lc_random.toml")
-    assert by_name.to_dict() == by_path.to_dict() and by_name.lesions == (("LC", "random"),)
+    assert by_name.to_dict() == by_path.to_dict() and by_name.lesions == (("LC", "random", {}),)
 
 
 def test_unknown_circuit_name_lists_the_shipped_ones(monkeypatch, tmp_path):
@@ -52,7 +52,7 @@ def test_a_local_file_wins_over_a_shipped_name(tmp_path):
     (tmp_path / "exp.toml").write_text('circuit = "cd_misfa"\nruns = 1\nsteps = 10\n')
     exp = load_experiment(tmp_path / "exp.toml")
     assert exp.conditions["default"].circuit_path == tmp_path / "cd_misfa"
-    assert exp.conditions["default"].circuit.lesions == (("LC", "random"),)
+    assert exp.conditions["default"].circuit.lesions == (("LC", "random", {}),)
 
 
 def test_experiment_by_name_and_its_circuits(monkeypatch, tmp_path):

@@ -48,6 +48,16 @@ def test_synthetic_experiment_has_the_papers_parameters():
     assert lesions == [{"region": "LC", "how": "random"}]
 
 
+def test_a_condition_lesions_its_circuit(tmp_path):
+    path = tmp_path / "exp.toml"
+    path.write_text(f'circuit = "{CIRCUIT}"\nruns = 1\nsteps = 10\n[conditions.a]\n'
+                    'lesion = [{ region = "LC", how = "random" }]\n[conditions.b]\n')
+    exp = load_experiment(path)
+    assert exp.conditions["a"].circuit.lesions == (("LC", "random", {}),)
+    assert exp.conditions["a"].circuit.specs["LC"].params.epsilon0 == 1.0
+    assert exp.conditions["b"].circuit.lesions == ()
+
+
 def test_runs_steps_and_sets_override_the_file():
     exp = load_experiment(SYNTHETIC, runs=3, steps=500, sets=[
         "HPC.threshold=0.25", "world.normalise=image", "params.LC.decay=0.9", "seed=7",
@@ -119,8 +129,14 @@ def test_unknown_condition_lists_the_known_ones():
          "array of shape (n_steps, n_dims)"),
         ('circuit = "CIRCUIT"\nruns = 1\nsteps = 10\n[world.sources]\nS-X = "const.npy"', "world.sources.S-X",
          "non-constant"),
-        ('circuit = "CIRCUIT"\nruns = 1\nsteps = 10\n[conditions.a]\nlesion = "LC"', "conditions.a.lesion",
+        ('circuit = "CIRCUIT"\nruns = 1\nsteps = 10\n[conditions.a]\nlesions = "LC"', "conditions.a.lesions",
          "one of the keys"),
+        ('circuit = "CIRCUIT"\nruns = 1\nsteps = 10\n[conditions.a]\nlesion = "LC"', "conditions.a.lesion",
+         "an array of lesion tables"),
+        ('circuit = "CIRCUIT"\nruns = 1\nsteps = 10\n[conditions.a]\nlesion = [{ region = "XX", how = "random" }]',
+         "conditions.a.lesion[0].region", "a region of the circuit"),
+        ('circuit = "CIRCUIT"\nruns = 1\nsteps = 10\n[conditions.a]\nlesion = [{ region = "LC", how = "random", level = 1 }]',
+         "conditions.a.lesion[0].level", "no further keys"),
     ],
 )
 def test_bad_files_name_the_file_and_key(tmp_path, body, key, expected):

@@ -9,7 +9,7 @@ import pytest
 
 from neurocur.config import ConfigError
 from neurocur.experiments import load_experiment, parse_set, run_experiment
-from neurocur.experiments.spec import Values
+from neurocur.experiments.sets import Values
 from neurocur.results import ResultsStore, load
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -39,7 +39,7 @@ def test_the_grid_is_every_condition_at_every_point(tmp_path):
     cond = exp.conditions["random@PFC.discount=0.9,world.normalise=image"]
     assert cond.sweep == {"PFC.discount": 0.9, "world.normalise": "image"}
     assert cond.circuit.specs["PFC"].params.discount == 0.9 and cond.world_params.normalise == "image"
-    assert cond.circuit.lesions == (("LC", "random"),)
+    assert cond.circuit.lesions == (("LC", "random", {}),)
     assert cond.params["PFC.discount"] == 0.9 and "world.normalise" not in cond.params
     assert [c.name for c in exp.select(["curious"])] == [n for n in exp.conditions if n.startswith("curious@")]
 
