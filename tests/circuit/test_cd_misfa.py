@@ -119,7 +119,7 @@ def test_frame_recording(circuit, make_world):
 
 def test_lesioned_lc_switches_uniformly(make_world, circuits_dir, small):
     circuit = Circuit.from_toml(circuits_dir / "lesion_lc_random.toml", overrides=small)
-    assert circuit.lesions == (("LC", "random"),)
+    assert circuit.lesions == (("LC", "random", {}),)
     assert circuit.specs["LC"].params.epsilon0 == 1.0 and circuit.specs["LC"].params.decay == 1.0
     df = circuit.build(make_world(), seed=8).run(20 * 1200).episodes()
     n = len(df)
