@@ -17,6 +17,8 @@ One module per question, all re-exported here:
 - :mod:`~neurocur.analysis.report` — the order table beside the paper's numbers, and the summary;
 - :mod:`~neurocur.analysis.dwell` — visits, dwell per context, occupancy over time, the share
   of frames in chosen contexts after an event;
+- :mod:`~neurocur.analysis.efficiency` — frames until every learnable source is learned, frames in
+  the unlearnable contexts, modules per 10⁵ frames, compared paired by run;
 - :mod:`~neurocur.analysis.figures` — matplotlib Figures (paper Figures 4D–G).
 
 Not re-exported: :mod:`~neurocur.analysis.paper` (the paper's numbers, with their sections),
@@ -30,6 +32,7 @@ from neurocur.analysis import (
     bootstrap,
     comparison,
     dwell,
+    efficiency,
     figures,
     learning_time,
     order,
@@ -40,6 +43,7 @@ from neurocur.analysis import (
 from neurocur.analysis.bootstrap import *  # noqa: F403
 from neurocur.analysis.comparison import *  # noqa: F403
 from neurocur.analysis.dwell import *  # noqa: F403
+from neurocur.analysis.efficiency import *  # noqa: F403
 from neurocur.analysis.figures import *  # noqa: F403
 from neurocur.analysis.io import load, order_tables, run_dirs, source_specs, throughput, write_summary
 from neurocur.analysis.learning_time import *  # noqa: F403
@@ -52,4 +56,5 @@ from neurocur.contexts.synthetic import SYNTHETIC
 
 __all__ = ["load", "order_tables", "run_dirs", "source_specs", "throughput", "write_summary", "SourceSpec", "SYNTHETIC",
            *order.__all__, *learning_time.__all__, *comparison.__all__, *significance.__all__, *bootstrap.__all__,
-           *sweeps.__all__, *report.__all__, *figures.__all__, *dwell.__all__]
+           *sweeps.__all__, *report.__all__, *figures.__all__, *dwell.__all__,
+           *efficiency.__all__]

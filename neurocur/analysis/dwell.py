@@ -18,7 +18,7 @@ Definitions:
   straddles a bin boundary is split exactly.
 * **Share after an event**: the frames spent in a set of contexts after an episode (e.g.
   the episode whose module completed the learnable sources,
-  :func:`~neurocur.analysis.efficiency.efficiency`), over all frames after it.
+  :func:`~neurocur.analysis.efficiency.efficiency_per_run`), over all frames after it.
 
 Contexts are indices in the tables; a ``spec`` (a :class:`~neurocur.contexts.base.SourceSpec`,
 or one per condition as :func:`~neurocur.analysis.io.source_specs` returns) names them and
@@ -214,7 +214,7 @@ def share_after(
 
     ``contexts``: context indices or names (names need ``spec``). ``events``: one row per
     (condition, run) with the column ``episode``: frames of the episodes *after* it count
-    (e.g. :func:`~neurocur.analysis.efficiency.efficiency`'s ``learned_all_episode``,
+    (e.g. :func:`~neurocur.analysis.efficiency.efficiency_per_run`'s ``learned_all_episode``,
     renamed ``episode``); a run without a row or with NaN has no event, and its share is
     NaN. ``events=None`` counts the whole run.
 

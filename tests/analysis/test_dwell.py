@@ -8,15 +8,9 @@ import pytest
 
 from neurocur.analysis import engagement, occupancy, share_after, visits
 from neurocur.contexts.base import SourceSpec
+from neuro_tables import episodes_of
 
 SPEC = SourceSpec(("C1", "C2", "C3", "C4"), ("S-A", "S-B", "S-C", "S-D"), ("S-A", "S-B", "S-C"))
-
-
-def episodes_of(contexts, frames, *, condition="curious", run=0, **extra):
-    frames = np.asarray(frames, dtype=np.int64)
-    return pd.DataFrame({"condition": condition, "run": run, "episode": np.arange(len(frames)),
-                         "step": np.concatenate([[0], np.cumsum(frames)[:-1]]),
-                         "context": np.asarray(contexts, dtype=np.int64), "n_frames": frames, **extra})
 
 
 # contexts 0,0,1,1,1,0,2 with 100,100,100,200,100,100,50 frames: episodes start at

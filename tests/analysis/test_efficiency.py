@@ -1,0 +1,107 @@
+"""Frames to learn all learnable sources, frames in the unlearnable contexts, modules per 10⁵ frames,
+and the paired comparison, on the hand-made runs of conftest.py (known answers)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from neurocur.analysis import compare_efficiency, efficiency_per_run, efficiency_summary
+from neurocur.contexts.base import SourceSpec
+from neuro_tables import episodes_of, modules_of, runs_of
+
+CYCLE = [c for c in range(5) for _ in range(3)] * 4   # conftest.py's context sequence
+
+
+def test_efficiency_per_run(tables):
+    table = efficiency_per_run(*tables).set_index(["condition", "run"])
+    curious = table.loc["curious"]
+    # 60 episodes of 100 frames; the module completing S-A, S-B, S-C is stored at episode 50, 50, 40
+    assert curious["learned_all"].tolist() == [True, True, True, False]
+    assert curious["learned_all_episode"].tolist()[:3] == [50, 50, 40]
+    assert curious["frames_to_learn_all"].tolist()[:3] == [5100, 5100, 4100]
+    assert math.isnan(curious.loc[3, "frames_to_learn_all"])
+    assert curious["frames_to_learn_all_censored"].tolist() == [5100, 5100, 4100, 6000]
+    assert curious["n_learned"].tolist() == [3, 3, 3, 2]
+    # CYCLE visits C5 (S-D) in 3 of every 15 episodes
+    assert (table["frames_unlearnable"] == 1200).all() and (table["share_unlearnable"] == 0.2).all()
+    assert curious["modules_per_1e5"].tolist() == pytest.approx([3e5 / 6000, 3e5 / 6000, 4e5 / 6000, 2e5 / 6000])
+    assert table.loc[("random_switching", 0), "modules_per_1e5"] == 0.0
+    assert not table.loc["random_switching", "learned_all"].any()
+
+
+def test_frames_to_learn_all_count_every_frame_up_to_the_storing_episode():
+    frames = np.where(np.arange(60) % 2 == 0, 100, 250)              # 100, 250, 100, 250, ...
+    row = efficiency_per_run(episodes_of(CYCLE, frames), modules_of([(3, "S-A"), (7, "S-C"), (4, "S-B")])).iloc[0]
+    assert row["learned_all_episode"] == 7
+    assert row["frames_to_learn_all"] == frames[:8].sum() == 4 * 100 + 4 * 250
+
+
+def test_censoring_uses_one_horizon_so_censored_twins_tie():
+    spec = SourceSpec(("C1",), ("S-A",), ("S-A",))
+    episodes, modules = runs_of(
+        (episodes_of([0] * n, condition=condition, run=run),
+         modules_of([(20 + 10 * run, "S-A")] if condition == "a" else [], condition=condition, run=run))
+        for condition, n in (("a", 61), ("b", 60)) for run in range(3))      # a's runs end a visit later
+    table = efficiency_per_run(episodes, modules, spec)
+    assert table.loc[table["condition"] == "a", "frames_to_learn_all"].tolist() == [2100, 3100, 4100]
+    assert table.loc[table["condition"] == "b", "frames_to_learn_all_censored"].tolist() == [6000] * 3
+    late = efficiency_per_run(episodes, modules.assign(episode=60), spec)             # learned after the horizon
+    assert late.loc[late["condition"] == "a", "frames_to_learn_all"].tolist() == [6100] * 3
+    assert late.loc[late["condition"] == "a", "frames_to_learn_all_censored"].tolist() == [6000] * 3
+    assert compare_efficiency(late, "a", "b").set_index("metric").loc["frames_to_learn_all_censored",
+                                                                      "n_nonzero"] == 0
+
+
+def test_compare_efficiency_is_paired_by_run(tables):
+    result = compare_efficiency(tables).set_index("metric")
+    assert list(result.index) == ["frames_to_learn_all_censored", "learned_all", "frames_unlearnable",
+                                  "modules_per_1e5"]
+    frames = result.loc["frames_to_learn_all_censored"]
+    # pairs 0-2 (run 3 has no random twin): 5100, 5100, 4100 against 6000 censored; all lower, exact p = 2/8
+    assert frames["n_pairs"] == 3 and frames["p_value"] == pytest.approx(0.25)
+    assert frames["difference"] == pytest.approx((5100 + 5100 + 4100) / 3 - 6000)
+    assert frames["effect_size"] == -1.0
+    learned = result.loc["learned_all"]
+    assert learned["method"] == "mcnemar_exact" and learned["n_nonzero"] == 3 and learned["p_value"] == pytest.approx(0.25)
+    assert result.loc["frames_unlearnable", "p_value"] == 1.0                # same visits: all differences zero
+    assert (result["adjustment"] == "holm").all() and (result["n_tests"] == 4).all()
+
+
+def test_eight_pairs_that_all_learn_sooner_give_the_exact_wilcoxon_p():
+    spec = SourceSpec(("C1", "C2"), ("S-A", "S-D"), ("S-A",))
+    tables = runs_of((episodes_of([0, 1] * 30, condition=condition, run=run),
+                      modules_of(stored, condition=condition, run=run))
+                     for run in range(8)
+                     for condition, stored in (("curious", [(5 + run, "S-A")]), ("random_switching", [])))
+    result = compare_efficiency(tables, spec=spec).set_index("metric")
+    assert result.loc["frames_to_learn_all_censored", "p_value"] == pytest.approx(2 / 2**8)
+    assert result.loc["learned_all", "p_value"] == pytest.approx(2 / 2**8)       # 8 of 8 discordant one way
+    low, high = result.loc["frames_to_learn_all_censored", ["ci_diff_low", "ci_diff_high"]]
+    assert low <= result.loc["frames_to_learn_all_censored", "difference"] <= high < 0
+
+
+def test_efficiency_summary(tables):
+    table = efficiency_summary(tables).set_index(["condition", "metric"])
+    learned = table.loc[("curious", "learned_all")]
+    assert learned["n"] == 4 and learned["mean"] == 0.75
+    assert (learned["ci_low"], learned["ci_high"]) == pytest.approx((0.194, 0.994), abs=1e-3)   # Clopper–Pearson 3/4
+    did = table.loc[("curious", "frames_to_learn_all")]
+    assert did["n"] == 3 and did["mean"] == pytest.approx(14300 / 3) and did["median"] == 5100
+    restricted = table.loc[("curious", "frames_to_learn_all_censored")]
+    assert restricted["n"] == 4 and restricted["mean"] == pytest.approx((14300 + 6000) / 4)
+    assert restricted["ci_low"] <= restricted["mean"] <= restricted["ci_high"]
+    assert table.loc[("random_switching", "frames_to_learn_all"), "n"] == 0
+    assert math.isnan(table.loc[("random_switching", "frames_to_learn_all"), "mean"])
+
+
+def test_bad_input_is_named(tables):
+    episodes, modules = tables
+    with pytest.raises(ValueError, match="'source'"):
+        efficiency_per_run(episodes, modules.drop(columns="source"))
+    with pytest.raises(ValueError, match="efficiency_per_run\\(\\) DataFrame or an \\(episodes, modules\\) pair"):
+        compare_efficiency("results")
+    with pytest.raises(ValueError, match="'learned_all'"):
+        compare_efficiency(efficiency_per_run(*tables).drop(columns="learned_all"))
