@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 import pytest
+from neuro_tables import episodes_of
 
 from neurocur.analysis import engagement, occupancy, share_after, visits
 from neurocur.contexts.base import SourceSpec
-from neuro_tables import episodes_of
 
 SPEC = SourceSpec(("C1", "C2", "C3", "C4"), ("S-A", "S-B", "S-C", "S-D"), ("S-A", "S-B", "S-C"))
 

@@ -7,10 +7,10 @@ import math
 
 import numpy as np
 import pytest
+from neuro_tables import episodes_of, modules_of, runs_of
 
 from neurocur.analysis import compare_efficiency, efficiency_per_run, efficiency_summary
 from neurocur.contexts.base import SourceSpec
-from neuro_tables import episodes_of, modules_of, runs_of
 
 CYCLE = [c for c in range(5) for _ in range(3)] * 4   # conftest.py's context sequence
 
