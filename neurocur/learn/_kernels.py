@@ -172,17 +172,19 @@ def active_mask(lam, total_var, eig_cutoff, var_fraction, mask):
 
 
 @njit(cache=True, fastmath=False)
-def cimca_step(zdot, W, rate, gamma, mask, coup, new):
+def cimca_step(zdot, W, rates, gamma, mask, coup, new):
     """One CIMCA update (paper eqs 8, 16, 17) of the J minor-component vectors ``W``.
 
-    Sequentially for i = 1..J, with the already updated w_j (j < i):
-    w_i ← (1 − η) w_i − η [(ż·w_i) ż + γ Σ_{j<i} (w_j·w_i) w_j], then w_i is restricted
+    Sequentially for i = 1..J, with the already updated w_j (j < i) and the component's
+    rate η_i = ``rates[i]`` (:func:`neurocur.learn.mca.component_rates`):
+    w_i ← (1 − η_i) w_i − η_i [(ż·w_i) ż + γ Σ_{j<i} (w_j·w_i) w_j], then w_i is restricted
     to the coordinates where ``mask`` is True and normalised to unit length (if the
     restriction leaves nothing, the unrestricted update is normalised instead).
     ``coup`` (J,) and ``new`` (K,) are work arrays.
     """
     J, K = W.shape
     for i in range(J):
+        rate = rates[i]
         p = 0.0
         for k in range(K):
             p += zdot[k] * W[i, k]
@@ -235,7 +237,7 @@ def ccipca_fit(X, t, mean, dirs, lam, total_var, t1, t2, c, r, u):
 
 
 @njit(cache=True, fastmath=False)
-def cimca_fit(Z, W, rate, gamma, gamma_factor, gdir, glam, t, mask, coup, new, res):
+def cimca_fit(Z, W, rates, gamma, gamma_factor, gdir, glam, t, mask, coup, new, res):
     """Run CIMCA over the rows of ``Z``; return the new sample count.
 
     The largest eigenvalue λ̂_1 of the second moment of ``Z`` is always tracked, by a
@@ -253,14 +255,14 @@ def cimca_fit(Z, W, rate, gamma, gamma_factor, gdir, glam, t, mask, coup, new, r
         ccipca_step(res, gdir, glam, 1.0 / t, none, none)
         if gamma_factor > 0.0:
             gamma = gamma_factor * glam[0]
-        cimca_step(z, W, rate, gamma, mask, coup, new)
+        cimca_step(z, W, rates, gamma, mask, coup, new)
     return t
 
 
 @njit(cache=True, fastmath=False)
 def incsfa_fit(
     X, t, total_var, has_prev, mean, dirs, lam, prev, W, gdir, glam,
-    t1, t2, c, r, eig_cutoff, var_fraction, rate, gamma, gamma_factor,
+    t1, t2, c, r, eig_cutoff, var_fraction, rates, gamma, gamma_factor,
     mask, u, dx, zdot, gres, coup, new,
 ):
     """Run IncSFA (Algorithm 1) over one block of consecutive samples ``X``.
@@ -300,6 +302,6 @@ def incsfa_fit(
                     gres[k] = zdot[k]
                 ccipca_step(gres, gdir, glam, eta, none, none)
                 gamma = gamma_factor * glam[0]
-            cimca_step(zdot, W, rate, gamma, mask, coup, new)
+            cimca_step(zdot, W, rates, gamma, mask, coup, new)
         has_prev = True
     return t, total_var, n_active

@@ -37,7 +37,7 @@ from ._estimator import Estimator
 from ._kernels import incsfa_fit
 from ._validation import check_random_state
 from .ccipca import CCIPCA, amnesic_params, check_first_block, init_directions
-from .mca import AUTO_GAMMA_FACTOR, MCA, gamma_code, init_weights
+from .mca import AUTO_GAMMA_FACTOR, MCA, component_rates, gamma_code, init_weights
 
 
 class IncSFA(Estimator):
@@ -51,6 +51,9 @@ class IncSFA(Estimator):
         mean is tracked with the same rate.
     var_fraction, eig_cutoff : which whitened components are active (see ``CCIPCA``).
     mca_rate : CIMCA's learning rate η in (0, 0.5].
+    mca_rates : ``"equal"`` (the paper: every slow feature's vector learns at η) or
+        ``"decreasing"`` (the slowest at η, the others slower;
+        :func:`~neurocur.learn.mca.component_rates`).
     gamma : CIMCA's lateral weight, a number > 0 (4 is safe for whitened input) or "auto".
     random_state : seed of the initial CCIPCA directions and CIMCA vectors.
 
@@ -71,6 +74,7 @@ class IncSFA(Estimator):
         "var_fraction": CCIPCA.param_specs["var_fraction"],
         "eig_cutoff": CCIPCA.param_specs["eig_cutoff"],
         "mca_rate": MCA.param_specs["learning_rate"],
+        "mca_rates": MCA.param_specs["component_rates"],
         "gamma": MCA.param_specs["gamma"],
         "random_state": CCIPCA.param_specs["random_state"],
     }
@@ -85,6 +89,7 @@ class IncSFA(Estimator):
         var_fraction=None,
         eig_cutoff=1e-3,
         mca_rate=0.05,
+        mca_rates="equal",
         gamma=4.0,
         random_state=None,
     ):
@@ -94,6 +99,7 @@ class IncSFA(Estimator):
         self.var_fraction = var_fraction
         self.eig_cutoff = eig_cutoff
         self.mca_rate = mca_rate
+        self.mca_rates = mca_rates
         self.gamma = gamma
         self.random_state = random_state
         self._checked_params()
@@ -150,7 +156,8 @@ class IncSFA(Estimator):
         self.n_samples_seen_, self._total, self.n_active_ = incsfa_fit(
             X, self.n_samples_seen_, self._total, bool(continues and self._has_prev),
             self.mean_, self._dirs, self._lam, self._prev, self._W, self._gdir, self._glam,
-            t1, t2, c, r, params["eig_cutoff"], frac, params["mca_rate"], gamma,
+            t1, t2, c, r, params["eig_cutoff"], frac,
+            component_rates(params["mca_rate"], params["n_components"], params["mca_rates"]), gamma,
             AUTO_GAMMA_FACTOR if gamma < 0 else 0.0,
             self._mask, u, dx, zdot, gres, coup, new,
         )

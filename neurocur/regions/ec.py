@@ -25,6 +25,8 @@ class ECParams:
     eig_cutoff: float = learner_param(IncSFA, "eig_cutoff", 1e-3,
                                       doc="relative eigenvalue below which a component is dropped")
     mca_rate: float = learner_param(IncSFA, "mca_rate", 0.05, doc="MCA learning rate")
+    mca_rates: str = learner_param(IncSFA, "mca_rates", "equal",
+                                   doc="'equal' (the paper) or 'decreasing' (slower rates for the faster features)")
     gamma: float | str = learner_param(IncSFA, "gamma", 4.0, doc="MCA deflation gamma")
 
     def __post_init__(self):
@@ -78,7 +80,7 @@ class ECIncSFA(Region):
         p = self.params
         self._proj = self._offset = None
         return IncSFA(p.n_components, p.n_pca, amnesic=p.amnesic, var_fraction=p.var_fraction,
-                      eig_cutoff=p.eig_cutoff, mca_rate=p.mca_rate, gamma=p.gamma,
+                      eig_cutoff=p.eig_cutoff, mca_rate=p.mca_rate, mca_rates=p.mca_rates, gamma=p.gamma,
                       random_state=int(self.rng.integers(2**63)))
 
     def step(self, episode):

@@ -97,3 +97,15 @@ def test_nonfinite_rejected_property(n, d, bad, data):
 def test_malformed_rejected(Z):
     with pytest.raises(ValueError):
         MCA(1).partial_fit(Z)
+
+
+def test_component_rates():
+    from neurocur.learn.mca import component_rates
+
+    np.testing.assert_array_equal(component_rates(0.05, 3, "equal"), [0.05, 0.05, 0.05])
+    np.testing.assert_allclose(component_rates(0.05, 4, "decreasing"),
+                               [0.05, 0.05 / (1.5 * 2.2), 0.05 / (1.5 * 3.4), 0.05 / (1.5 * 4.6)], rtol=1e-15)
+    with pytest.raises(ValueError, match="equal, decreasing"):
+        component_rates(0.05, 2, "fast")
+    with pytest.raises(ValueError, match="component_rates"):
+        MCA(component_rates="fast").partial_fit(np.eye(3))
