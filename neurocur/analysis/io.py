@@ -15,8 +15,7 @@ import pandas as pd
 from neurocur.contexts.base import SourceSpec
 from neurocur.results import ResultsStore, load, run_dirs
 
-from .order import per_run
-from .report import comparison_rows, order_table, summary
+from .report import order_table, paired_test_rows, summary
 
 __all__ = ["load", "run_dirs", "source_specs", "order_tables", "throughput", "write_summary"]
 
@@ -42,10 +41,11 @@ def order_tables(
     """The order table (:func:`~neurocur.analysis.report.order_table`) of every condition
     (or of ``conditions``), each with its own world's sources, side by side.
 
-    With ``tests``, the rows of :func:`~neurocur.analysis.report.comparison_rows` follow: the
+    With ``tests``, the rows of :func:`~neurocur.analysis.report.paired_test_rows` follow: the
     paired tests of ``reference`` (default: the first condition of the folder's
     ``config.toml`` that has runs) against every other shown condition with the same world's
-    sources, Holm-adjusted together; each row names its test and adjustment.
+    sources, the efficiency metrics and the order metrics each Holm-adjusted as one family;
+    each row names its test and adjustment.
     """
     episodes, modules = load(results_dir)
     specs = {c: s for c, s in source_specs(results_dir).items() if conditions is None or c in conditions}
@@ -59,8 +59,7 @@ def order_tables(
     if tests and reference in specs:
         group = [c for c, s in specs.items() if s == specs[reference]]
         keep_e, keep_m = episodes["condition"].isin(group), modules["condition"].isin(group)
-        rows = comparison_rows(per_run(episodes[keep_e], modules[keep_m], specs[reference]), reference,
-                               specs[reference])
+        rows = paired_test_rows(episodes[keep_e], modules[keep_m], reference, specs[reference])
         if len(rows):
             table = pd.concat([table, rows.reindex(columns=table.columns, fill_value="—")])
     return table

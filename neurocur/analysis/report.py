@@ -1,7 +1,8 @@
 """The summaries of a results folder: the order table beside the paper's numbers, and ``summary.json``.
 
 Both gather the statistics of :mod:`~neurocur.analysis.order`,
-:mod:`~neurocur.analysis.learning_time` and :mod:`~neurocur.analysis.comparison`;
+:mod:`~neurocur.analysis.learning_time`, :mod:`~neurocur.analysis.efficiency` and
+:mod:`~neurocur.analysis.comparison`;
 :func:`order_table` sets the paper's numbers (:mod:`~neurocur.analysis.paper`) beside them.
 Every p-value they show is named by its test (paired by run: Wilcoxon 1945 signed-rank,
 McNemar 1947 exact) and its multiple-comparison adjustment (Holm 1979 by default, or
@@ -22,11 +23,12 @@ from neurocur.contexts.synthetic import SYNTHETIC
 from . import paper
 from .bootstrap import BOOTSTRAP_SEED, N_BOOT
 from .comparison import ADJUSTMENT_NAMES, _adjustment, compare_conditions
+from .efficiency import EFFICIENCY_LABELS, EFFICIENCY_TESTS, efficiency_per_run, efficiency_summary
 from .learning_time import learning_time_summary, require_learning_columns
 from .order import _outcome_labels, condition_summary, order_counts, per_run, require_order_columns
 from .significance import TESTS
 
-__all__ = ["TABLE_TESTS", "order_table", "comparison_rows", "summary"]
+__all__ = ["TABLE_TESTS", "order_table", "comparison_rows", "paired_test_rows", "summary"]
 
 #: The per-run metrics whose paired test against the reference condition the order table shows.
 TABLE_TESTS = ("exact_order", "gated_sources")
@@ -38,6 +40,34 @@ def _mean_sd(mean: float, sd: float) -> str:
     if math.isnan(mean):
         return "—"
     return f"{mean:.2f}" if math.isnan(sd) else f"{mean:.2f} ± {sd:.2f}"
+
+
+def _frames(value: float) -> str:
+    return "—" if math.isnan(value) else f"{value / 1000:.1f}k"
+
+
+def _efficiency_labels(spec: SourceSpec) -> dict[str, str]:
+    labels = dict(EFFICIENCY_LABELS)
+    if spec.unlearnable:
+        labels["frames_unlearnable"] += f" ({'/'.join(spec.unlearnable)})"
+    return labels
+
+
+def _efficiency_cells(runs: pd.DataFrame, spec: SourceSpec) -> dict[str, str]:
+    """The order table's efficiency cells of one condition's :func:`efficiency_per_run` rows, by label."""
+    labels = _efficiency_labels(spec)
+    did = runs["frames_to_learn_all"].dropna()
+    censored, unlearnable = runs["frames_to_learn_all_censored"], runs["frames_unlearnable"].astype(float)
+    return {
+        labels["learned_all"]: f"{int(runs['learned_all'].sum())}/{len(runs)}",
+        f"{labels['frames_to_learn_all']}: median (range)": (
+            f"{_frames(did.median())} ({_frames(did.min())}–{_frames(did.max())}; n={len(did)})" if len(did) else "—"),
+        f"{labels['frames_to_learn_all_censored']}: mean ± sd": (
+            f"{_frames(censored.mean())} ± {_frames(censored.std())}" if len(runs) else "—"),
+        f"{labels['frames_unlearnable']}: mean ± sd": (
+            f"{_frames(unlearnable.mean())} ± {_frames(unlearnable.std())}" if len(runs) else "—"),
+        labels["modules_per_1e5"]: _mean_sd(runs["modules_per_1e5"].mean(), runs["modules_per_1e5"].std()),
+    }
 
 
 def _paper_cell(numbers: Mapping[str, paper.Reported], label: str) -> str:
@@ -67,7 +97,7 @@ def comparison_rows(
     if reference not in conditions or len(conditions) < 2:
         return pd.DataFrame(columns=conditions, dtype=object)
     tests = compare_conditions(runs, reference, metric=list(metrics), spec=spec, adjust=adjust)
-    labels = {**_NUMERIC_LABELS, **_outcome_labels(spec)}
+    labels = {**_NUMERIC_LABELS, **_efficiency_labels(spec), **_outcome_labels(spec)}
     adjustment = ADJUSTMENT_NAMES[_adjustment(adjust) or "none"][0]
     n_tests = int(tests["n_tests"].iloc[0])
     out: dict[str, dict[str, str]] = {}
@@ -85,6 +115,23 @@ def comparison_rows(
     return pd.DataFrame.from_dict(out, orient="index", columns=conditions).rename_axis("outcome")
 
 
+def paired_test_rows(
+    episodes: pd.DataFrame,
+    modules: pd.DataFrame,
+    reference: str,
+    spec: SourceSpec = SYNTHETIC,
+    *,
+    adjust: str | None = "holm",
+) -> pd.DataFrame:
+    """The order table's test rows (:func:`comparison_rows`) against ``reference``, two families
+    each adjusted on its own: the efficiency metrics (:data:`~neurocur.analysis.efficiency.EFFICIENCY_TESTS`),
+    then the order metrics (:data:`TABLE_TESTS`)."""
+    blocks = [comparison_rows(efficiency_per_run(episodes, modules, spec), reference, spec,
+                              metrics=EFFICIENCY_TESTS, adjust=adjust),
+              comparison_rows(per_run(episodes, modules, spec), reference, spec, adjust=adjust)]
+    return pd.concat(blocks)
+
+
 def order_table(
     episodes: pd.DataFrame,
     modules: pd.DataFrame,
@@ -96,9 +143,11 @@ def order_table(
     """The compact per-condition table printed by the CLI, beside the paper's numbers.
 
     Rows: the order outcomes ("k/n"), modules per run, learnable sources gated per run and
-    Kendall τ (mean ± sd), learning time per learnable source (epochs, mean ± sd); with a
-    ``reference`` condition, then the paired tests of :data:`TABLE_TESTS` against it
-    (:func:`comparison_rows`: each row names its test and adjustment).
+    Kendall τ (mean ± sd), the efficiency (:mod:`~neurocur.analysis.efficiency`: runs that
+    learned every learnable source, frames until then, frames in the unlearnable contexts,
+    modules per 10⁵ frames), learning time per learnable source (epochs, mean ± sd); with a
+    ``reference`` condition, then the paired tests against it (:func:`paired_test_rows`: the
+    efficiency metrics, then :data:`TABLE_TESTS`; each row names its test and adjustment).
     Columns: "paper" (curious agent, :data:`~neurocur.analysis.paper.SYNTHETIC_CURIOUS`),
     "paper (random)" (:data:`~neurocur.analysis.paper.SYNTHETIC_RANDOM`), then one column
     per condition. The paper columns are filled only for the synthetic world.
@@ -117,6 +166,10 @@ def order_table(
         for condition in conditions:
             m = means.loc[(condition, metric)]
             table.setdefault(label, {})[condition] = _mean_sd(m["mean"], m["sd"])
+    efficiency = efficiency_per_run(episodes, modules, spec)
+    for condition in conditions:
+        for label, cell in _efficiency_cells(efficiency[efficiency["condition"] == condition], spec).items():
+            table.setdefault(label, {})[condition] = cell
     for source in spec.learnable:
         for condition in conditions:
             t = times.loc[(condition, source)]
@@ -125,8 +178,7 @@ def order_table(
                 cell if cell == "—" else f"{cell} (n={int(t['n'])})")
     curious, random = (paper.SYNTHETIC_CURIOUS, paper.SYNTHETIC_RANDOM) if spec == SYNTHETIC else ({}, {})
     if reference is not None:
-        table.update(comparison_rows(per_run(episodes, modules, spec), reference, spec, adjust=adjust)
-                     .to_dict("index"))
+        table.update(paired_test_rows(episodes, modules, reference, spec, adjust=adjust).to_dict("index"))
     out = pd.DataFrame(
         [{"paper": _paper_cell(curious, label), "paper (random)": _paper_cell(random, label), **cells}
          for label, cells in table.items()],
@@ -164,7 +216,10 @@ def summary(
     """A JSON-serialisable summary of a results folder (written as ``summary.json``).
 
     Keys: ``n_runs`` (per condition), ``order_counts``, ``metrics`` (mean/sd per condition),
-    ``learning_time`` (epochs per learnable source), ``comparisons`` (``reference`` against
+    ``learning_time`` (epochs per learnable source), ``efficiency`` (per condition and metric:
+    :func:`~neurocur.analysis.efficiency.efficiency_summary`; and ``comparisons``, ``reference``
+    against every other condition on :data:`~neurocur.analysis.efficiency.EFFICIENCY_TESTS`,
+    adjusted as their own family), ``comparisons`` (``reference`` against
     every other condition, when both exist: :func:`~neurocur.analysis.comparison.compare_conditions`,
     each row with its ``test``, raw ``p_value``, ``p_adjusted`` and ``adjustment``) and
     ``statistics`` (how the comparisons were made: pairing, the tests by ``method`` code
@@ -175,10 +230,13 @@ def summary(
     require_learning_columns(episodes, modules, needed_by="summary")
     runs = per_run(episodes, modules, spec)
     conditions = sorted(runs["condition"].unique())
-    comparisons = pd.DataFrame()
+    efficiency = efficiency_per_run(episodes, modules, spec)
+    comparisons, efficiency_tests = pd.DataFrame(), pd.DataFrame()
     if reference in conditions and len(conditions) > 1:
         comparisons = compare_conditions(runs, reference, spec=spec, paired=paired, adjust=adjust,
                                          n_boot=n_boot, seed=seed)
+        efficiency_tests = compare_conditions(efficiency, reference, metric=list(EFFICIENCY_TESTS), spec=spec,
+                                              paired=paired, adjust=adjust, n_boot=n_boot, seed=seed)
     adjustment = _adjustment(adjust) or "none"
     methods = sorted(set(comparisons["method"])) if len(comparisons) else []
     result = {
@@ -186,6 +244,8 @@ def summary(
         "order_counts": order_counts(episodes, modules, spec).to_dict("records"),
         "metrics": condition_summary(episodes, modules, spec).to_dict("records"),
         "learning_time": learning_time_summary(episodes, modules, spec).to_dict("records"),
+        "efficiency": {"summary": efficiency_summary(efficiency, spec, n_boot=n_boot, seed=seed).to_dict("records"),
+                       "comparisons": efficiency_tests.to_dict("records")},
         "comparisons": comparisons.to_dict("records"),
         "statistics": {
             "reference": reference if comparisons.size else None,

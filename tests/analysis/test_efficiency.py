@@ -3,13 +3,21 @@ and the paired comparison, on the hand-made runs of conftest.py (known answers).
 
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
 import pytest
 from neuro_tables import episodes_of, modules_of, runs_of
 
-from neurocur.analysis import compare_efficiency, efficiency_per_run, efficiency_summary
+from neurocur.analysis import (
+    compare_efficiency,
+    efficiency_per_run,
+    efficiency_summary,
+    order_table,
+    order_tables,
+    summary,
+)
 from neurocur.contexts.base import SourceSpec
 
 CYCLE = [c for c in range(5) for _ in range(3)] * 4   # conftest.py's context sequence
@@ -105,3 +113,27 @@ def test_bad_input_is_named(tables):
         compare_efficiency("results")
     with pytest.raises(ValueError, match="'learned_all'"):
         compare_efficiency(efficiency_per_run(*tables).drop(columns="learned_all"))
+
+
+FRAMES_ROW = "frames to learn all (censored at the run length) vs curious: Wilcoxon signed-rank p (paired; Holm, 4 tests)"
+
+
+def test_the_order_table_reports_the_efficiency(tables, results_dir):
+    table = order_table(*tables, reference="curious")
+    assert table.loc["all learnable sources learned", "curious"] == "3/4"
+    assert table.loc["frames to learn all (runs that did): median (range)", "curious"] == "5.1k (4.1k–5.1k; n=3)"
+    assert table.loc["frames to learn all (runs that did): median (range)", "random_switching"] == "—"
+    assert table.loc["frames in unlearnable contexts (S-D): mean ± sd", "random_switching"] == "1.2k ± 0.0k"
+    # raw p 0.25 (frames), 0.25 (learned all), 1 (S-D), 0.25 (modules); Holm over the four: all 1
+    assert table.loc[FRAMES_ROW, "random_switching"] == "1 (n=3)"
+    assert table.index[-1].startswith("learnable sources gated vs curious")     # the order family comes last
+    assert order_tables(results_dir).loc[FRAMES_ROW, "random_switching"] == "1 (n=3)"
+
+
+def test_the_summary_reports_the_efficiency(tables):
+    result = json.loads(json.dumps(summary(*tables), allow_nan=False))["efficiency"]
+    restricted = next(r for r in result["summary"]
+                      if r["condition"] == "curious" and r["metric"] == "frames_to_learn_all_censored")
+    assert restricted["mean"] == pytest.approx((14300 + 6000) / 4)
+    frames = next(r for r in result["comparisons"] if r["metric"] == "frames_to_learn_all_censored")
+    assert frames["p_value"] == pytest.approx(0.25) and frames["n_tests"] == 4 and frames["b"] == "random_switching"
