@@ -34,6 +34,7 @@ EPISODE_COLUMNS = (
     Column("step", "int", "frames", "global frame at the start of the episode", "scheduler"),
     Column("context", "int", "index", "context of this episode", "sensory"),
     Column("n_frames", "int", "frames", "frames in this episode (block)", "sensory"),
+    Column("reward", "float", "reward units", "extrinsic reward the world paid for this episode", "sensory"),
     Column("familiar", "bool", "", "a frozen module gates this episode", "HPC"),
     Column("gating_module", "int", "index", "frozen module that gates this episode; -1 if none", "HPC"),
     Column("error", "float", "feature distance", "adaptive module's context error (eq 11 / M)", "HPC"),

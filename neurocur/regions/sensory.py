@@ -29,6 +29,8 @@ class SensoryWorld(Region):
     the agent stayed (``next_context`` equals the current context) and
     ``episodes_on_engage`` > 1, that many episodes are concatenated into one block
     whose ``starts`` mark the independent segments (iCub experiment, section 4.2).
+    ``reward`` is the extrinsic reward the world paid for the visit (``Episode.reward``;
+    the sum over the concatenated episodes of a block), 0 unless the experiment declares one.
     """
 
     Params = SensoryParams
@@ -37,10 +39,12 @@ class SensoryWorld(Region):
     outputs = (
         Signal("episode", "Episode", (), "frames (T, n_pixels) in [0, 1], context-states (T,), segment starts"),
         Signal("context", "int64", (), "index of the context of this episode"),
+        Signal("reward", "float64", (), "extrinsic reward the world paid for this episode", optional=True),
     )
     probes = (
         Probe("context", "int", "index", "context of this episode"),
         Probe("n_frames", "int", "frames", "frames in this episode (block)"),
+        Probe("reward", "float", "reward units", "extrinsic reward the world paid for this episode (block)"),
     )
     frame_probes = (Probe("state", "int", "index", "context-state (local time step) of each frame"),)
 
@@ -60,6 +64,7 @@ class SensoryWorld(Region):
         self.episode = None
         self.context = c0
         self.n_frames = 0
+        self.reward = 0.0
 
     def step(self, next_context):
         if next_context is None:
@@ -68,22 +73,23 @@ class SensoryWorld(Region):
             ep = _concatenate([self.world.step(next_context)[0] for _ in range(self.params.episodes_on_engage)])
         else:
             ep = self.world.step(next_context)[0]
-        self.episode, self.context, self.n_frames = ep, ep.context, len(ep.frames)
-        return ep, self.context
+        self.episode, self.context, self.n_frames, self.reward = ep, ep.context, len(ep.frames), float(ep.reward)
+        return ep, self.context, self.reward
 
     def record(self):
-        return (self.context, self.n_frames)
+        return (self.context, self.n_frames, self.reward)
 
     def record_frames(self):
         return self.episode.states[:, None]
 
 
 def _concatenate(episodes) -> Episode:
-    """One block from consecutive episodes of a context; ``starts`` marks every segment."""
+    """One block from consecutive episodes of a context; ``starts`` marks every segment, ``reward`` is their sum."""
     offsets = np.cumsum([0] + [len(e.frames) for e in episodes[:-1]])
     return Episode(
         frames=np.concatenate([e.frames for e in episodes]),
         states=np.concatenate([e.states for e in episodes]),
         context=episodes[0].context,
         starts=np.concatenate([e.starts + o for e, o in zip(episodes, offsets)]).astype(np.int64),
+        reward=float(sum(e.reward for e in episodes)),
     )

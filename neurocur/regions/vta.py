@@ -1,4 +1,11 @@
-"""VTA: dopamine as intrinsic reward — learning progress (section 2.5) or a novelty variant."""
+"""VTA: dopamine — the role's shared ports, learning progress (section 2.5) and count novelty.
+
+Every VTA model reads the same inputs (the context, HPC's error and familiarity signals,
+the module-learned event and the world's extrinsic reward of the visit) and releases one
+level of dopamine per episode, so each drops into the VTA's place in a circuit
+(``[replace.VTA] type = "vta.surprise"``). The other models are in ``vta_*.py``;
+docs/regions.md gives every model's equations, parameters and references.
+"""
 
 from __future__ import annotations
 
@@ -9,26 +16,69 @@ import numpy as np
 from ..config import check_params, param
 from .base import Probe, Region, Signal, register
 
-_INPUTS = (
-    Signal("context", "int64", ()),
-    Signal("reward_error", "float64", (), "the adaptive module's error after this episode"),
-    Signal("familiar", "bool", ()),
-    Signal("module_learned", "bool", ()),
-)
-_OUTPUTS = (Signal("da", "float64", (), "intrinsic reward of this episode"),)
-_PROBES = (Probe("da", "float", "error units per episode", "dopamine: intrinsic reward of this episode"),)
+__all__ = ["VTARole", "LearningProgressVTA", "AbsLearningProgressVTA", "NoveltyVTA", "is_nan"]
+
+
+def is_nan(x: float) -> bool:
+    """True for NaN (an undefined error); cheaper than ``math.isnan`` on Python floats."""
+    return x != x
+
+
+class VTARole(Region):
+    """The VTA role's ports, shared by every VTA model.
+
+    Inputs: ``context``, ``reward_error`` (HPC's error of the adaptive module after this
+    episode, NaN while undefined), ``familiar`` (a stored module gates the episode),
+    ``module_learned`` (the adaptive module is stored at this episode) and ``reward`` (the
+    extrinsic reward the world paid for this visit, 0 unless the experiment declares one).
+    Output and probe: ``da``. A model computes the level in :meth:`dopamine`; :meth:`step`
+    releases it through :meth:`~neurocur.regions.base.Region.modulate` (drug lesions act
+    there), then emits and records the released level.
+    """
+
+    modulator = "da"
+    inputs = (
+        Signal("context", "int64", ()),
+        Signal("reward_error", "float64", (), "the adaptive module's error after this episode"),
+        Signal("familiar", "bool", ()),
+        Signal("module_learned", "bool", ()),
+        Signal("reward", "float64", (), "extrinsic reward the world paid for this visit"),
+    )
+    outputs = (Signal("da", "float64", (), "dopamine released at this episode"),)
+    probes = (Probe("da", "float", "reward units per episode", "dopamine released at this episode"),)
+
+    def bind(self, world) -> None:
+        self.n_contexts = world.n_contexts
+
+    def reset(self, rng) -> None:
+        self.da = 0.0
+
+    def dopamine(self, context, reward_error, familiar, module_learned, reward) -> float:
+        """The level this model computes for the episode, before any drug."""
+        raise NotImplementedError
+
+    def step(self, context, reward_error, familiar, module_learned, reward=0.0):
+        return self.release(self.dopamine(context, reward_error, familiar, module_learned, reward))
+
+    def release(self, level: float) -> tuple[float]:
+        """Pass ``level`` through the drugs, keep it for the probe and emit it."""
+        self.da = float(self.modulate(level))
+        return (self.da,)
+
+    def record(self):
+        return (self.da,)
 
 
 @dataclass(frozen=True)
 class LearningProgressParams:
-    boredom: float = param(-100.0, float, doc="reward of a familiar (gated) episode")
+    boredom: float = param(-100.0, float, doc="DA of a familiar (gated) episode (reward units)")
 
     def __post_init__(self):
         check_params(self)
 
 
 @register("vta.learning_progress")
-class LearningProgressVTA(Region):
+class LearningProgressVTA(VTARole):
     """DA = learning progress: ``e_prev(c) - e(c)`` (the negative derivative of eq 11).
 
     ``e_prev(c)`` is the context's error measured at its previous visit (with the
@@ -39,62 +89,61 @@ class LearningProgressVTA(Region):
     """
 
     Params = LearningProgressParams
-    inputs, outputs, probes = _INPUTS, _OUTPUTS, _PROBES
-
-    def bind(self, world) -> None:
-        self.n_contexts = world.n_contexts
 
     def reset(self, rng) -> None:
+        super().reset(rng)
         self.previous = np.full(self.n_contexts, np.nan)
-        self.da = 0.0
 
-    def step(self, context, reward_error, familiar, module_learned):
+    def progress(self, before: float, after: float) -> float:
+        """The reward of an error change ``before -> after``: its decrease."""
+        return before - after
+
+    def dopamine(self, context, reward_error, familiar, module_learned, reward):
         before = self.previous[context]
         if familiar:
             da = self.params.boredom
         else:
-            da = before - reward_error
-            if da != da:  # NaN: either error undefined
+            da = self.progress(before, reward_error)
+            if is_nan(da):  # either error undefined
                 da = 0.0
-        if reward_error == reward_error:
+        if not is_nan(reward_error):
             self.previous[context] = reward_error
         if module_learned:
             self.previous[:] = np.nan
-        self.da = float(da)
-        return (self.da,)
+        return float(da)
 
-    def record(self):
-        return (self.da,)
+
+@register("vta.abs_learning_progress")
+class AbsLearningProgressVTA(LearningProgressVTA):
+    """DA = ``|e_prev(c) - e(c)|``: the absolute learning progress of Oudeyer, Kaplan & Hafner
+    (2007, IEEE Trans. Evol. Comput. 11:265), rewarding any change of the error, a fall or a
+    rise. Everything else (boredom, undefined errors, the memory cleared on storage) is
+    the signed model's (:class:`LearningProgressVTA`)."""
+
+    def progress(self, before: float, after: float) -> float:
+        return abs(before - after)
 
 
 @dataclass(frozen=True)
 class NoveltyParams:
-    scale: float = param(1.0, float, low=0.0, low_open=True, doc="DA of the first visit")
+    scale: float = param(1.0, float, low=0.0, low_open=True, doc="DA of the first visit (reward units)")
 
     def __post_init__(self):
         check_params(self)
 
 
 @register("vta.novelty")
-class NoveltyVTA(Region):
+class NoveltyVTA(VTARole):
     """DA = count-based novelty ``scale / sqrt(N(c))``, N(c) = visits of context c so far
-    (this one included). No boredom term; the error inputs are accepted and ignored so
+    (this one included). No boredom term; the other inputs are accepted and ignored so
     that it drops into the learning-progress VTA's place."""
 
     Params = NoveltyParams
-    inputs, outputs, probes = _INPUTS, _OUTPUTS, _PROBES
-
-    def bind(self, world) -> None:
-        self.n_contexts = world.n_contexts
 
     def reset(self, rng) -> None:
+        super().reset(rng)
         self.visits = np.zeros(self.n_contexts, dtype=np.int64)
-        self.da = 0.0
 
-    def step(self, context, reward_error, familiar, module_learned):
+    def dopamine(self, context, reward_error, familiar, module_learned, reward):
         self.visits[context] += 1
-        self.da = self.params.scale / float(np.sqrt(self.visits[context]))
-        return (self.da,)
-
-    def record(self):
-        return (self.da,)
+        return self.params.scale / float(np.sqrt(self.visits[context]))

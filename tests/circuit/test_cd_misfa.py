@@ -9,8 +9,8 @@ import pytest
 from neurocur.circuit import Circuit
 from neurocur.config import ConfigError
 
-EPISODE_COLUMNS = ["episode", "step", "context", "n_frames", "familiar", "gating_module", "error", "episode_error",
-                   "min_frozen_error", "module_learned", "n_modules", "da", "q_engage", "q_disengage", "action",
+EPISODE_COLUMNS = ["episode", "step", "context", "n_frames", "reward", "familiar", "gating_module", "error",
+                   "episode_error", "min_frozen_error", "module_learned", "n_modules", "da", "q_engage", "q_disengage", "action",
                    "next_context", "epsilon", "ne_tonic", "ne_phasic"]
 
 

@@ -203,7 +203,7 @@ def test_pfc_eq14_reward_model_and_lspi_values():
 def run_lc(lc, contexts, qs, learned):
     rows = []
     for c, q, m in zip(contexts, qs, learned):
-        action, nxt = lc.step(c, np.asarray(q, dtype=float), m)
+        action, nxt, _ = lc.step(c, np.asarray(q, dtype=float), m)
         rows.append((action, nxt, *lc.record()[2:]))
     return rows
 
@@ -255,12 +255,12 @@ def test_lc_random_choices_are_uniform():
 def test_sensory_concatenates_episodes_when_staying(make_world):
     world = make_world(n_states=20, episode_len=5)
     s = make(SensoryWorld, world, episodes_on_engage=2, initial_context=1)
-    first, c = s.step(None)
+    first, c, _ = s.step(None)
     assert c == 1 and len(first.frames) == 5
-    stay, c = s.step(1)
+    stay, c, _ = s.step(1)
     assert c == 1 and len(stay.frames) == 10 and list(stay.starts) == [0, 5]
     np.testing.assert_array_equal(stay.states, np.arange(5, 15))
-    move, c = s.step(0)
+    move, c, _ = s.step(0)
     assert c == 0 and len(move.frames) == 5 and list(move.starts) == [0]
     with pytest.raises(ValueError, match="initial_context must be < 3"):
         make(SensoryWorld, world, initial_context=3)

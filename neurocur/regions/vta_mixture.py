@@ -1,0 +1,66 @@
+"""VTA: a weighted mixture of an intrinsic dopamine model and the extrinsic reward."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ..config import ConfigError, ParamSpec, check_params, make_params, param, spec_param
+from .base import register
+from .vta import AbsLearningProgressVTA, LearningProgressVTA, NoveltyVTA, VTARole
+from .vta_content_novelty import ContentNoveltyVTA
+from .vta_surprise import SurpriseVTA
+
+__all__ = ["MixtureVTA", "INTRINSIC"]
+
+#: The intrinsic models a mixture may hold, by type name.
+INTRINSIC = {cls.type_name: cls for cls in (LearningProgressVTA, AbsLearningProgressVTA, NoveltyVTA,
+                                             ContentNoveltyVTA, SurpriseVTA)}
+
+
+@dataclass(frozen=True)
+class MixtureParams:
+    weight: float = param(0.5, float, low=0.0, high=1.0, doc="w, the extrinsic reward's share of DA")
+    intrinsic: str = param("vta.learning_progress", str, choices=tuple(INTRINSIC), doc="the intrinsic model's type")
+    intrinsic_params: dict = spec_param({}, ParamSpec.table(ParamSpec(float)),
+                                        doc="the intrinsic model's parameters (its defaults where omitted)")
+
+    def __post_init__(self):
+        check_params(self)
+        self.intrinsic_model_params()
+
+    def intrinsic_model_params(self):
+        """The intrinsic model's parameters, checked by its own Params (errors name ``intrinsic_params.KEY``)."""
+        try:
+            return make_params(INTRINSIC[self.intrinsic].Params, self.intrinsic_params, source=type(self).__name__,
+                               prefix="intrinsic_params")
+        except ConfigError as exc:
+            raise ConfigError(exc.source, exc.key, f"{exc.expected} (for {self.intrinsic})", exc.got) from None
+
+
+@register("vta.mixture")
+class MixtureVTA(VTARole):
+    """DA = ``(1 - w) · DA_intrinsic + w · r``: an intrinsic model's dopamine (by default the
+    paper's learning progress, section 2.5) mixed with the world's extrinsic reward ``r`` of
+    the visit, with weight ``w`` (a trade-off of intrinsic and extrinsic motivation in the
+    sense of Barto, Singh & Chentanez 2004, Proc. ICDL). ``w = 0`` is the intrinsic model,
+    ``w = 1`` the extrinsic reward alone. The intrinsic model sees the same inputs; drugs
+    act on the mixed level only."""
+
+    Params = MixtureParams
+
+    def __init__(self, name: str = "", params=None, **kwargs):
+        super().__init__(name, params, **kwargs)
+        cls = INTRINSIC[self.params.intrinsic]
+        self.intrinsic = cls(f"{self.name}.intrinsic", self.params.intrinsic_model_params())
+
+    def bind(self, world) -> None:
+        super().bind(world)
+        self.intrinsic.bind(world)
+
+    def reset(self, rng) -> None:
+        super().reset(rng)
+        self.intrinsic.reset(rng)
+
+    def dopamine(self, context, reward_error, familiar, module_learned, reward):
+        w = self.params.weight
+        return (1.0 - w) * self.intrinsic.dopamine(context, reward_error, familiar, module_learned, reward) + w * reward

@@ -1,0 +1,162 @@
+"""The VTA models in circuits: the shipped circuit files, every model in short runs of the synthetic and
+the iCub experiments (its recorded DA is the model applied to the recorded HPC and sensory signals),
+the extrinsic reward reaching the VTA, and clear errors for bad input."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+
+import numpy as np
+import pytest
+
+from neurocur.circuit import Circuit
+from neurocur.config import ConfigError
+from neurocur.experiments import load_experiment, run_one
+from neurocur.regions import REGIONS
+from neurocur.regions.vta_td import TDVTA
+
+#: the shipped circuit file of each VTA model
+CIRCUIT_FILES = {"vta_novelty": "vta.novelty", "vta_abs_lp": "vta.abs_learning_progress",
+                 "vta_content_novelty": "vta.content_novelty", "vta_surprise": "vta.surprise", "vta_td": "vta.td",
+                 "vta_mixture": "vta.mixture"}
+VTA_TYPES = [n for n in REGIONS.names() if n.startswith("vta.")]
+#: a freeze that stores modules within a few thousand frames, so familiar episodes and storage occur
+STORING = ['HPC.freeze="episode_mean"', "HPC.threshold=1.0"]
+
+
+def replayed(circuit: Circuit, episodes, error_column: str) -> np.ndarray:
+    """The DA a fresh instance of the circuit's VTA model gives on the recorded inputs."""
+    spec = circuit.specs["VTA"]
+    vta = spec.cls("VTA", spec.params)
+
+    class World:
+        n_contexts = int(episodes["context"].max()) + 1
+
+    vta.bind(World())
+    vta.reset(np.random.default_rng(0))
+    cols = [episodes[c].tolist() for c in ("context", error_column, "familiar", "module_learned", "reward")]
+    return np.array([vta.step(*x)[0] for x in zip(*cols)])
+
+
+def test_the_vta_reads_the_sensory_reward_in_every_shipped_circuit(circuits_dir):
+    for path in sorted(circuits_dir.glob("*.toml")):
+        links = {(k.src, k.signal, k.dst) for k in Circuit.from_toml(path).links}
+        assert ("sensory", "reward", "VTA") in links, path.name
+
+
+@pytest.mark.parametrize("name, type_name", CIRCUIT_FILES.items())
+def test_circuit_file_swaps_the_vta(name, type_name, circuits_dir, small, make_world):
+    circuit = Circuit.from_toml(circuits_dir / f"{name}.toml", overrides=small)
+    assert circuit.specs["VTA"].type_name == type_name
+    episodes = circuit.build(make_world(), seed=2).run(3000).episodes()
+    assert np.isfinite(episodes["da"]).all() and (episodes["reward"] == 0.0).all()
+    np.testing.assert_array_equal(episodes["da"], replayed(circuit, episodes, "error"))
+
+
+def paying(world_class):
+    """``world_class`` paying ``10 + context`` for a visit of contexts 1 and 2, nothing for context 0."""
+
+    class Paying(world_class):
+        def _visit(self, context):
+            return dataclasses.replace(super()._visit(context), reward=float(10 + context) * (context > 0))
+
+    return Paying
+
+
+def test_td_learns_the_worlds_reward_in_the_circuit(circuits_dir, small, make_world):
+    circuit = Circuit.from_toml(circuits_dir / "vta_td.toml", overrides=small)
+    sim = circuit.build(paying(make_world)(), seed=4).run(20 * 600)
+    episodes = sim.episodes()
+    expected = np.where(episodes["context"] > 0, 10.0 + episodes["context"], 0.0)
+    np.testing.assert_array_equal(episodes["reward"], expected)
+    np.testing.assert_array_equal(episodes["da"], replayed(circuit, episodes, "error"))
+    value = sim.regions["VTA"].value
+    assert value[2] > value[1] > value[0] > 10  # each context is worth its own reward and what follows
+
+
+@pytest.fixture(scope="module")
+def synthetic():
+    return load_experiment("synthetic", steps=5000, sets=STORING)
+
+
+@pytest.mark.parametrize("type_name", VTA_TYPES)
+def test_every_vta_model_runs_in_the_synthetic_experiment(synthetic, type_name):
+    cond = synthetic.conditions["curious"]
+    circuit = cond.circuit.replace("VTA", {"type": type_name})
+    result = run_one(dataclasses.replace(cond, circuit=circuit), 0, synthetic.steps, synthetic.run_seed(0))
+    episodes = result.episodes
+    assert episodes["familiar"].any() and episodes["module_learned"].any()
+    np.testing.assert_array_equal(episodes["da"], replayed(circuit, episodes, "episode_error"))
+    if type_name == "vta.td":
+        assert (episodes["da"] == 0.0).all()  # no extrinsic reward in the synthetic world
+
+
+def test_the_mixture_halves_learning_progress_and_leaves_the_behaviour(synthetic):
+    """Without extrinsic reward, DA = 0.5 LP: PFC's values halve and every decision stays the same."""
+    cond = synthetic.conditions["curious"]
+    runs = {t: run_one(dataclasses.replace(cond, circuit=cond.circuit.replace("VTA", {"type": t})), 0,
+                       synthetic.steps, synthetic.run_seed(0)).episodes for t in ("vta.learning_progress", "vta.mixture")}
+    lp, mix = runs["vta.learning_progress"], runs["vta.mixture"]
+    np.testing.assert_array_equal(mix["context"], lp["context"])
+    np.testing.assert_allclose(mix["da"], 0.5 * lp["da"], rtol=1e-15)
+
+
+@pytest.fixture(scope="module")
+def icub(tmp_path_factory):
+    cache = tmp_path_factory.mktemp("icub")
+    exp = load_experiment("icub", steps=600, sets=[f"world.cache_dir={json.dumps(str(cache))}",
+                                                    "world.n_episodes=3", "world.n_jobs=1", *STORING])
+    cond = exp.conditions["curious"]
+    try:
+        cond.world_class.prepare(cond.world_params)  # simulates the data set: needs MuJoCo offscreen rendering
+    except Exception as exc:  # any GL or import failure means no iCub data set here
+        pytest.skip(f"the iCub data set cannot be simulated here: {exc}")
+    return exp
+
+
+@pytest.mark.parametrize("type_name", VTA_TYPES)
+def test_every_vta_model_runs_in_the_icub_experiment(icub, type_name):
+    cond = icub.conditions["curious"]
+    circuit = cond.circuit.replace("VTA", {"type": type_name})
+    episodes = run_one(dataclasses.replace(cond, circuit=circuit), 0, icub.steps, icub.run_seed(0)).episodes
+    assert episodes["module_learned"].any() and np.isfinite(episodes["da"]).all()
+    np.testing.assert_array_equal(episodes["da"], replayed(circuit, episodes, "error"))
+
+
+# ------------------------------------------------------------------ bad input
+
+
+@pytest.mark.parametrize("table, key, expected", [
+    ('type = "vta.curiosity"', "replace.VTA.type", "a registered region type ("),
+    ('type = "vta.td"\nparams = { discount = 1.0 }', "replace.VTA.params.discount", "a number >= 0 and < 1"),
+    ('type = "vta.td"\nparams = { rate = 0 }', "replace.VTA.params.rate", "a number > 0 and <= 1"),
+    ('type = "vta.surprise"\nparams = { scale = -1.0 }', "replace.VTA.params.scale", "a number > 0"),
+    ('type = "vta.content_novelty"\nparams = { scale = "big" }', "replace.VTA.params.scale", "a number > 0"),
+    ('type = "vta.abs_learning_progress"\nparams = { bordeom = 1 }', "replace.VTA.params.bordeom",
+     "a parameter of LearningProgressParams (boredom)"),
+    ('type = "vta.mixture"\nparams = { weight = 1.5 }', "replace.VTA.params.weight", "a number >= 0 and <= 1"),
+    ('type = "vta.mixture"\nparams = { intrinsic = "vta.td" }', "replace.VTA.params.intrinsic",
+     "one of 'vta.learning_progress', 'vta.abs_learning_progress', 'vta.novelty'"),
+    ('type = "vta.mixture"\nparams = { intrinsic_params = { scale = 2.0 } }',
+     "replace.VTA.params.intrinsic_params.scale",
+     "a parameter of LearningProgressParams (boredom) (for vta.learning_progress)"),
+    ('type = "vta.mixture"\nparams = { intrinsic = "vta.novelty", intrinsic_params = { scale = -2.0 } }',
+     "replace.VTA.params.intrinsic_params.scale", "a number > 0 (for vta.novelty)"),
+])
+def test_bad_vta_tables_name_the_file_and_key(tmp_path, table, key, expected):
+    path = tmp_path / "bad.toml"
+    path.write_text(f'extends = "cd_misfa"\n[replace.VTA]\n{table}\n')
+    with pytest.raises(ConfigError) as info:
+        Circuit.from_toml(path)
+    assert (info.value.source, info.value.key) == (str(path), key)
+    assert info.value.expected.startswith(expected)
+    if key.endswith(".type"):  # the registry's message lists every VTA model
+        assert all(name in info.value.expected for name in VTA_TYPES)
+
+
+def test_bad_vta_parameters_from_python_and_overrides():
+    with pytest.raises(ConfigError, match=r"TDParams: key 'discount': expected a number >= 0 and < 1, got 1.5"):
+        TDVTA("VTA", discount=1.5)
+    with pytest.raises(ConfigError, match=r"overrides: key 'VTA.weight': expected a number >= 0 and <= 1, got -0.5"):
+        Circuit.from_toml("vta_mixture", overrides={"VTA.weight": -0.5})
