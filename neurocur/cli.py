@@ -131,17 +131,21 @@ def build_parser() -> argparse.ArgumentParser:
         "omega", help="learning cost Omega of a signal or of a context's frames (eq 15)",
         description="Omega = 1 - eta (lambda_{n-1} - lambda_n) / (1 - eta - eta lambda_n) (paper eqs 15, 40): "
         "lower is cheaper to learn, 1 is never learned. Give a .npy file (rows are time), or an experiment "
-        "(and optionally a context) to measure the frames of its world.",
+        "(and optionally a context) to measure the frames of its world. A synthetic context whose source is "
+        "redrawn every epoch (S-D, noise, re-sampled sources) is measured on --draws fresh draws: Omega of the "
+        "draws joined (no derivative across a redraw), then each draw's mean and range.",
         epilog="examples:\n  neurocur omega signal.npy\n  neurocur omega --experiment synthetic "
         "--context C3\n", formatter_class=argparse.RawDescriptionHelpFormatter)
     omega.add_argument("file", metavar="FILE.npy", nargs="?", help="a (time, dims) array saved with numpy.save")
     omega.add_argument("--experiment", metavar="FILE", help="experiment TOML (or shipped name) whose world's contexts to measure")
     omega.add_argument("--context", metavar="NAME", help="context name (e.g. C3); default: every context")
     omega.add_argument("--condition", metavar="NAME", help="condition whose world to use (default: the first)")
-    omega.add_argument("--seed", type=int, default=0, help="world seed (mixing matrices, S-D; default 0)")
+    omega.add_argument("--seed", type=int, default=0, help="world seed (mixing matrices, S-D, draws of redrawn sources; default 0)")
     omega.add_argument("--set", dest="sets", action="extend", nargs="+", default=[], metavar="KEY=VALUE",
                        help="override a setting of the experiment, e.g. world.normalise=image")
     omega.add_argument("--eta", type=_eta, default=0.05, help="MCA learning rate (default 0.05)")
+    omega.add_argument("--draws", type=_positive_int, default=10,
+                       help="draws of a source redrawn every epoch (default 10)")
 
     invariance = sub.add_parser(
         "invariance", help="Figure 5: a learned slow feature is invariant to the other source dimension",
@@ -222,13 +226,17 @@ def _cmd_omega(args) -> int:
         if name not in world.context_names:
             raise ValueError(f"omega: --context: expected one of {', '.join(world.context_names)}, got {name!r}")
         index = world.context_names.index(name)
-        if hasattr(world, "context_frames"):  # a synthetic world: one frame sequence per context
-            value = omega(world.context_frames(name), args.eta)
+        redrawn = ""
+        if hasattr(world, "redraws"):  # a synthetic world: one frame sequence per context (or per draw)
+            value, per_draw = world.omega(index, args.eta, draws=args.draws, seed=args.seed)
+            if world.redraws(index):
+                redrawn = (f"  redrawn every epoch: {args.draws} draws joined; per draw mean {per_draw.mean():.5f}, "
+                           f"range [{per_draw.min():.5f}, {per_draw.max():.5f}]")
         else:  # an episodic world (iCub): derivatives within episodes only
             from neurocur.contexts.icub import omega_episodes
 
             value = omega_episodes(world.episodes(index), args.eta)
-        print(f"{name}  {world.source_names[index]:<6} Omega = {value:.5f}")
+        print(f"{name}  {world.source_names[index]:<6} Omega = {value:.5f}{redrawn}")
     return 0
 
 

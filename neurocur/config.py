@@ -103,7 +103,8 @@ class ParamSpec:
     ``kind=tuple`` (a list of ``item``-checked values, coerced to a tuple; ``length`` or
     ``min_length`` items), ``kind=dict`` (a table from non-empty string names to
     ``item``-checked values) and ``kind=`` a parameter dataclass (a TOML table turned
-    into that class by :func:`make_params`, or an instance of it).
+    into that class by :func:`make_params`, or an instance of it; with ``shorthand``, the
+    name of one of its fields, any other value stands for ``{shorthand: value}``).
     """
 
     kind: type
@@ -118,12 +119,15 @@ class ParamSpec:
     length: int | None = None
     min_length: int = 0
     path: bool = False
+    shorthand: str | None = None
 
     def __post_init__(self):
         if self.kind not in (float, int, bool, str, tuple, dict) and not dataclasses.is_dataclass(self.kind):
             raise TypeError(f"ParamSpec kind must be float, int, bool, str, tuple, dict or a dataclass; got {self.kind!r}")
         if (self.item is not None) != (self.kind in (tuple, dict)):
             raise TypeError("ParamSpec needs an item spec exactly for the sequence and table kinds")
+        if self.shorthand is not None and self._shorthand_spec() is None:
+            raise TypeError(f"ParamSpec shorthand must name a parameter of a dataclass kind; got {self.shorthand!r}")
 
     @classmethod
     def sequence(cls, item: ParamSpec, *, length: int | None = None, min_length: int = 0,
@@ -137,9 +141,18 @@ class ParamSpec:
         return cls(dict, item=item, optional=optional)
 
     @classmethod
-    def nested(cls, params_cls: type, *, optional: bool = False) -> ParamSpec:
-        """A table of the parameters of the frozen dataclass ``params_cls`` (or an instance of it)."""
-        return cls(params_cls, optional=optional)
+    def nested(cls, params_cls: type, *, optional: bool = False, shorthand: str | None = None) -> ParamSpec:
+        """A table of the parameters of the frozen dataclass ``params_cls`` (or an instance of it).
+
+        ``shorthand``: a parameter of ``params_cls`` that a value other than a table gives
+        on its own (``S-X = "x.npy"`` for ``S-X = { file = "x.npy" }``).
+        """
+        return cls(params_cls, optional=optional, shorthand=shorthand)
+
+    def _shorthand_spec(self) -> ParamSpec | None:
+        if not dataclasses.is_dataclass(self.kind):
+            return None
+        return {f.name: f.metadata.get("spec") for f in dataclasses.fields(self.kind)}.get(self.shorthand)
 
     def expected(self) -> str:
         parts = []
@@ -159,6 +172,8 @@ class ParamSpec:
             parts.append(f"a table of named items, each {self.item.expected()}")
         elif dataclasses.is_dataclass(self.kind):
             parts.append(f"a table of {self.kind.__name__} parameters")
+            if self.shorthand:
+                parts.append(f"its {self.shorthand!r} alone ({self._shorthand_spec().expected()})")
         else:
             text = {float: "a number", int: "an integer", bool: "a boolean (true/false)"}[self.kind]
             bounds = []
@@ -194,6 +209,8 @@ class ParamSpec:
         if dataclasses.is_dataclass(self.kind):
             if isinstance(value, self.kind):
                 return value
+            if self.shorthand and not isinstance(value, Mapping):
+                value = {self.shorthand: value}
             if isinstance(value, Mapping):
                 return make_params(self.kind, value, source=source, prefix=key or "")
             raise ConfigError(source, key, self.expected(), describe(value))
@@ -246,6 +263,8 @@ class ParamSpec:
             return {name: self.item.resolved(v, base_dir) for name, v in value.items()}
         if dataclasses.is_dataclass(self.kind) and isinstance(value, Mapping):
             return resolve_paths(self.kind, value, base_dir)
+        if self.shorthand and not isinstance(value, self.kind):
+            return self._shorthand_spec().resolved(value, base_dir)
         return value
 
     def plain(self, value):

@@ -13,8 +13,10 @@ Seeding follows gymnasium: ``reset(seed=s)`` re-seeds :attr:`World.np_random` wi
 ``numpy.random.default_rng(s)``; ``reset()`` without a seed starts a new run from the
 generator as it stands (seeded from the OS only if it never was). ``options`` may carry
 ``{"context": i}``, the context of the first visit (default 0; also the keyword
-``context``). There is no extrinsic reward, so the reward slot is always 0.0 and
-episodes never terminate the world. :meth:`World.as_env` wraps a world as a real
+``context``). The reward of a step is the visit's extrinsic reward,
+:attr:`Episode.reward`: 0.0 unless the world declares rewards per context (``rewards``,
+:mod:`.rewards`), which :meth:`World.reset` and :meth:`World.step` pay into each episode.
+Episodes never terminate the world. :meth:`World.as_env` wraps a world as a real
 ``gymnasium.Env`` (:class:`neurocur.contexts.gym.WorldEnv`).
 
 **The frame contract** (:func:`conform_frames`) is enforced by :meth:`World.reset` and
@@ -36,6 +38,7 @@ import numpy as np
 from numba import njit
 
 from ..registry import Registry
+from .rewards import Rewards
 
 __all__ = ["FRAME_TOLERANCE", "WORLDS", "Episode", "SourceSpec", "World", "conform_frames", "register_world"]
 
@@ -180,6 +183,9 @@ class World(ABC):
     #: The most frames one visit returns (the padded length of :meth:`as_env`'s observation);
     #: None if the world does not bound it.
     max_frames: int | None = None
+    #: The extrinsic reward of each visit (:mod:`.rewards`); None pays 0.0. Subclasses set it
+    #: from their parameters' ``rewards`` (``Rewards.of(params.rewards)``).
+    rewards: Rewards | None = None
     _np_random: np.random.Generator | None = None
 
     @property
@@ -218,12 +224,20 @@ class World(ABC):
         if seed is not None:
             self._np_random = np.random.default_rng(seed)
         self._reset()
-        return conform_frames(self._visit(context), self), {"context": context}
+        if self.rewards is not None:
+            self.rewards.reset()
+        return self._paid(conform_frames(self._visit(context), self)), {"context": context}
 
     def step(self, context: int):
-        """Visit ``context`` and return ``(episode, 0.0, False, False, info)``."""
-        ep = conform_frames(self._visit(self._check_context(context)), self)
-        return ep, 0.0, False, False, {"context": context}
+        """Visit ``context`` and return ``(episode, episode.reward, False, False, info)``."""
+        ep = self._paid(conform_frames(self._visit(self._check_context(context)), self))
+        return ep, ep.reward, False, False, {"context": context}
+
+    def _paid(self, episode: Episode) -> Episode:
+        """``episode`` with this visit's extrinsic reward (unchanged when the world pays none)."""
+        if self.rewards is None:
+            return episode
+        return dataclasses.replace(episode, reward=self.rewards.pay(episode.context))
 
     #: The parameter dataclass (fields made with :func:`neurocur.config.param`) that an
     #: experiment file's ``[world]`` table becomes; None for a world built only from Python.

@@ -8,7 +8,8 @@
   are time, zeros after the visit), ``"states"`` (``MultiDiscrete``, the context-state of
   each row, 0 after the visit), ``"starts"`` (``MultiBinary``, 1 where an independent
   episode begins) and ``"n_frames"`` (``Discrete(max_frames, start=1)``, the visit's length);
-* **reward** 0.0 (the worlds have no extrinsic reward), never terminated or truncated;
+* **reward** the visit's extrinsic reward (:attr:`~.base.Episode.reward`, 0.0 unless the
+  world declares ``rewards``, :mod:`.rewards`), never terminated or truncated;
 * ``reset(seed=None, options=None)``: a new run of the world, whose first visit is of
   ``options["context"]`` (default 0), with the world's seeding (:mod:`.base`): the env's
   ``np_random`` *is* the world's generator;
@@ -44,6 +45,7 @@ from gymnasium import spaces
 
 from ..config import ConfigError, ParamSpec, check_params, describe, param, spec_param
 from .base import Episode, World, register_world
+from .rewards import Rewards, check_rewards, rewards_param
 
 __all__ = ["GymParams", "GymWorld", "WorldEnv", "random_policy", "to_frame"]
 
@@ -164,8 +166,9 @@ _IDS = ParamSpec.sequence(_ID, min_length=1)
 class GymParams:
     """Parameters of :class:`GymWorld` (an experiment file's ``[world]`` table, ``type = "gym"``).
 
-    The per-context lists (``context_names``, ``reset_seeds``, ``reset_options``) have one
-    item per environment of ``envs``; every id must be registered with gymnasium.
+    The per-context lists (``context_names``, ``reset_seeds``, ``reset_options``, ``rewards``:
+    :mod:`.rewards`) have one item per environment of ``envs``; every id must be registered
+    with gymnasium.
     """
 
     envs: tuple[str, ...] = spec_param(("CartPole-v1", "Pendulum-v1", "Acrobot-v1"), _IDS,
@@ -184,6 +187,7 @@ class GymParams:
     reset_options: tuple[dict, ...] | None = spec_param(
         None, ParamSpec.sequence(ParamSpec.table(ParamSpec(float)), min_length=1, optional=True),
         doc="per context, the options (numbers) of every reset of its environment")
+    rewards: tuple | None = rewards_param()
 
     def __post_init__(self):
         check_params(self)
@@ -198,6 +202,7 @@ class GymParams:
                 raise ConfigError(where, key, f"{n} items (one per environment)", describe(value))
         if self.context_names is not None and len(set(self.context_names)) != n:
             raise ConfigError(where, "context_names", f"{n} distinct names", describe(self.context_names))
+        check_rewards(self, n, self.context_names or _default_names(self.envs))
 
 
 def _default_names(ids: Sequence[str]) -> tuple[str, ...]:
@@ -234,14 +239,16 @@ class GymWorld(World):
         max_episode_steps: int | None = None,
         reset_seeds: Sequence[int] | None = None,
         reset_options: Sequence[dict] | None = None,
+        rewards: Sequence | None = None,
         policy: Callable[[gymnasium.Env, object], object] = random_policy,
         params: GymParams | None = None,
     ) -> None:
         if params is None:
             params = GymParams(envs=envs, context_names=context_names, visit_length=visit_length,
                                frame_shape=frame_shape, n_states=n_states, max_episode_steps=max_episode_steps,
-                               reset_seeds=reset_seeds, reset_options=reset_options)
+                               reset_seeds=reset_seeds, reset_options=reset_options, rewards=rewards)
         p = self.params = params
+        self.rewards = Rewards.of(p.rewards)
         self.context_names = p.context_names or _default_names(p.envs)
         self.source_names = p.envs
         self.n_states, self.frame_shape = p.n_states, p.frame_shape

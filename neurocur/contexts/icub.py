@@ -39,6 +39,7 @@ from ..learn.omega import omega
 from .base import Episode, SourceSpec, World, register_world
 from .icub_data import FRAME_SHAPE, EpisodeParams, EpisodePool, _generate, _load, _save, cache_key, default_cache_dir
 from .icub_scene import OBJECTS, SceneParams
+from .rewards import Rewards, check_rewards, rewards_param
 
 #: The iCub world's contexts: each shows its own object, both learnable, in Ω order
 #: (topple easier: the paper's Ω 0.9982 < 0.9988; measured in docs/icub.md).
@@ -58,9 +59,11 @@ class ICubParams:
     n_jobs: int = param(2, int, low=1, doc="processes that simulate the data set")
     scene: SceneParams = spec_param(SceneParams(), ParamSpec.nested(SceneParams), doc="geometry and physics")
     protocol: EpisodeParams = spec_param(EpisodeParams(), ParamSpec.nested(EpisodeParams), doc="episode protocol")
+    rewards: tuple | None = rewards_param()
 
     def __post_init__(self):
         check_params(self)
+        check_rewards(self, len(OBJECTS), OBJECTS)
         if self.protocol.start_state >= self.scene.n_states:
             raise ConfigError(type(self).__name__, "protocol.start_state", f"< scene.n_states = {self.scene.n_states}",
                               describe(self.protocol.start_state))
@@ -76,7 +79,8 @@ class ICubWorld(World):
     context's pool, and :meth:`step` returns that context's next episode (a fresh order
     is drawn each time a context's pool is used up). The context-state is the shoulder
     joint's state (0..19). ``last_info`` (also merged into the ``info`` dicts) names the
-    pool index and the contact frame of the episode just returned.
+    pool index and the contact frame of the episode just returned. ``rewards``: extrinsic
+    reward per context, topple then roll (:mod:`.rewards`).
     """
 
     Params = ICubParams
@@ -93,13 +97,15 @@ class ICubWorld(World):
         scene: SceneParams | None = None,
         protocol: EpisodeParams | None = None,
         n_jobs: int = 2,
+        rewards=None,
         params: ICubParams | None = None,
     ) -> None:
         super().__init__()
         if params is None:
             params = ICubParams(n_episodes=n_episodes, dataset_seed=seed, cache_dir=cache_dir, n_jobs=n_jobs,
-                                scene=scene or SceneParams(), protocol=protocol or EpisodeParams())
+                                scene=scene or SceneParams(), protocol=protocol or EpisodeParams(), rewards=rewards)
         self.params = params
+        self.rewards = Rewards.of(params.rewards)
         self.n_episodes, self.seed = params.n_episodes, params.dataset_seed
         self.scene, self.protocol = params.scene, params.protocol
         self.n_states = self.scene.n_states

@@ -26,6 +26,22 @@ The paper's sources:
   itself changes irregularly. (i.i.d. white noise would not do: with 1000 samples
   its two derivative eigenvalues differ by sampling error and Ω ≈ 0.994, as cheap
   as S-A.)
+
+Noise kinds (:data:`NOISE_KINDS`, :func:`noise_source`), the built-in noise of an
+experiment file's ``[world.sources]`` (:mod:`.user_sources`):
+
+* ``"white"``: i.i.d. standard normal samples, :func:`white_noise`;
+* ``"random_walk"``: cumulative standard normal steps, :func:`random_walk` (not closed:
+  the wrap from the last step back to the first is a jump);
+* ``"isotropic_walk"``: the closed isotropic walk of S-D, :func:`isotropic_random_walk`
+  (two dimensions only).
+
+The expected derivative covariance of the whitened signal of each is isotropic, so Ω of the
+process is 1; a finite draw has an Ω below 1 by sampling error (white noise: about 0.994
+for 1000 steps and two dimensions), which is why noise is redrawn every epoch.
+
+:func:`graded_sinusoids` picks sinusoid pairs of graded learnability (a Goldilocks
+family, from trivially easy to practically unlearnable) by their Ω.
 """
 
 from __future__ import annotations
@@ -33,6 +49,7 @@ from __future__ import annotations
 import numpy as np
 
 from neurocur.learn._validation import check_positive_int, check_random_state
+from neurocur.learn.omega import omega
 
 __all__ = [
     "SLOW_DIM",
@@ -43,6 +60,11 @@ __all__ = [
     "sinusoid_pair",
     "isotropic_random_walk",
     "paper_source",
+    "NOISE_KINDS",
+    "white_noise",
+    "random_walk",
+    "noise_source",
+    "graded_sinusoids",
 ]
 
 SLOW_DIM = 0
@@ -102,3 +124,47 @@ def paper_source(name: str, random_state=None, n_steps: int = N_STEPS) -> np.nda
     if name == "S-D":
         return isotropic_random_walk(random_state, n_steps)
     raise ValueError(f"unknown built-in source {name!r}; expected one of {', '.join(LEARNABLE + UNLEARNABLE)}")
+
+NOISE_KINDS = ("white", "random_walk", "isotropic_walk")
+"""The built-in noise kinds of :func:`noise_source`."""
+
+
+def white_noise(random_state=None, n_steps: int = N_STEPS, dims: int = 2) -> np.ndarray:
+    """i.i.d. standard normal samples, shape (n_steps, dims)."""
+    rng = check_random_state(random_state)
+    return rng.standard_normal((check_positive_int(n_steps, "n_steps"), check_positive_int(dims, "dims")))
+
+
+def random_walk(random_state=None, n_steps: int = N_STEPS, dims: int = 2) -> np.ndarray:
+    """Cumulative standard normal steps, shape (n_steps, dims); row 0 is the first step."""
+    return np.cumsum(white_noise(random_state, n_steps, dims), axis=0)
+
+
+def noise_source(kind: str, random_state=None, n_steps: int = N_STEPS, dims: int = 2) -> np.ndarray:
+    """One draw of the noise ``kind`` (one of :data:`NOISE_KINDS`), shape (n_steps, dims).
+
+    ``"isotropic_walk"`` is :func:`isotropic_random_walk` and has two dimensions only.
+    """
+    if kind == "white":
+        return white_noise(random_state, n_steps, dims)
+    if kind == "random_walk":
+        return random_walk(random_state, n_steps, dims)
+    if kind == "isotropic_walk":
+        if dims != 2:
+            raise ValueError(f"an isotropic walk has 2 dimensions; got dims={dims!r}")
+        return isotropic_random_walk(random_state, n_steps)
+    raise ValueError(f"unknown noise kind {kind!r}; expected one of {', '.join(NOISE_KINDS)}")
+
+
+def graded_sinusoids(targets, eta: float = 0.05, n_steps: int = N_STEPS) -> dict[int, float]:
+    """Sinusoid pairs whose Ω (eq 40, MCA rate ``eta``) is nearest each target Ω.
+
+    Ω of :func:`sinusoid_pair` rises towards 1 as its fast-cycle count k falls (about
+    1 − 2·10⁻⁶ (k² − 1) at η = 0.05 over 1000 steps), so each target picks the k in
+    2..n_steps/2 − 1 whose Ω is closest. Returns ``{k: Ω}``, k descending (easiest first);
+    a k chosen for two targets is listed once.
+    """
+    cycles = np.arange(2, n_steps // 2)
+    values = np.array([omega(sinusoid_pair(int(k), n_steps), eta) for k in cycles])
+    chosen = {int(cycles[np.argmin(np.abs(values - t))]) for t in targets}
+    return {k: float(values[k - 2]) for k in sorted(chosen, reverse=True)}

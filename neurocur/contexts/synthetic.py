@@ -33,32 +33,39 @@ Choices the paper leaves open (all options of :class:`SyntheticWorld`):
   sources. With a fixed walk the per-state cluster error of section 2.5 measures only
   how far the features move between visits, and a module whose features have stopped
   moving on S-D (they have no unique slowest direction to move to, Ω = 1) passes the
-  freeze threshold: S-D would be "learned".
+  freeze threshold: S-D would be "learned". The flag is also the default of declared
+  noise sources; a declared source may set its own ``nonstationary`` (files and sinusoid
+  pairs are then re-sampled every epoch: :mod:`.user_sources`).
+
+Declared sources (``sources``, an experiment file's ``[world.sources]``: files, sinusoid
+pairs, noise) and extrinsic rewards per context (``rewards``, :mod:`.rewards`) are
+options too.
 
 Per run (:meth:`SyntheticWorld.reset`), the world's generator draws, for each distinct
 source in order of first appearance: the source itself if it is random (S-D), then
-its mixing matrix (standard normal entries); then the clock offsets.
+its mixing matrix (standard normal entries); then the clock offsets. A source that is
+redrawn draws again from the same generator at each wrap of a clock showing it.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
 from neurocur.config import ConfigError, ParamSpec, check_params, describe, param, spec_param
-from neurocur.learn._validation import check_block, check_nonconstant
 from neurocur.learn.correlation import abs_corr
+from neurocur.learn.omega import omega
 
 from .base import Episode, SourceSpec, World, register_world
-from .sources import LEARNABLE, N_STEPS, SLOW_DIM, UNLEARNABLE, paper_source
+from .rewards import Rewards, check_rewards, rewards_param
+from .sources import LEARNABLE, SLOW_DIM
+from .user_sources import SOURCES_SPEC, check_sources, make_sources
 
 __all__ = [
     "SyntheticParams",
     "SyntheticWorld",
-    "load_source",
     "PAPER_CONTEXTS",
     "SYNTHETIC",
     "NORMALISATIONS",
@@ -77,19 +84,21 @@ SYNTHETIC = SourceSpec(
     learnable=("S-A", "S-B", "S-C"),
 )
 
-_BUILTIN = LEARNABLE + UNLEARNABLE
 
-
-def mix_frames(signal: np.ndarray, mixing: np.ndarray, normalise: str, *, limits=None):
+def mix_frames(signal: np.ndarray, mixing: np.ndarray, normalise: str, *, limits=None, symmetric=False):
     """Frames ``signal @ mixing.T`` scaled to [0, 1]; returns ``(frames, (low, high))``.
 
     ``normalise="global"`` maps ``[low, high]`` (the min and max over all frames, or
-    the given ``limits``) to [0, 1]; ``"image"`` scales each frame (row) by its own
-    min and max (``limits`` is then ignored and ``(0.0, 1.0)`` returned).
+    ``±`` the largest magnitude if ``symmetric``, or the given ``limits``) to [0, 1];
+    ``"image"`` scales each frame (row) by its own min and max (``limits`` and
+    ``symmetric`` are then ignored and ``(0.0, 1.0)`` returned).
     """
     raw = signal @ mixing.T
     if normalise == "global":
-        low, high = (float(raw.min()), float(raw.max())) if limits is None else map(float, limits)
+        if limits is None:
+            peak = float(np.abs(raw).max())
+            limits = (-peak, peak) if symmetric else (raw.min(), raw.max())
+        low, high = map(float, limits)
         if not high > low:
             raise ValueError("cannot normalise frames: every pixel of every frame has the same value")
         return (raw - low) / (high - low), (low, high)
@@ -107,28 +116,6 @@ _NAME = ParamSpec(str)
 _NAMES = ParamSpec.sequence(_NAME, min_length=1)
 
 
-def load_source(value, name: str) -> np.ndarray:
-    """A user source: a ``.npy`` file path or an array, checked as (n_steps >= 2, n_dims), finite,
-    not constant; a :class:`~neurocur.config.ConfigError` names the source (and file) and what was expected."""
-    label, file = f"source {name!r}", f" in {value}" if isinstance(value, str) else ""
-    if isinstance(value, str):
-        if not Path(value).is_file():
-            raise ConfigError(label, None, "an existing .npy file", f"{value!r} (no such file)")
-        try:
-            value = np.load(value, allow_pickle=False)
-        except (ValueError, OSError) as exc:
-            raise ConfigError(label, None, "a .npy file written by numpy.save", f"{file[4:]!r} ({exc})") from None
-    try:
-        arr = check_block(value, name=label, min_rows=2)
-        check_nonconstant(arr, name=label)
-    except ValueError as err:
-        raise ConfigError(label, None, "a finite, non-constant array of shape (n_steps, n_dims), rows are time",
-                          f"{err}{file}") from None
-    arr = arr.copy()
-    arr.flags.writeable = False
-    return arr
-
-
 @dataclass(frozen=True)
 class SyntheticParams:
     """Parameters of :class:`SyntheticWorld` (an experiment file's ``[world]`` table, ``type = "synthetic"``).
@@ -140,8 +127,8 @@ class SyntheticParams:
     contexts: tuple[str, ...] = spec_param(PAPER_CONTEXTS, _NAMES, doc="the source of each context")
     context_names: tuple[str, ...] | None = spec_param(
         None, ParamSpec.sequence(_NAME, min_length=1, optional=True), doc="distinct names; default C1, C2, ...")
-    sources: dict = spec_param({}, ParamSpec.table(ParamSpec(str, path=True, classes=(np.ndarray,))),
-                               doc="user driving forces: name -> .npy file (relative to the experiment file) or array")
+    sources: dict = spec_param({}, SOURCES_SPEC, doc="declared driving forces: name -> a .npy file (relative to the "
+                               "experiment file) or array, or a table (file, sinusoid or noise; .user_sources)")
     visit_length: int = param(100, int, low=1, doc="frames per visit")
     normalise: str = param("global", str, choices=NORMALISATIONS, doc="min-max scaling per source or per frame")
     clock_offsets: str | tuple[int, ...] = spec_param(
@@ -149,28 +136,15 @@ class SyntheticParams:
         doc="where each context's local clock starts")
     frame_shape: tuple[int, int] = spec_param((20, 20), ParamSpec.sequence(ParamSpec(int, low=1), length=2),
                                               doc="(height, width) in pixels")
-    nonstationary: bool = param(True, bool, doc="redraw random sources (S-D) at every wrap of their clock")
+    nonstationary: bool = param(True, bool, doc="redraw random sources (S-D, noise) at every wrap of their clock")
     learnable: tuple[str, ...] | None = spec_param(None, ParamSpec.sequence(_NAME, min_length=1, optional=True),
                                                    doc="learnable sources in Omega order, for the analysis")
+    rewards: tuple | None = rewards_param()
 
     def __post_init__(self):
         check_params(self)
         where = type(self).__name__
-        lengths = {}
-        for name, value in self.sources.items():
-            try:
-                lengths[name] = load_source(value, name).shape[0]
-            except ConfigError as exc:
-                raise ConfigError(where, f"sources.{name}", exc.expected, exc.got) from None
-        for name in self.contexts:
-            if name not in lengths and name not in _BUILTIN:
-                known = ", ".join(sorted(set(_BUILTIN) | set(lengths)))
-                raise ConfigError(where, "contexts", f"source names among {known}", f"{name!r} (give it in sources)")
-        shown = {name: lengths.get(name, N_STEPS) for name in self.contexts}
-        object.__setattr__(self, "_n_states", shown[self.contexts[0]])
-        if len(set(shown.values())) != 1:
-            detail = ", ".join(f"{k}: {v}" for k, v in shown.items())
-            raise ConfigError(where, "sources", "sources of equal length (rows are time steps)", detail)
+        object.__setattr__(self, "_n_states", check_sources(self.sources, self.contexts, where))
         n = len(self.contexts)
         if self.context_names is not None and (len(self.context_names) != n or len(set(self.context_names)) != n):
             raise ConfigError(where, "context_names", f"{n} distinct names (one per context)", describe(self.context_names))
@@ -181,6 +155,7 @@ class SyntheticParams:
                 len(self.clock_offsets) != n or max(self.clock_offsets) >= self.n_states):
             raise ConfigError(where, "clock_offsets", f"'random', 'zero' or {n} start steps in [0, {self.n_states})",
                               describe(self.clock_offsets))
+        check_rewards(self, n, self.context_names)
 
     @property
     def n_states(self) -> int:
@@ -200,10 +175,12 @@ class SyntheticWorld(World):
         (sinusoid pairs) and S-D (an isotropic random walk drawn per run); any other
         name must be a key of ``sources``.
     sources:
-        User driving forces ``{name: array (n_steps, n_dims)}``, rows are time,
+        Declared driving forces ``{name: array (n_steps, n_dims)}``, rows are time,
         column :data:`~neurocur.contexts.sources.SLOW_DIM` the slow dimension (a name
-        equal to a built-in replaces it). All sources used must have the same
-        ``n_steps``, which is the number of context-states; built-in sources have 1000.
+        equal to a built-in replaces it), or ``{name: SourceParams or table}`` for files,
+        sinusoid pairs, noise and re-sampled sources (:mod:`.user_sources`). All files
+        and built-in sources shown must have the same ``n_steps``, which is the number of
+        context-states; built-in sources have 1000.
     visit_length:
         Frames per visit (100 in the paper).
     normalise:
@@ -215,10 +192,14 @@ class SyntheticWorld(World):
     context_names:
         Defaults to ``C1``, ``C2``, ...
     nonstationary:
-        Redraw random sources (S-D) at every wrap of their clock (see the module docstring).
+        Redraw random sources (S-D, and noise without a flag of its own) at every wrap of
+        their clock (see the module docstring).
     learnable:
         The learnable sources in Ω order, for the analysis (:meth:`source_spec`); default:
-        the built-in learnable sources shown, then the user sources.
+        the built-in learnable sources shown, then the declared sources that are replayed
+        (not noise, not re-sampled).
+    rewards:
+        Extrinsic reward per context, a number or a schedule each (:mod:`.rewards`).
     params:
         A :class:`SyntheticParams` instead of the keyword arguments (an experiment file's
         ``[world]`` table becomes one); the keyword arguments are checked by it too.
@@ -241,15 +222,18 @@ class SyntheticWorld(World):
         context_names: Sequence[str] | None = None,
         nonstationary: bool = True,
         learnable: Sequence[str] | None = None,
+        rewards: Sequence | None = None,
         params: SyntheticParams | None = None,
     ) -> None:
         super().__init__()
         if params is None:
             params = SyntheticParams(contexts=contexts, sources=dict(sources or {}), visit_length=visit_length,
                                      normalise=normalise, clock_offsets=clock_offsets, frame_shape=frame_shape,
-                                     context_names=context_names, nonstationary=nonstationary, learnable=learnable)
+                                     context_names=context_names, nonstationary=nonstationary, learnable=learnable,
+                                     rewards=rewards)
         p = self.params = params
-        self._user_sources = {name: load_source(value, name) for name, value in p.sources.items()}
+        self._sources = make_sources(p.contexts, p.sources, p.n_states, p.nonstationary)
+        self.rewards = Rewards.of(p.rewards)
         self.source_names = p.contexts
         self.context_names = p.context_names or tuple(f"C{i + 1}" for i in range(len(p.contexts)))
         self.n_states = p.n_states
@@ -286,10 +270,8 @@ class SyntheticWorld(World):
         rng = self.np_random
         for table in (self._signals, self._mixing, self._limits, self._frames):
             table.clear()
-        for name in dict.fromkeys(self.source_names):
-            signal = self._user_sources.get(name)
-            if signal is None:
-                signal = paper_source(name, rng, self.n_states)
+        for name, source in self._sources.items():
+            signal = source.draw(rng, self.n_states)
             self._mixing[name] = rng.standard_normal((self.n_pixels, signal.shape[1]))
             self._mixing[name].flags.writeable = False
             self._show(name, signal)
@@ -302,10 +284,14 @@ class SyntheticWorld(World):
 
     def _show(self, name: str, signal: np.ndarray) -> None:
         """Make ``signal`` the current driving force of source ``name`` and render its frames."""
-        frames, limits = mix_frames(signal, self._mixing[name], self.normalise)
+        frames, limits = self._render(name, signal)
         for arr in (signal, frames):
             arr.flags.writeable = False
         self._signals[name], self._limits[name], self._frames[name] = signal, limits, frames
+
+    def _render(self, name: str, signal: np.ndarray):
+        """``(frames, limits)`` of ``signal`` as source ``name`` (declared noise: symmetric limits)."""
+        return mix_frames(signal, self._mixing[name], self.normalise, symmetric=self._sources[name].centred)
 
     def _visit(self, context: int) -> Episode:
         name = self.source_names[context]
@@ -314,19 +300,19 @@ class SyntheticWorld(World):
         states = (start + np.arange(self.visit_length, dtype=np.int64)) % self.n_states
         frames = self._frames[name][states]
         wrap = self.n_states - start  # rows from here on belong to the next epoch
-        if self.nonstationary and name in UNLEARNABLE and name not in self._user_sources:
+        if self._sources[name].redraws:
             for first in range(wrap, self.visit_length + 1, self.n_states):  # a wrap at the end counts too
-                self._show(name, paper_source(name, self.np_random, self.n_states))
+                self._show(name, self._sources[name].draw(self.np_random, self.n_states))
                 frames[first:] = self._frames[name][states[first:]]
         self._clocks[context] = (start + self.visit_length) % self.n_states
         return Episode(frames=frames, states=states, context=context)
 
     def source_spec(self) -> SourceSpec:
         """Learnable sources: ``learnable`` if given, else the built-in learnable sources shown
-        (S-A, S-B, S-C, in Ω order) followed by the user sources in context order."""
-        shown = list(dict.fromkeys(self.source_names))
-        default = [s for s in LEARNABLE if s in shown] + [s for s in shown if s in self._user_sources
-                                                          and s not in LEARNABLE]
+        (S-A, S-B, S-C, in Ω order) followed by the other replayed sources (files, sinusoid
+        pairs) in context order."""
+        learnable = [name for name, source in self._sources.items() if source.learnable]
+        default = [s for s in LEARNABLE if s in learnable] + [s for s in learnable if s not in LEARNABLE]
         learnable = default if self.learnable is None else self.learnable
         return SourceSpec(tuple(self.context_names), tuple(self.source_names), tuple(learnable))
 
@@ -362,6 +348,35 @@ class SyntheticWorld(World):
     def context_frames(self, context) -> np.ndarray:
         """All frames of ``context`` in local-time order, (n_steps, n_pixels), read-only."""
         return self._require(self.source_of(context), self._frames)
+
+    def redraws(self, context) -> bool:
+        """Whether the source of ``context`` is drawn again every epoch (S-D, noise, re-sampled files)."""
+        return self._sources[self.source_of(context)].redraws
+
+    def omega(self, context, eta: float = 0.05, *, draws: int = 10, seed=0) -> tuple[float, np.ndarray]:
+        """Ω (eq 40, MCA rate ``eta``) of the frames of ``context``: ``(value, per_draw)``.
+
+        A replayed source: Ω of this run's frames, and ``per_draw`` holds that one value. A
+        source redrawn every epoch (:meth:`redraws`) has no single sequence of frames: Ω is
+        measured on ``draws`` fresh draws, rendered with this run's mixing from a generator
+        seeded by ``seed`` (the world's own stream is left alone). ``per_draw`` holds each
+        draw's Ω (what a learner would face if that draw were replayed), and ``value`` is Ω
+        of the draws joined, with no derivative across a redraw: the learning cost of the
+        process the learner sees over ``draws`` epochs. For noise, per-draw Ω lies below 1
+        by sampling error alone (white noise: about 0.994) and the joined value tends to the
+        process's Ω = 1 as ``draws`` grows.
+        """
+        name = self.source_of(context)
+        # frames lie in the span of the mixing columns and the constant image; Ω is the same in
+        # the coordinates of an orthonormal basis of that span, which are far cheaper to whiten
+        basis = np.linalg.qr(np.column_stack([self.mixing(name), np.ones(self.n_pixels)]))[0]
+        if not self.redraws(context):
+            value = omega(self.context_frames(context) @ basis, eta)
+            return value, np.array([value])
+        rng, source = np.random.default_rng(seed), self._sources[name]
+        frames = [self._render(name, source.draw(rng, self.n_states))[0] @ basis for _ in range(draws)]
+        per_draw = np.array([omega(f, eta) for f in frames])
+        return omega(np.concatenate(frames), eta, starts=np.arange(draws) * self.n_states), per_draw
 
     def clock(self, context) -> int:
         """The local time step at which the next visit of ``context`` starts."""
