@@ -21,6 +21,8 @@ One module per question, all re-exported here:
   the unlearnable contexts, modules per 10⁵ frames, compared paired by run;
 - :mod:`~neurocur.analysis.inverted_u` — the two-lines test of an interior peak (Simonsohn 2018),
   a quadratic fit beside it, the peak's location with a bootstrap interval;
+- :mod:`~neurocur.analysis.event_locked` — DA and NE averaged around events (module storage,
+  context switches, familiarity onset) with intervals across runs; tonic against phasic NE;
 - :mod:`~neurocur.analysis.figures` — matplotlib Figures (paper Figures 4D–G).
 
 Not re-exported: :mod:`~neurocur.analysis.paper` (the paper's numbers, with their sections),
@@ -35,6 +37,7 @@ from neurocur.analysis import (
     comparison,
     dwell,
     efficiency,
+    event_locked,
     figures,
     inverted_u,
     learning_time,
@@ -47,6 +50,7 @@ from neurocur.analysis.bootstrap import *  # noqa: F403
 from neurocur.analysis.comparison import *  # noqa: F403
 from neurocur.analysis.dwell import *  # noqa: F403
 from neurocur.analysis.efficiency import *  # noqa: F403
+from neurocur.analysis.event_locked import *  # noqa: F403
 from neurocur.analysis.figures import *  # noqa: F403
 from neurocur.analysis.inverted_u import *  # noqa: F403
 from neurocur.analysis.io import load, order_tables, run_dirs, source_specs, throughput, write_summary
@@ -61,4 +65,5 @@ from neurocur.contexts.synthetic import SYNTHETIC
 __all__ = ["load", "order_tables", "run_dirs", "source_specs", "throughput", "write_summary", "SourceSpec", "SYNTHETIC",
            *order.__all__, *learning_time.__all__, *comparison.__all__, *significance.__all__, *bootstrap.__all__,
            *sweeps.__all__, *report.__all__, *figures.__all__, *dwell.__all__,
-           *efficiency.__all__, *inverted_u.__all__]
+           *efficiency.__all__, *inverted_u.__all__,
+           *event_locked.__all__]
