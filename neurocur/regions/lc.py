@@ -22,8 +22,17 @@ class LCParams:
 class LCRole(Region):
     """The LC role's ports, shared by every LC model: reads the context, Q (engage, disengage)
     and the module-learned event; decides the action and the next context (eq 13); records
-    the decision and tonic and phasic NE (:data:`DECISION_PROBES` first)."""
+    the decision and tonic and phasic NE (:data:`DECISION_PROBES` first).
 
+    Every LC model releases noradrenaline (``modulator = "ne"``): the level its decision
+    reads passes through :meth:`~neurocur.regions.base.Region.modulate` first, so a drug
+    lesion (clamp, scale, noise) changes behaviour. The released level is also the
+    optional output ``ne``, for a region that a circuit wires to it. What the level is
+    differs by model (docs/regions.md, "LC"): P(disengage) for the epsilon-greedy rule,
+    the gain of the decision (1 / DA units) for the others.
+    """
+
+    modulator = "ne"
     inputs = (
         Signal("context", "int64", ()),
         Signal("q", "float64", (2,)),
@@ -32,6 +41,7 @@ class LCRole(Region):
     outputs = (
         Signal("action", "int64", (), "0 engage, 1 disengage", initial=None),
         Signal("next_context", "int64", (), "context of the next episode", initial=None),
+        Signal("ne", "float64", (), "the released NE level the decision read (after drugs)", optional=True),
     )
 
     def bind(self, world) -> None:
@@ -76,6 +86,12 @@ class EpsilonGreedyLC(LCRole):
       max(0, tanh(Q_eng - Q_dis)) (the burst that commits to the task, growing with
       the advantage of staying); else 0.
 
+    The released NE level is tonic NE, P(disengage). Without a drug the draw is the
+    paper's (an epsilon coin, then a uniform or the greedy action), which realises that
+    probability exactly; under a drug (:meth:`~neurocur.regions.base.Region.modulate`)
+    the drugged level, clipped to [0, 1], is drawn against once, and is what ``ne_tonic``
+    records and ``ne`` emits.
+
     Lesion ``random``: epsilon = 1 forever, so contexts switch at random (section 4.3).
     """
 
@@ -100,16 +116,19 @@ class EpsilonGreedyLC(LCRole):
         eps = self.epsilon
         q_eng, q_dis = float(q[ENGAGE]), float(q[DISENGAGE])
         g = 1.0 if q_dis > q_eng else (0.5 if q_dis == q_eng else 0.0)
-        if rng.random() < eps or g == 0.5:
+        tonic = self.modulate(0.5 * eps + (1.0 - eps) * g)
+        if self.drugs:
+            tonic = min(1.0, max(0.0, tonic))
+            action = DISENGAGE if rng.random() < tonic else ENGAGE
+        elif rng.random() < eps or g == 0.5:
             action = int(rng.integers(2))
         else:
             action = DISENGAGE if g == 1.0 else ENGAGE
         nxt = next_context(context, action, self.n_contexts, rng)
-        tonic = 0.5 * eps + (1.0 - eps) * g
         phasic = phasic_ne(action, module_learned, q_eng, q_dis)
         self.epsilon = eps * self.params.decay
         self._rec = (action, nxt, eps, tonic, phasic)
-        return action, nxt
+        return action, nxt, tonic
 
     def record(self):
         return self._rec

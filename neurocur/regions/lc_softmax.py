@@ -5,6 +5,10 @@ noradrenaline follows Aston-Jones & Cohen (2005, Annu Rev Neurosci 28:403): NE s
 the gain of the decision, so a high gain exploits the value difference and a low gain
 explores. This is also the worked example of ``docs/extending.md``: a new LC model is
 this file, a circuit file (``neurocur/circuits/lc_softmax.toml``) and a test.
+
+:class:`GainLC` is the decision every gain model shares (this one, the adaptive-gain LC of
+:mod:`.lc_adaptive_gain` and the FitzHugh-Nagumo LC of :mod:`.lc_fhn`): each computes its
+gain, and the decision releases it through the drugs and draws the action.
 """
 
 from __future__ import annotations
@@ -17,6 +21,34 @@ from .base import Probe, register
 from .lc import DECISION_PROBES, LCRole, phasic_ne
 from .pfc import DISENGAGE, ENGAGE, next_context
 
+#: The released gain, recorded by every gain model after its NE probes.
+GAIN_PROBE = Probe("ne_gain", "float", "1 / DA", "released NE gain (after drugs): the decision's inverse temperature")
+
+
+def logistic(x: float, slope: float = 1.0) -> float:
+    """sigma(slope * x) = 1 / (1 + exp(-slope * x)), computed overflow-free as (1 + tanh(slope * x / 2)) / 2."""
+    return 0.5 * (1.0 + math.tanh(0.5 * slope * x))
+
+
+def p_disengage(gain: float, q) -> float:
+    """P(disengage | Q, gain) = sigma(gain * (Q_dis - Q_eng)), sigma the logistic function."""
+    return logistic(float(q[DISENGAGE]) - float(q[ENGAGE]), gain)
+
+
+class GainLC(LCRole):
+    """An LC whose NE level is the gain of a softmax decision (the LC role's ports)."""
+
+    def decide(self, gain: float, context, q) -> tuple[float, float, int, int]:
+        """Release ``gain`` (:meth:`~neurocur.regions.base.Region.modulate`, then clipped at 0:
+        a released level is never negative), draw the action with P(disengage) =
+        :func:`p_disengage` (one ``rng.random`` draw) and the next context (eq 13,
+        :func:`~neurocur.regions.pfc.next_context`). Returns (released gain, P(disengage),
+        action, next context)."""
+        gain = max(0.0, self.modulate(gain))
+        p = p_disengage(gain, q)
+        action = DISENGAGE if self.rng.random() < p else ENGAGE
+        return gain, p, action, next_context(context, action, self.n_contexts, self.rng)
+
 
 @dataclass(frozen=True)
 class SoftmaxLCParams:
@@ -27,14 +59,15 @@ class SoftmaxLCParams:
 
 
 @register("lc.softmax")
-class SoftmaxLC(LCRole):
+class SoftmaxLC(GainLC):
     """P(disengage) = sigma(gain * (Q_dis - Q_eng)), sigma the logistic function.
 
     Per pass the action is drawn with that probability (one ``rng.random`` draw), then
     the next context as in eq 13 (:func:`~neurocur.regions.pfc.next_context`).
-    ``gain = 0`` switches at random, a large gain is greedy. NE, as for the
-    epsilon-greedy LC: tonic NE = P(disengage | Q, gain); phasic NE as
-    :func:`~neurocur.regions.lc.phasic_ne`. The ports are the LC role's (:class:`LCRole`).
+    ``gain = 0`` switches at random, a large gain is greedy. The NE level is the gain:
+    a drug acts on it, ``ne_gain`` records and ``ne`` emits the released gain. Tonic NE =
+    P(disengage | Q, released gain); phasic NE as :func:`~neurocur.regions.lc.phasic_ne`.
+    The ports are the LC role's (:class:`~neurocur.regions.lc.LCRole`).
     """
 
     Params = SoftmaxLCParams
@@ -42,20 +75,18 @@ class SoftmaxLC(LCRole):
         *DECISION_PROBES,
         Probe("ne_tonic", "float", "probability", "P(disengage | Q, gain)"),
         Probe("ne_phasic", "float", "[0, 1]", "event-locked burst (1 at module storage, engage advantage)"),
+        GAIN_PROBE,
     )
 
     def reset(self, rng) -> None:
         self.rng = rng
-        self._rec = (ENGAGE, 0, 0.5, 0.0)
+        self._rec = (ENGAGE, 0, 0.5, 0.0, self.params.gain)
 
     def step(self, context, q, module_learned):
-        advantage = float(q[DISENGAGE]) - float(q[ENGAGE])
-        tonic = 0.5 * (1.0 + math.tanh(0.5 * self.params.gain * advantage))  # the logistic, overflow-free
-        action = DISENGAGE if self.rng.random() < tonic else ENGAGE
-        nxt = next_context(context, action, self.n_contexts, self.rng)
+        gain, tonic, action, nxt = self.decide(self.params.gain, context, q)
         phasic = phasic_ne(action, module_learned, float(q[ENGAGE]), float(q[DISENGAGE]))
-        self._rec = (action, nxt, tonic, phasic)
-        return action, nxt
+        self._rec = (action, nxt, tonic, phasic, gain)
+        return action, nxt, gain
 
     def record(self):
         return self._rec

@@ -62,7 +62,7 @@ class ScriptedLC(EpsilonGreedyLC):
         self.n_decisions += 1
         action = ENGAGE if nxt == context else DISENGAGE
         self._rec = (action, nxt, 0.0, float(action), 0.0)
-        return action, nxt
+        return action, nxt, float(action)
 
 
 def scripted(world, seed, *, lc, **overrides):

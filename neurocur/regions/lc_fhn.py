@@ -1,0 +1,135 @@
+"""LC variant: the LC population as a FitzHugh-Nagumo unit whose release sets the decision's gain.
+
+Not in the paper (its LC is :mod:`.lc`'s epsilon-greedy rule). The reduced LC model of
+Gilzenrat, Holmes, Rajkowski, Aston-Jones & Cohen (2002, Neural Networks 15:647), the
+mean-field of the coupled LC units of Usher et al. (1999, Science 283:549), is a
+FitzHugh-Nagumo system with activation v and recovery u:
+
+    tau_v dv/dt = v (alpha - v)(v - 1) - u + x(t)
+    tau_u du/dt = h(v) - u,     h(v) = C v + (1 - C) d
+
+The mode parameter C (their electrotonic coupling) sets the mode: C = 1 is the phasic
+mode (v rests at 0 and an input drives a burst, then refractoriness); lowering C moves
+the recovery towards the constant d and the rest point up the v-nullcline, so the
+baseline firing rises and the evoked burst shrinks (the tonic mode). The LC's output
+gain is g = G + k v (their eq for the gain of the decision units); here v is read as a
+firing rate, clipped to [0, 1], and averaged over the decision window (the NE released
+during it). The gain is the inverse temperature of the softmax decision of
+:mod:`.lc_softmax`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+
+from ..config import ConfigError, check_params, param
+from .base import Probe, register
+from .lc import DECISION_PROBES, phasic_ne
+from .lc_softmax import GAIN_PROBE, GainLC
+from .pfc import DISENGAGE, ENGAGE
+
+
+@dataclass(frozen=True)
+class FHNLCParams:
+    mode: float = param(1.0, float, low=0.0, high=1.0, doc="C: 1 phasic mode, lower values tonic mode")
+    baseline: float = param(-0.5, float, doc="d, the recovery's level as C falls (a.u. of v)")
+    alpha: float = param(0.5, float, low=0.0, high=1.0, low_open=True, high_open=True,
+                         doc="threshold of the cubic v (alpha - v)(v - 1) (a.u. of v)")
+    tau_v: float = param(0.05, float, low=0.0, low_open=True, doc="time constant of the activation (time units)")
+    tau_u: float = param(0.5, float, low=0.0, low_open=True, doc="time constant of the recovery (time units)")
+    dt: float = param(0.005, float, low=0.0, low_open=True, doc="Euler step (time units)")
+    substeps: int = param(200, int, low=1, doc="Euler steps per episode: the decision window is substeps x dt")
+    pulse: float = param(0.1, float, low=0.0, doc="duration of the evidence input from the window's start (time units)")
+    drive: float = param(0.5, float, low=0.0, doc="w, input per unit of engage evidence (a.u. of v per time unit)")
+    gain_base: float = param(0.5, float, low=0.0, doc="G, gain of the decision at zero firing (1 / DA units)")
+    gain_scale: float = param(3.0, float, low=0.0, doc="k, gain per unit of mean firing rate (1 / DA units)")
+
+    def __post_init__(self):
+        check_params(self)
+        if self.dt > self.tau_v / 5:
+            raise ConfigError(type(self).__name__, "dt", f"at most tau_v / 5 = {self.tau_v / 5:g} (Euler's step "
+                              "well below the fast time constant)", repr(self.dt))
+
+
+@njit(cache=True, fastmath=False)
+def integrate(v, u, x, n_pulse, n, dt, alpha, tau_v, tau_u, mode, baseline, trace):
+    """``n`` Euler steps of the FitzHugh-Nagumo LC from (v, u), input ``x`` for the first
+    ``n_pulse`` steps; writes (v, u) after step k into ``trace[k]`` and returns the final (v, u)."""
+    for k in range(n):
+        inp = x if k < n_pulse else 0.0
+        dv = (v * (alpha - v) * (v - 1.0) - u + inp) / tau_v
+        du = (mode * v + (1.0 - mode) * baseline - u) / tau_u
+        v += dt * dv
+        u += dt * du
+        trace[k, 0] = v
+        trace[k, 1] = u
+    return v, u
+
+
+@register("lc.fhn")
+class FHNLC(GainLC):
+    """A FitzHugh-Nagumo LC (Gilzenrat et al. 2002) driven by the engage evidence; its release is the gain.
+
+    Per pass (one decision window of ``substeps`` Euler steps of ``dt``, the state carried
+    over from the previous window):
+
+    - the engage evidence, x = drive x max(0, tanh(Q_eng - Q_dis)), is the input for the
+      first ``pulse`` time units of the window;
+    - v and u are integrated (module docstring; Euler, compiled with numba);
+    - the firing rate r(t) = clip(v(t), 0, 1); the NE released in the window is its mean,
+      and the gain = gain_base + gain_scale x mean r, released through the drugs, then the
+      softmax decision of :class:`~neurocur.regions.lc_softmax.GainLC`.
+
+    NE: the released level is the gain (``ne_gain``, output ``ne``). ``ne_tonic`` is the
+    firing rate at the window's start, before the evidence (the baseline); ``ne_phasic``
+    is the burst, the window's peak rate above that baseline (both in [0, 1]; the
+    module-learned input is not an input of the dynamics). ``lc_rate`` is the window's
+    mean rate and ``lc_drive`` the input x. With ``build(..., record_frames=True)`` the
+    sub-step trace ``fhn_v``, ``fhn_u``, ``fhn_rate`` is recorded, one row per Euler step
+    (the rows' ``step`` is the episode's first frame plus the sub-step index: a sub-step
+    is a time step of the LC, not a frame).
+    """
+
+    Params = FHNLCParams
+    probes = (
+        *DECISION_PROBES,
+        Probe("ne_tonic", "float", "[0, 1]", "firing rate at the window's start (baseline)"),
+        Probe("ne_phasic", "float", "[0, 1]", "peak firing rate of the window above the baseline"),
+        GAIN_PROBE,
+        Probe("lc_rate", "float", "[0, 1]", "mean firing rate over the decision window (the NE released)"),
+        Probe("lc_drive", "float", "a.u. of v per time unit", "engage-evidence input x"),
+    )
+    frame_probes = (
+        Probe("fhn_v", "float", "a.u.", "activation v after each Euler step"),
+        Probe("fhn_u", "float", "a.u.", "recovery u after each Euler step"),
+        Probe("fhn_rate", "float", "[0, 1]", "firing rate clip(v, 0, 1) after each Euler step"),
+    )
+
+    def reset(self, rng) -> None:
+        self.rng = rng
+        self.v = self.u = 0.0
+        self.trace = np.zeros((self.params.substeps, 2))
+        self._rec = (ENGAGE, 0, 0.0, 0.0, self.params.gain_base, 0.0, 0.0)
+
+    def step(self, context, q, module_learned):
+        p = self.params
+        q_eng, q_dis = float(q[ENGAGE]), float(q[DISENGAGE])
+        x = p.drive * phasic_ne(ENGAGE, False, q_eng, q_dis)  # max(0, tanh(Q_eng - Q_dis))
+        tonic = min(1.0, max(0.0, self.v))
+        self.v, self.u = integrate(self.v, self.u, x, int(round(p.pulse / p.dt)), p.substeps, p.dt, p.alpha,
+                                   p.tau_v, p.tau_u, p.mode, p.baseline, self.trace)
+        rate = np.clip(self.trace[:, 0], 0.0, 1.0)
+        mean_rate = float(rate.mean())
+        gain, _, action, nxt = self.decide(p.gain_base + p.gain_scale * mean_rate, context, q)
+        phasic = max(0.0, float(rate.max()) - tonic)
+        self._rec = (action, nxt, tonic, phasic, gain, mean_rate, x)
+        return action, nxt, gain
+
+    def record(self):
+        return self._rec
+
+    def record_frames(self):
+        return np.column_stack([self.trace, np.clip(self.trace[:, 0], 0.0, 1.0)])
