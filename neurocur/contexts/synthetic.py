@@ -155,7 +155,12 @@ class SyntheticParams:
                 len(self.clock_offsets) != n or max(self.clock_offsets) >= self.n_states):
             raise ConfigError(where, "clock_offsets", f"'random', 'zero' or {n} start steps in [0, {self.n_states})",
                               describe(self.clock_offsets))
-        check_rewards(self, n, self.context_names)
+        check_rewards(self, n, self.names)
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """The context names: ``context_names``, or C1, C2, ..."""
+        return self.context_names or tuple(f"C{i + 1}" for i in range(len(self.contexts)))
 
     @property
     def n_states(self) -> int:
@@ -235,7 +240,7 @@ class SyntheticWorld(World):
         self._sources = make_sources(p.contexts, p.sources, p.n_states, p.nonstationary)
         self.rewards = Rewards.of(p.rewards)
         self.source_names = p.contexts
-        self.context_names = p.context_names or tuple(f"C{i + 1}" for i in range(len(p.contexts)))
+        self.context_names = p.names
         self.n_states = p.n_states
         self.frame_shape = p.frame_shape
         self.visit_length = self.max_frames = p.visit_length

@@ -16,9 +16,19 @@ time, column :data:`~.sources.SLOW_DIM` the slow dimension; a plain path is the 
 ``"isotropic_walk"``). ``scale`` (> 0, default 1) and ``dims`` (>= 2, default 2; an
 isotropic walk has 2) belong to noise only: ``scale`` is the standard deviation of a white
 sample, of a random-walk step, and of each dimension of an isotropic walk. The frames of a
-source are min–max normalised (``normalise``), so ``scale`` changes the source signal
+source are normalised to [0, 1] (``normalise``), so ``scale`` changes the source signal
 (:meth:`~.synthetic.SyntheticWorld.source_signal`), not the frames. A name equal to a
 built-in source (S-A, S-B, S-C, S-D) replaces it.
+
+**Noise frames.** Each draw of a declared noise source is centred (every dimension's mean
+over the epoch removed) and, under ``normalise = "global"``, rendered with the symmetric
+limits ``±max|raw|``, so every draw's frames are centred on 0.5. Min–max limits per draw
+(as the built-in S-D keeps, the paper's reading) shift the frames' mean level from one draw
+to the next: along the constant image, a direction outside the mixing's span that is
+constant within an epoch and so perfectly slow. Joined over draws, white noise rendered
+that way has Ω ≈ 0.897 (a slow direction to learn, though it says nothing about the
+noise); centred, Ω of the draws joined is 0.998 (10 draws; 1 for the process). For the
+built-in S-D the effect is small (0.9994 joined, 1.0000 per draw: :meth:`.synthetic.SyntheticWorld.omega`).
 
 **Redrawn every epoch.** An epoch of a context is one pass of its local clock over the
 source's time steps. A source that is redrawn gets a new draw each time the clock of a
