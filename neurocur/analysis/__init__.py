@@ -23,6 +23,8 @@ One module per question, all re-exported here:
   a quadratic fit beside it, the peak's location with a bootstrap interval;
 - :mod:`~neurocur.analysis.event_locked` — DA and NE averaged around events (module storage,
   context switches, familiarity onset) with intervals across runs; tonic against phasic NE;
+- :mod:`~neurocur.analysis.cycles` — the estimation error per learning cycle, aligned to module
+  storage (Figure 4D);
 - :mod:`~neurocur.analysis.figures` — matplotlib Figures (paper Figures 4D–G).
 
 Not re-exported: :mod:`~neurocur.analysis.paper` (the paper's numbers, with their sections),
@@ -35,6 +37,7 @@ Not re-exported: :mod:`~neurocur.analysis.paper` (the paper's numbers, with thei
 from neurocur.analysis import (
     bootstrap,
     comparison,
+    cycles,
     dwell,
     efficiency,
     event_locked,
@@ -48,6 +51,7 @@ from neurocur.analysis import (
 )
 from neurocur.analysis.bootstrap import *  # noqa: F403
 from neurocur.analysis.comparison import *  # noqa: F403
+from neurocur.analysis.cycles import *  # noqa: F403
 from neurocur.analysis.dwell import *  # noqa: F403
 from neurocur.analysis.efficiency import *  # noqa: F403
 from neurocur.analysis.event_locked import *  # noqa: F403
@@ -66,4 +70,4 @@ __all__ = ["load", "order_tables", "run_dirs", "source_specs", "throughput", "wr
            *order.__all__, *learning_time.__all__, *comparison.__all__, *significance.__all__, *bootstrap.__all__,
            *sweeps.__all__, *report.__all__, *figures.__all__, *dwell.__all__,
            *efficiency.__all__, *inverted_u.__all__,
-           *event_locked.__all__]
+           *event_locked.__all__, *cycles.__all__]

@@ -16,6 +16,8 @@ import pandas as pd
 import seaborn as sns
 from matplotlib.figure import Figure
 
+from neurocur.analysis.bootstrap import BOOTSTRAP_SEED, N_BOOT
+from neurocur.analysis.cycles import error_cycles
 from neurocur.analysis.io import load
 from neurocur.analysis.learning_time import learning_times, require_learning_columns
 from neurocur.analysis.order import position_counts, require_order_columns
@@ -89,28 +91,46 @@ def fig_cumulative_error(
     *,
     column: str = "error",
     bin_steps: int = 1000,
+    max_cycles: int | None = 4,
 ) -> Figure:
-    """Figure 4D: the adaptive module's estimation error vs global step.
+    """Figure 4D: the estimation error falling within each learning cycle.
 
     The paper's "cumulative estimation error" is read as eq 11's context-wide error
-    (accumulated over the context's states), not as a running sum over time.
-    The error (eq 11 aggregate, column ``error``) is averaged per run over bins of
-    ``bin_steps`` frames, then over runs (line ± sd band); one run (``run``, default the
-    first) is overlaid at episode resolution. Two lines: the mean, the single run.
+    (accumulated over the context's states; column ``error``), not as a running sum over time.
+    Left: one run (``run``, default the first) per episode against the global step, each
+    module storage marked (dashed, gid ``"module_learned"``). Right: the error of every
+    learning cycle aligned to the storage that ends it
+    (:func:`~neurocur.analysis.cycles.error_cycles`: per run, the mean over bins of
+    ``bin_steps`` frames before storage), one line per cycle (the first ``max_cycles``), the
+    mean over runs with its 95 % percentile bootstrap interval over runs (Efron & Tibshirani
+    1993; never below zero for a non-negative error).
     """
-    require_columns(episodes, ["condition", "run", "episode", "step", column], needed_by="fig_cumulative_error")
+    require_columns(episodes, ["condition", "run", "episode", "step", "n_frames", "module_learned", column],
+                    needed_by="fig_cumulative_error")
     condition = _condition(episodes, condition)
     table = episodes[episodes["condition"] == condition]
     _, run, single = _one_run(episodes, condition, run)
+    cycles = error_cycles(table, column, bin_steps)
+    if max_cycles is not None:
+        cycles = cycles[cycles["cycle"] <= max_cycles]
+    cycles = cycles.assign(frames=-cycles["frames_before"], cycle=cycles["cycle"].map(lambda k: f"module {k}"))
     with style():
-        fig, axes = figure()
-        ax = axes[0, 0]
-        sns.lineplot(data=_binned(table, column, bin_steps), x="step", y=column, errorbar="sd",
-                     ax=ax, label=f"mean over {table['run'].nunique()} runs (± sd)")
-        ax.plot(single["step"], single[column], lw=0.6, alpha=0.6, color="0.3", label=f"run {run}")
-        ax.set(xlabel="global step (frames)", ylabel="estimation error",
-               title=f"Estimation error — {condition}")
-        ax.legend(loc="upper right")
+        fig, axes = figure(1, 2, figsize=(11.0, 4.0), sharey=True)
+        left, right = axes[0]
+        left.plot(single["step"], single[column], lw=0.6, color="0.3", label=f"run {run}")
+        for x in (single["step"] + single["n_frames"])[single["module_learned"].astype(bool)]:
+            left.axvline(x, color="0.3", ls="--", lw=0.8, gid=EVENT_GID)
+        left.set(xlabel="global step (frames)", ylabel="estimation error",
+                 title=f"{condition}, run {run} (dashed: module stored)")
+        if cycles.empty:
+            right.text(0.5, 0.5, "no module was stored", ha="center", va="center", transform=right.transAxes)
+        else:
+            sns.lineplot(data=cycles, x="frames", y=column, hue="cycle", errorbar=("ci", 95), n_boot=N_BOOT,
+                         seed=BOOTSTRAP_SEED, palette="colorblind", ax=right)
+            right.legend(title=f"cycle ({table['run'].nunique()} runs; 95 % CI)", loc="upper left")
+        right.axvline(0.0, color="0.3", ls="--", lw=0.8, gid=EVENT_GID)
+        right.set(xlabel="frames before the module's storage", ylabel="estimation error",
+                  title="Per learning cycle, aligned to storage")
     return fig
 
 

@@ -31,18 +31,22 @@ def _data_lines(ax):
 
 
 def test_cumulative_error(tables):
-    episodes, _ = tables
+    episodes, modules = tables
     fig = fig_cumulative_error(episodes, run=2)
-    assert isinstance(fig, Figure) and len(fig.axes) == 1
-    ax = fig.axes[0]
-    assert len(ax.lines) == 2
-    mean, single = ax.lines
-    # the mean is binned per 1000 steps (6000 steps -> 6 bins); the single run per episode
-    assert len(mean.get_xdata()) == 6 and len(single.get_xdata()) == 60
-    expected = episodes[episodes["condition"] == "curious"].assign(b=lambda t: t["step"] // 1000)
-    first_bin = expected[expected["b"] == 0].groupby("run")["error"].mean().mean()
-    assert mean.get_ydata()[0] == pytest.approx(first_bin)
-    assert "run 2" in single.get_label()
+    assert isinstance(fig, Figure) and len(fig.axes) == 2
+    left, right = fig.axes
+    # left: run 2 per episode, its four storages marked
+    assert len(_data_lines(left)) == 1 and len(_data_lines(left)[0].get_xdata()) == 60
+    assert len([line for line in left.lines if line.get_gid() == EVENT_GID]) == 4
+    # right: one line per cycle, aligned to storage; the last bin before the first storage is
+    # the storing episode and the 9 before it (1000 frames), averaged per run, then over runs
+    curious = episodes[episodes["condition"] == "curious"]
+    first = modules[(modules["condition"] == "curious") & (modules["module"] == 0)].set_index("run")["episode"]
+    expected = np.mean([curious[(curious["run"] == r) & curious["episode"].between(e - 9, e)]["error"].mean()
+                        for r, e in first.items()])
+    module_1 = [line for line in _data_lines(right) if len(line.get_xdata())][0]      # the lines in cycle order
+    assert module_1.get_xdata()[-1] == -500.0 and module_1.get_ydata()[-1] == pytest.approx(expected)
+    assert {"module 1", "module 2", "module 3", "module 4"} == {t.get_text() for t in right.get_legend().get_texts()}
 
 
 def test_intrinsic_reward(tables):
