@@ -51,9 +51,10 @@ class IncSFA(Estimator):
         mean is tracked with the same rate.
     var_fraction, eig_cutoff : which whitened components are active (see ``CCIPCA``).
     mca_rate : CIMCA's learning rate η in (0, 0.5].
-    mca_rates : ``"equal"`` (the paper: every slow feature's vector learns at η) or
-        ``"decreasing"`` (the slowest at η, the others slower;
-        :func:`~neurocur.learn.mca.component_rates`).
+    mca_rates : ``"decreasing"`` (the default: the slowest feature's vector learns at η, the
+        others slower; :func:`~neurocur.learn.mca.component_rates`) or ``"equal"`` (the
+        paper's eq 16: every vector at η; the EC region's default, so the reproduction runs
+        the paper's rule).
     gamma : CIMCA's lateral weight, a number > 0 (4 is safe for whitened input) or "auto".
     random_state : seed of the initial CCIPCA directions and CIMCA vectors.
 
@@ -89,7 +90,7 @@ class IncSFA(Estimator):
         var_fraction=None,
         eig_cutoff=1e-3,
         mca_rate=0.05,
-        mca_rates="equal",
+        mca_rates="decreasing",
         gamma=4.0,
         random_state=None,
     ):

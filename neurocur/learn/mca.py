@@ -78,8 +78,8 @@ class MCA(Estimator):
     ----------
     n_components : J, the number of minor components.
     learning_rate : η in (0, 0.5].
-    component_rates : ``"equal"`` (the paper: every vector learns at η) or ``"decreasing"``
-        (the first at η, the later ones slower; :func:`component_rates`).
+    component_rates : ``"decreasing"`` (the default: the first vector at η, the later ones
+        slower; :func:`component_rates`) or ``"equal"`` (the paper's eq 16: every vector at η).
     gamma : the lateral weight γ > λ_1, or ``"auto"`` (the default). A given γ is
         checked against the online estimate λ̂_1 after each ``partial_fit``: if γ ≤ λ̂_1
         the call is undone and raises ``ValueError``.
@@ -103,7 +103,7 @@ class MCA(Estimator):
     }
     _centred = False  # CIMCA learns the second moment E[z zᵀ], not the covariance
 
-    def __init__(self, n_components=2, *, learning_rate=0.05, component_rates="equal", gamma="auto",
+    def __init__(self, n_components=2, *, learning_rate=0.05, component_rates="decreasing", gamma="auto",
                  random_state=None):
         self.n_components = n_components
         self.learning_rate = learning_rate
