@@ -18,7 +18,8 @@ table of :func:`neurocur.analysis.io.load` and returns a tidy DataFrame.
 −window..window (in episodes of the same run), the signal at episode e + ℓ; lags outside
 the run are missing. The per-run mean over the run's events at each lag is one number per
 run, and the curve is the mean of the per-run means with a confidence interval across runs
-(Student's t, or the percentile bootstrap over runs, Efron & Tibshirani 1993). Events close
+(the percentile bootstrap over runs, Efron & Tibshirani 1993, which stays within the range
+of a bounded signal such as NE in [0, 1]; or Student's t). Events close
 together share episodes; each is counted on its own. The signals default to ``da`` and every
 ``ne_*`` column present (``ne_tonic``, ``ne_phasic``, and model-specific ones such as
 ``ne_gain``).
@@ -111,7 +112,7 @@ def event_locked_average(
     window: int = 10,
     *,
     by_context: bool = False,
-    interval: str = "t",
+    interval: str = "bootstrap",
     confidence: float = 0.95,
     n_boot: int = N_BOOT,
     seed: int = BOOTSTRAP_SEED,
@@ -120,13 +121,13 @@ def event_locked_average(
 
     ``signals``: columns of the episodes table (default :func:`default_signals`); ``kinds``:
     event kinds (default every kind the table can give); ``by_context``: one curve per context
-    of the event's episode; ``interval``: ``"t"`` (Student's t over the per-run means) or
-    ``"bootstrap"`` (percentile, runs resampled, ``n_boot`` from ``seed``).
+    of the event's episode; ``interval``: ``"bootstrap"`` (percentile, runs resampled,
+    ``n_boot`` from ``seed``) or ``"t"`` (Student's t over the per-run means).
 
     One row per (condition, [context], event, signal, lag). Columns: condition, the swept keys,
     [context], event, signal, lag (episodes after the event; 0 is the event's episode),
     n_runs (runs with the event and a value at that lag), n_events, mean (of the per-run
-    means), ci_low, ci_high (NaN with fewer than two runs for the t interval).
+    means), ci_low, ci_high (NaN for the t interval with fewer than two runs).
     """
     if int(window) != window or window < 0:
         raise ValueError(f"event_locked_average: window must be a non-negative number of episodes, got {window!r}")
@@ -162,7 +163,8 @@ def event_locked_average(
     groups: dict = {}
     for condition, _run, context, kind, means, n in per_run:
         groups.setdefault((condition, context, kind), []).append((means, n))
-    for (condition, context, kind), items in sorted(groups.items(), key=lambda item: item[0]):
+    for (condition, context, kind), items in sorted(groups.items(),
+                                                    key=lambda item: (*item[0][:2], kinds.index(item[0][2]))):
         stack = np.stack([m for m, _ in items])                     # (runs, lags, signals)
         n_events = sum(n for _, n in items)
         for j, signal in enumerate(signals):

@@ -33,19 +33,21 @@ def test_the_event_locked_average_of_a_ramp():
     assert table["lag"].tolist() == [-2, -1, 0, 1, 2]
     assert table["mean"].tolist() == [3.0, 4.0, 5.0, 4.0, 5.0]
     assert table["n_events"].tolist() == [2] * 5 and table["n_runs"].tolist() == [1] * 5
-    assert table["ci_low"].isna().all()                              # one run: no interval
+    assert table["ci_low"].tolist() == table["mean"].tolist()       # one run: the bootstrap has one value
+    assert event_locked_average(RUN, "da", "module_stored", window=0, interval="t")["ci_low"].isna().all()
 
 
 def test_runs_weigh_equally_and_the_interval_is_students_t():
     one = RUN.assign(da=1.0)                                         # 2 module events
     other = episodes_of([0] * 8, run=1, module_learned=[1, 0, 1, 0, 1, 0, 0, 0], familiar=False, da=3.0)
-    table = event_locked_average(pd.concat([one, other], ignore_index=True), "da", "module_stored", window=0)
+    table = event_locked_average(pd.concat([one, other], ignore_index=True), "da", "module_stored", window=0,
+                                 interval="t")
     row = table.iloc[0]
     assert row["mean"] == 2.0 and row["n_runs"] == 2 and row["n_events"] == 5    # not (2·1 + 3·3)/5
     half = sps.t.ppf(0.975, 1) * np.sqrt(2) / np.sqrt(2)
     assert (row["ci_low"], row["ci_high"]) == pytest.approx((2.0 - half, 2.0 + half))
-    boot = event_locked_average(pd.concat([one, other], ignore_index=True), "da", "module_stored", window=0,
-                        interval="bootstrap").iloc[0]
+    boot = event_locked_average(pd.concat([one, other], ignore_index=True), "da", "module_stored",
+                                window=0).iloc[0]
     assert boot["ci_low"] == 1.0 and boot["ci_high"] == 3.0
 
 

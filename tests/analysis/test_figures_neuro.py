@@ -1,0 +1,83 @@
+"""The figures of the neuromodulator and behaviour analyses draw what their tables say."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import pytest
+from matplotlib.collections import PathCollection
+from matplotlib.figure import Figure
+from neuro_tables import episodes_of
+
+from neurocur.analysis import (
+    efficiency_per_run,
+    engagement,
+    event_locked_average,
+    fig_efficiency,
+    fig_engagement,
+    fig_event_locked,
+    fig_inverted_u,
+    fig_occupancy,
+    fig_tonic_phasic,
+    occupancy,
+    tonic_phasic,
+)
+
+
+def test_inverted_u_panels_and_level_means():
+    rng = np.random.default_rng(0)
+    x = np.repeat(np.arange(7.0), 10)
+    table = pd.DataFrame({"level": x, "run": np.tile(np.arange(10), 7), "model": np.where(x >= 0, "a", ""),
+                          "perf": -0.3 * (x - 3) ** 2 + rng.normal(0, 0.3, 70)})
+    table = pd.concat([table, table.assign(model="b", perf=0.5 * x + rng.normal(0, 0.3, 70))], ignore_index=True)
+    fig = fig_inverted_u(table, "level", "perf", by="model")
+    assert isinstance(fig, Figure) and len(fig.axes) == 2
+    first, second = fig.axes
+    assert first.get_title().startswith("a: interior peak") and second.get_title().startswith("b: no interior peak")
+    means = first.lines[0]                                       # the errorbar's line of level means
+    expected = table[table["model"] == "a"].groupby("level")["perf"].mean()
+    assert means.get_ydata() == pytest.approx(expected.to_numpy())
+
+
+def test_engagement_and_occupancy(tables):
+    episodes, _ = tables
+    eng = engagement(episodes)
+    eng["omega"] = eng["context"] * 0.002 + 0.99
+    fig = fig_engagement(eng, "omega")
+    assert len(fig.axes) == 2 and fig.axes[0].get_ylabel() == "share of frames"
+    occ = occupancy(episodes, 1000)
+    ax = fig_occupancy(occ, [3, 4]).axes[0]
+    curious = ax.lines[0]                                        # hue order: curious first
+    # CYCLE spends 3 of every 15 episodes in each context: bin 0 (episodes 0-9) has C4 (9-11 → 9) and none of C5
+    first = occ[(occ["condition"] == "curious") & (occ["bin"] == 0) & occ["context"].isin([3, 4])]
+    assert curious.get_ydata()[0] == pytest.approx(first.groupby("run")["share"].sum().mean()) == 0.1
+
+
+def test_event_locked_grid():
+    run = episodes_of([0, 0, 1, 1, 1, 2, 0, 0], module_learned=[0, 0, 0, 1, 0, 0, 0, 1],
+                      familiar=[0, 1, 1, 0, 1, 1, 0, 0], da=np.arange(8.0), ne_tonic=0.5, ne_phasic=0.2)
+    table = event_locked_average(run, window=2)
+    fig = fig_event_locked(table)
+    assert len(fig.axes) == 3 * 3                                  # da, ne_tonic, ne_phasic × three event kinds
+    assert fig.axes[0].get_ylabel() == "da" and fig.axes[0].get_title() == "module stored"
+    assert list(fig.axes[0].lines[0].get_ydata()) == [3.0, 4.0, 5.0, 4.0, 5.0]
+
+
+def test_tonic_phasic_scatter(tables):
+    episodes, _ = tables
+    fig = fig_tonic_phasic(tonic_phasic(episodes))
+    points = [c for c in fig.axes[0].collections if isinstance(c, PathCollection)]
+    assert sum(len(c.get_offsets()) for c in points) == 7 * 5            # 7 runs × 5 contexts
+
+
+def test_efficiency_paired_by_run(tables):
+    table = efficiency_per_run(*tables)
+    fig = fig_efficiency(table)
+    left, right = fig.axes
+    assert "Wilcoxon signed-rank p = 1 (Holm; n = 3 pairs)" in left.get_title()
+    hollow = [c for c in left.collections if isinstance(c, PathCollection) and len(c.get_offsets())
+              and c.get_facecolors().size == 0]
+    # pairs 0-2: every curious run learned all (filled), no random-switching run did (hollow, at the horizon)
+    assert sum(len(c.get_offsets()) for c in hollow) == 3
+    assert all((c.get_offsets()[:, 1] == 6000).all() for c in hollow)
+    assert len(left.lines) == 3 + 1                                  # one line per pair, and the horizon
