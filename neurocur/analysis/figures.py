@@ -91,7 +91,8 @@ def fig_cumulative_error(
     *,
     column: str = "error",
     bin_steps: int = 1000,
-    max_cycles: int | None = 4,
+    max_cycles: int | None = 3,
+    min_runs: int = 3,
 ) -> Figure:
     """Figure 4D: the estimation error falling within each learning cycle.
 
@@ -103,7 +104,8 @@ def fig_cumulative_error(
     (:func:`~neurocur.analysis.cycles.error_cycles`: per run, the mean over bins of
     ``bin_steps`` frames before storage), one line per cycle (the first ``max_cycles``), the
     mean over runs with its 95 % percentile bootstrap interval over runs (Efron & Tibshirani
-    1993; never below zero for a non-negative error).
+    1993; never below zero for a non-negative error), where at least ``min_runs`` runs had
+    the cycle that long.
     """
     require_columns(episodes, ["condition", "run", "episode", "step", "n_frames", "module_learned", column],
                     needed_by="fig_cumulative_error")
@@ -113,6 +115,7 @@ def fig_cumulative_error(
     cycles = error_cycles(table, column, bin_steps)
     if max_cycles is not None:
         cycles = cycles[cycles["cycle"] <= max_cycles]
+    cycles = cycles[cycles.groupby(["cycle", "bin"])["run"].transform("nunique") >= min_runs]
     cycles = cycles.assign(frames=-cycles["frames_before"], cycle=cycles["cycle"].map(lambda k: f"module {k}"))
     with style():
         fig, axes = figure(1, 2, figsize=(11.0, 4.0), sharey=True)
@@ -123,11 +126,13 @@ def fig_cumulative_error(
         left.set(xlabel="global step (frames)", ylabel="estimation error",
                  title=f"{condition}, run {run} (dashed: module stored)")
         if cycles.empty:
-            right.text(0.5, 0.5, "no module was stored", ha="center", va="center", transform=right.transAxes)
+            right.text(0.5, 0.5, f"no cycle in {min_runs} or more runs", ha="center", va="center",
+                       transform=right.transAxes)
         else:
             sns.lineplot(data=cycles, x="frames", y=column, hue="cycle", errorbar=("ci", 95), n_boot=N_BOOT,
                          seed=BOOTSTRAP_SEED, palette="colorblind", ax=right)
-            right.legend(title=f"cycle ({table['run'].nunique()} runs; 95 % CI)", loc="upper left")
+            right.legend(title=f"cycle ({table['run'].nunique()} runs; 95 % CI; ≥ {min_runs} runs a bin)",
+                         loc="upper left")
         right.axvline(0.0, color="0.3", ls="--", lw=0.8, gid=EVENT_GID)
         right.set(xlabel="frames before the module's storage", ylabel="estimation error",
                   title="Per learning cycle, aligned to storage")
