@@ -215,28 +215,21 @@ def _cmd_omega(args) -> int:
             raise ValueError(f"omega: {path}: {exc}") from None
         print(f"{path}: Omega = {value:.5f}  (eta = {args.eta:g}, {X.shape[0]} steps)")
         return 0
+    from neurocur.contexts.learnability import learnability
     from neurocur.experiments import load_experiment
 
     exp = load_experiment(args.experiment, sets=args.sets)
     condition = exp.select([args.condition] if args.condition else None)[0]
     world = condition.make_world()
     world.reset(seed=args.seed)
-    contexts = list(world.context_names) if args.context is None else [args.context]
-    for name in contexts:
-        if name not in world.context_names:
-            raise ValueError(f"omega: --context: expected one of {', '.join(world.context_names)}, got {name!r}")
-        index = world.context_names.index(name)
-        redrawn = ""
-        if hasattr(world, "redraws"):  # a synthetic world: one frame sequence per context (or per draw)
-            value, per_draw = world.omega(index, args.eta, draws=args.draws, seed=args.seed)
-            if world.redraws(index):
-                redrawn = (f"  redrawn every epoch: {args.draws} draws joined; per draw mean {per_draw.mean():.5f}, "
-                           f"range [{per_draw.min():.5f}, {per_draw.max():.5f}]")
-        else:  # an episodic world (iCub): derivatives within episodes only
-            from neurocur.contexts.icub import omega_episodes
-
-            value = omega_episodes(world.episodes(index), args.eta)
-        print(f"{name}  {world.source_names[index]:<6} Omega = {value:.5f}{redrawn}")
+    if args.context is not None and args.context not in world.context_names:
+        raise ValueError(f"omega: --context: expected one of {', '.join(world.context_names)}, got {args.context!r}")
+    table = learnability(world, args.eta, draws=args.draws, seed=args.seed,
+                         contexts=None if args.context is None else [args.context])
+    for row in table.itertuples(index=False):
+        redrawn = (f"  redrawn every epoch: {args.draws} draws joined; per draw mean {row.omega_draw_mean:.5f}, "
+                   f"range [{row.omega_draw_min:.5f}, {row.omega_draw_max:.5f}]") if row.redrawn else ""
+        print(f"{row.context_name}  {row.source:<6} Omega = {row.omega:.5f}{redrawn}")
     return 0
 
 

@@ -1,0 +1,64 @@
+"""The learning cost Ω (eqs 15, 40) of every context of a world, as a tidy table.
+
+:func:`learnability` measures each context's frames after a :meth:`~.base.World.reset`:
+
+* a synthetic context whose source is replayed: Ω of its frames (one epoch);
+* a synthetic context whose source is redrawn every epoch (S-D, noise, re-sampled files):
+  Ω of ``draws`` fresh draws joined, and each draw's Ω
+  (:meth:`~.synthetic.SyntheticWorld.omega`);
+* an episodic (iCub) context: Ω of its cached episodes, derivatives within episodes
+  (:func:`~.icub.omega_episodes`).
+
+The ``level`` column orders the contexts by learnability for analyses against it (the
+Goldilocks curve, :mod:`neurocur.analysis.goldilocks`): the dense rank of Ω, where a
+redrawn source counts as Ω = 1. It has no fixed slowest direction to converge to: the
+expected derivative covariance of its whitened signal is isotropic, so the Ω of the
+process is 1, while a finite sample of it measures below 1 by sampling error alone
+(white noise: about 0.993 per draw).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+import pandas as pd
+
+from .base import World
+
+__all__ = ["LEARNABILITY_COLUMNS", "learnability"]
+
+LEARNABILITY_COLUMNS = ("context", "context_name", "source", "redrawn", "omega", "omega_draw_mean",
+                        "omega_draw_min", "omega_draw_max", "level")
+
+
+def learnability(world: World, eta: float = 0.05, *, draws: int = 10, seed=0,
+                 contexts: Sequence[str] | None = None) -> pd.DataFrame:
+    """Ω of each context of ``world`` (reset first), one row per context (all, or the names in
+    ``contexts``); columns :data:`LEARNABILITY_COLUMNS` (the ``omega_draw_*`` columns equal
+    ``omega`` for a source that is not redrawn). ``draws`` and ``seed``: the fresh draws of a
+    redrawn source. A world that is neither synthetic nor episodic is a ``ValueError``."""
+    names = list(world.context_names) if contexts is None else list(contexts)
+    rows = []
+    for name in names:
+        if name not in world.context_names:
+            raise ValueError(f"unknown context {name!r}; expected one of {', '.join(world.context_names)}")
+        index = world.context_names.index(name)
+        redrawn = False
+        if hasattr(world, "redraws"):  # synthetic: one frame sequence per context (or per draw)
+            value, per_draw = world.omega(index, eta, draws=draws, seed=seed)
+            redrawn = world.redraws(index)
+        elif hasattr(world, "episodes"):  # episodic (iCub): derivatives within episodes only
+            from .icub import omega_episodes
+
+            value = omega_episodes(world.episodes(index), eta)
+            per_draw = np.array([value])
+        else:
+            raise ValueError(f"Omega needs the frames of each context; {type(world).__name__} does not expose them")
+        rows.append({"context": index, "context_name": name, "source": world.source_names[index],
+                     "redrawn": redrawn, "omega": value, "omega_draw_mean": per_draw.mean(),
+                     "omega_draw_min": per_draw.min(), "omega_draw_max": per_draw.max()})
+    table = pd.DataFrame(rows, columns=LEARNABILITY_COLUMNS[:-1])
+    cost = table["omega"].where(~table["redrawn"], 1.0)
+    table["level"] = cost.rank(method="dense").astype(np.int64)
+    return table
