@@ -166,7 +166,8 @@ def fig_event_locked(table: pd.DataFrame, *, hue: str = "condition") -> Figure:
     levels = list(dict.fromkeys(table[hue]))
     palette = dict(zip(levels, sns.color_palette("colorblind", len(levels))))
     with style():
-        fig, axes = figure(len(signals), len(kinds), figsize=(3.6 * len(kinds), 2.4 * len(signals)), sharex=True)
+        fig, axes = figure(len(signals), len(kinds), figsize=(3.6 * len(kinds) + 1.6, 2.4 * len(signals)),
+                           sharex=True)
         for i, signal in enumerate(signals):
             for j, kind in enumerate(kinds):
                 ax = axes[i, j]

@@ -121,7 +121,7 @@ def _line(xv: np.ndarray, yv: np.ndarray, covariates: np.ndarray, xc: float, whi
         return nan
     beta, se, df = _ols(yv, design)
     k = list(columns).index("low" if which == 1 else "high")
-    t = beta[k] / se[k]
+    t = beta[k] / se[k] if se[k] > 0 else math.nan       # no residual variance: nothing to test
     return {"slope": beta[k], "se": se[k], "t": t, "p": float(sps.t.sf(t, df) if which == 1 else sps.t.cdf(t, df))}
 
 
@@ -198,7 +198,7 @@ def quadratic_fit(table: pd.DataFrame, x: str, y: str, run: str | None = "run", 
     beta, se, df = _ols(yv, design)
     c1 = beta[1] - 2 * beta[2] * centre
     return {"quad_c1": c1, "quad_c2": beta[2], "quad_se2": se[2],
-            "quad_p": float(sps.t.cdf(beta[2] / se[2], df)),
+            "quad_p": float(sps.t.cdf(beta[2] / se[2], df)) if se[2] > 0 else math.nan,
             "vertex": centre - beta[1] / (2 * beta[2]) if beta[2] < 0 else math.nan}
 
 

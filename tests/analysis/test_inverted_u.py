@@ -105,6 +105,12 @@ def test_level_means_with_t_intervals():
     assert means.loc[2, "ci_high"] == pytest.approx(6.0 + sps.t.ppf(0.975, 1) * np.sqrt(2) / np.sqrt(2))
 
 
+def test_a_constant_curve_has_nothing_to_test():
+    result = inverted_u_test(curve(np.zeros_like, sd=0.0, runs=3), "x", "y", n_boot=50).iloc[0]
+    assert np.isnan(result["p1"]) and np.isnan(result["p2"]) and np.isnan(result["quad_p"])
+    assert not result["interior_peak"] and np.isnan(result["vertex"])
+
+
 def test_bad_input_is_named():
     with pytest.raises(ValueError, match="at least 3 levels"):
         two_lines(curve(np.zeros_like).query("x < 2"), "x", "y")

@@ -1,4 +1,4 @@
-"""The analysis notebook runs end to end on a small real results folder (neurocur run)."""
+"""The analysis notebooks run end to end on small real results folders (neurocur run)."""
 
 from __future__ import annotations
 
@@ -11,6 +11,7 @@ import pytest
 
 from neurocur.analysis import load
 from neurocur.cli import main
+from neurocur.tables import shipped_files
 
 ROOT = Path(__file__).resolve().parents[2]
 NOTEBOOK = ROOT / "analysis" / "synthetic.ipynb"
@@ -54,3 +55,33 @@ def test_notebook_executes(real_results, monkeypatch):
     assert "needs the conditions" not in text  # the comparison ran
     images = [o for o in outputs if "image/png" in o.get("data", {})]
     assert len(images) == 6  # Figures 4D-G, the order counts and the neuromodulator traces
+
+
+NEUROMODULATORS = ROOT / "analysis" / "neuromodulators.ipynb"
+
+
+def test_neuromodulators_notebook_executes(tmp_path, monkeypatch):
+    """analysis/neuromodulators.ipynb runs its experiments small (2 runs x 5000 frames, three gains) and
+    shows every analysis; every shipped LC and VTA circuit is a condition of its results."""
+    out = tmp_path / "neuromodulators"
+    for key, value in {"RESULTS": str(out), "RUNS": "2", "STEPS": "5000", "GAINS": "0.5,2,8", "JOBS": "2"}.items():
+        monkeypatch.setenv(f"NEUROCUR_NEURO_{key}", value)
+    nb = nbformat.read(NEUROMODULATORS, as_version=4)
+    client = nbclient.NotebookClient(nb, kernel_name="python3", timeout=300,
+                                     resources={"metadata": {"path": str(NEUROMODULATORS.parent)}})
+    try:
+        client.execute()
+    except nbclient.exceptions.CellExecutionError as error:  # pragma: no cover - shown on failure
+        pytest.fail(f"notebook cell failed:\n{error}")
+    episodes, _ = load(out / "models")
+    models = {name for name in shipped_files("circuit") if name.startswith(("lc_", "vta_"))}
+    assert set(episodes["condition"]) == {"curious", "random_switching", *models}
+    assert episodes.groupby("condition")["run"].nunique().eq(2).all()
+    swept, _ = load(out / "inverted_u")
+    assert sorted(swept["LC.gain"].unique()) == [0.5, 2.0, 8.0]
+    outputs = [o for cell in nb.cells if cell.cell_type == "code" for o in cell.outputs]
+    assert not [o for o in outputs if o.output_type == "error"]
+    images = [o for o in outputs if "image/png" in o.get("data", {})]
+    assert len(images) == 6  # occupancy, efficiency, event-locked, tonic-phasic, engagement, inverted U
+    html = "".join(o.get("data", {}).get("text/html", "") for o in outputs)
+    assert "interior_peak" in html and "frames_to_learn_all_censored" in html
