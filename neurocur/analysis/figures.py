@@ -16,7 +16,7 @@ import pandas as pd
 import seaborn as sns
 from matplotlib.figure import Figure
 
-from neurocur.analysis.bootstrap import BOOTSTRAP_SEED, N_BOOT
+from neurocur.analysis.bootstrap import bootstrap_ci
 from neurocur.analysis.cycles import error_cycles
 from neurocur.analysis.io import load
 from neurocur.analysis.learning_time import learning_times, require_learning_columns
@@ -103,9 +103,9 @@ def fig_cumulative_error(
     learning cycle aligned to the storage that ends it
     (:func:`~neurocur.analysis.cycles.error_cycles`: per run, the mean over bins of
     ``bin_steps`` frames before storage), one line per cycle (the first ``max_cycles``), the
-    mean over runs with its 95 % percentile bootstrap interval over runs (Efron & Tibshirani
-    1993; never below zero for a non-negative error), where at least ``min_runs`` runs had
-    the cycle that long.
+    mean over runs with its 95 % percentile bootstrap interval over runs
+    (:func:`~neurocur.analysis.bootstrap.bootstrap_ci`, Efron & Tibshirani 1993; never below
+    zero for a non-negative error), where at least ``min_runs`` runs had the cycle that long.
     """
     require_columns(episodes, ["condition", "run", "episode", "step", "n_frames", "module_learned", column],
                     needed_by="fig_cumulative_error")
@@ -116,7 +116,6 @@ def fig_cumulative_error(
     if max_cycles is not None:
         cycles = cycles[cycles["cycle"] <= max_cycles]
     cycles = cycles[cycles.groupby(["cycle", "bin"])["run"].transform("nunique") >= min_runs]
-    cycles = cycles.assign(frames=-cycles["frames_before"], cycle=cycles["cycle"].map(lambda k: f"module {k}"))
     with style():
         fig, axes = figure(1, 2, figsize=(11.0, 4.0), sharey=True)
         left, right = axes[0]
@@ -125,12 +124,17 @@ def fig_cumulative_error(
             left.axvline(x, color="0.3", ls="--", lw=0.8, gid=EVENT_GID)
         left.set(xlabel="global step (frames)", ylabel="estimation error",
                  title=f"{condition}, run {run} (dashed: module stored)")
+        palette = sns.color_palette("colorblind", max(1, cycles["cycle"].nunique()))
+        for colour, (cycle, part) in zip(palette, cycles.groupby("cycle", sort=True)):
+            bins = part.groupby(-part["frames_before"], sort=True)[column]      # x: frames from storage, ≤ 0
+            means = bins.mean()
+            ci = np.array([bootstrap_ci(values.to_numpy()) for _, values in bins])
+            right.plot(means.index, means.to_numpy(), color=colour, label=f"module {cycle}")
+            right.fill_between(means.index, ci[:, 0], ci[:, 1], color=colour, alpha=0.25, lw=0)
         if cycles.empty:
             right.text(0.5, 0.5, f"no cycle in {min_runs} or more runs", ha="center", va="center",
                        transform=right.transAxes)
         else:
-            sns.lineplot(data=cycles, x="frames", y=column, hue="cycle", errorbar=("ci", 95), n_boot=N_BOOT,
-                         seed=BOOTSTRAP_SEED, palette="colorblind", ax=right)
             right.legend(title=f"cycle ({table['run'].nunique()} runs; 95 % CI; ≥ {min_runs} runs a bin)",
                          loc="upper left")
         right.axvline(0.0, color="0.3", ls="--", lw=0.8, gid=EVENT_GID)
