@@ -19,6 +19,8 @@ Definitions:
 * **Share after an event**: the frames spent in a set of contexts after an episode (e.g.
   the episode whose module completed the learnable sources,
   :func:`~neurocur.analysis.efficiency.efficiency_per_run`), over all frames after it.
+* **A signal over time** (:func:`signal_over_time`): the mean of a recorded signal (DA, NE) per
+  bin of global frames, over the episodes in chosen contexts (DA in a noise context over time).
 
 Contexts are indices in the tables; a ``spec`` (a :class:`~neurocur.contexts.base.SourceSpec`,
 or one per condition as :func:`~neurocur.analysis.io.source_specs` returns) names them and
@@ -35,9 +37,10 @@ import pandas as pd
 from neurocur.contexts.base import SourceSpec
 from neurocur.contract import require_columns
 
+from .bootstrap import BOOTSTRAP_SEED, N_BOOT, bootstrap_ci
 from .order import sweep_columns
 
-__all__ = ["visits", "engagement", "occupancy", "share_after"]
+__all__ = ["visits", "engagement", "engagement_summary", "occupancy", "signal_over_time", "share_after"]
 
 #: The columns the dwell analyses read (``condition`` and ``run`` are added by the loader).
 EPISODE_COLUMNS = ("condition", "run", "episode", "step", "context", "n_frames")
@@ -252,3 +255,56 @@ def share_after(
         out.loc[none, counts] = np.nan
     out["share"] = out["frames_in"] / out["frames_after"].where(out["frames_after"] > 0)
     return out
+
+
+def engagement_summary(
+    episodes: pd.DataFrame, spec: Spec = None, *, n_boot: int = N_BOOT, confidence: float = 0.95,
+    seed: int = BOOTSTRAP_SEED,
+) -> pd.DataFrame:
+    """:func:`engagement` per condition and context, over runs: the mean share of frames and the
+    mean dwell per visit, each with its percentile bootstrap interval over runs.
+
+    Columns: condition, context (with ``context_name``, ``source``), n_runs, share, share_ci_low,
+    share_ci_high, n_runs_visited (runs that visited the context), dwell_frames (the mean over
+    those runs of their mean dwell per visit), dwell_ci_low, dwell_ci_high.
+    """
+    table = engagement(episodes, spec).drop(columns=["context_name", "source"], errors="ignore")
+    rows = []
+    for (condition, context), part in table.groupby(["condition", "context"], sort=True):
+        share, dwelt = part["share"].to_numpy(float), part["mean_dwell_frames"].dropna().to_numpy(float)
+        boot = {"n_boot": n_boot, "confidence": confidence, "seed": seed}
+        share_ci, dwell_ci = bootstrap_ci(share, **boot), bootstrap_ci(dwelt, **boot)
+        rows.append({"condition": condition, "context": context, "n_runs": len(share), "share": share.mean(),
+                     "share_ci_low": share_ci[0], "share_ci_high": share_ci[1], "n_runs_visited": len(dwelt),
+                     "dwell_frames": dwelt.mean() if len(dwelt) else np.nan,
+                     "dwell_ci_low": dwell_ci[0], "dwell_ci_high": dwell_ci[1]})
+    return _name_contexts(pd.DataFrame(rows), spec)
+
+
+def signal_over_time(
+    episodes: pd.DataFrame, column: str, bin_frames: int = 10_000, contexts=None, spec: Spec = None
+) -> pd.DataFrame:
+    """The per-run mean of ``column`` (e.g. ``da``) per bin of ``bin_frames`` global frames, over the
+    episodes in ``contexts`` (indices or names; all by default), e.g. DA in the noise context over time.
+
+    An episode belongs to the bin of its first frame. One row per (run, bin) with such episodes.
+    Columns: condition, run, the swept keys, bin, step (the bin's first frame), n_episodes, and
+    ``column`` (the mean over the bin's episodes with a value).
+    """
+    if int(bin_frames) != bin_frames or bin_frames < 1:
+        raise ValueError(f"signal_over_time: bin_frames must be a positive integer number of frames, "
+                         f"got {bin_frames!r}")
+    table = _sorted(episodes, "signal_over_time")
+    require_columns(table, [column], needed_by="signal_over_time (episodes table)")
+    keys = run_keys(table)
+    if contexts is not None:
+        keep = np.zeros(len(table), dtype=bool)
+        for condition in table["condition"].unique():
+            chosen = context_indices(contexts, spec_of(spec, condition), needed_by="signal_over_time")
+            keep |= ((table["condition"] == condition) & table["context"].isin(chosen)).to_numpy()
+        table = table[keep]
+    table = table.assign(bin=table["step"] // bin_frames).dropna(subset=[column])
+    out = table.groupby([*keys, "bin"], sort=True)[column].agg(["size", "mean"]).reset_index()
+    out = out.rename(columns={"size": "n_episodes", "mean": column})
+    out.insert(len(keys) + 1, "step", out["bin"] * bin_frames)
+    return out[[*keys, "bin", "step", "n_episodes", column]]

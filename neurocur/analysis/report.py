@@ -23,6 +23,7 @@ from neurocur.contexts.synthetic import SYNTHETIC
 from . import paper
 from .bootstrap import BOOTSTRAP_SEED, N_BOOT
 from .comparison import ADJUSTMENT_NAMES, _adjustment, compare_conditions
+from .dwell import engagement_summary
 from .efficiency import EFFICIENCY_LABELS, EFFICIENCY_TESTS, efficiency_per_run, efficiency_summary
 from .learning_time import learning_time_summary, require_learning_columns
 from .order import _outcome_labels, condition_summary, order_counts, per_run, require_order_columns
@@ -219,7 +220,9 @@ def summary(
     ``learning_time`` (epochs per learnable source), ``efficiency`` (per condition and metric:
     :func:`~neurocur.analysis.efficiency.efficiency_summary`; and ``comparisons``, ``reference``
     against every other condition on :data:`~neurocur.analysis.efficiency.EFFICIENCY_TESTS`,
-    adjusted as their own family), ``comparisons`` (``reference`` against
+    adjusted as their own family), ``engagement`` (per condition and context: share of frames
+    and mean dwell per visit, :func:`~neurocur.analysis.dwell.engagement_summary`),
+    ``comparisons`` (``reference`` against
     every other condition, when both exist: :func:`~neurocur.analysis.comparison.compare_conditions`,
     each row with its ``test``, raw ``p_value``, ``p_adjusted`` and ``adjustment``) and
     ``statistics`` (how the comparisons were made: pairing, the tests by ``method`` code
@@ -246,6 +249,7 @@ def summary(
         "learning_time": learning_time_summary(episodes, modules, spec).to_dict("records"),
         "efficiency": {"summary": efficiency_summary(efficiency, spec, n_boot=n_boot, seed=seed).to_dict("records"),
                        "comparisons": efficiency_tests.to_dict("records")},
+        "engagement": engagement_summary(episodes, spec, n_boot=n_boot, seed=seed).to_dict("records"),
         "comparisons": comparisons.to_dict("records"),
         "statistics": {
             "reference": reference if comparisons.size else None,

@@ -7,7 +7,15 @@ import pandas as pd
 import pytest
 from neuro_tables import episodes_of
 
-from neurocur.analysis import engagement, occupancy, share_after, visits
+from neurocur.analysis import (
+    engagement,
+    engagement_summary,
+    occupancy,
+    share_after,
+    signal_over_time,
+    summary,
+    visits,
+)
 from neurocur.contexts.base import SourceSpec
 
 SPEC = SourceSpec(("C1", "C2", "C3", "C4"), ("S-A", "S-B", "S-C", "S-D"), ("S-A", "S-B", "S-C"))
@@ -87,9 +95,37 @@ def test_share_after_an_event_that_never_happened_is_nan():
     assert np.isnan(share_after(two, 2, events.iloc[:1]).set_index("run").loc[1, "share"])   # no row: no event
 
 
+def test_engagement_summary_over_runs():
+    other = episodes_of([0, 1, 1, 1, 1, 1, 1], [100] * 7, run=1)       # 100 of 700 frames in context 0
+    table = engagement_summary(pd.concat([RUN, other], ignore_index=True), SPEC).set_index("context")
+    assert table.loc[0, "share"] == pytest.approx((300 / 750 + 100 / 700) / 2)
+    assert table.loc[0, "dwell_frames"] == pytest.approx((150 + 100) / 2) and table.loc[0, "n_runs_visited"] == 2
+    assert table.loc[0, "share_ci_low"] == pytest.approx(100 / 700) and table.loc[0, "share_ci_high"] == pytest.approx(0.4)
+    assert table.loc[2, "n_runs_visited"] == 1 and table.loc[2, "dwell_frames"] == 50        # run 1 never visits C3
+    assert table.loc[3, "n_runs_visited"] == 0 and np.isnan(table.loc[3, "dwell_frames"])
+
+
+def test_summary_json_has_the_engagement(tables):
+    rows = summary(*tables)["engagement"]
+    c5 = next(r for r in rows if r["condition"] == "curious" and r["context_name"] == "C5")
+    assert c5["share"] == pytest.approx(0.2) and c5["dwell_frames"] == pytest.approx(300.0)   # 3 episodes a visit
+
+
+def test_a_signal_over_time_in_chosen_contexts():
+    run = RUN.assign(da=np.arange(7.0))
+    table = signal_over_time(run, "da", 300, contexts=["C2"], spec=SPEC)
+    # context 1 (C2): episodes 2 (step 200), 3 (300) and 4 (500)
+    assert table["bin"].tolist() == [0, 1] and table["step"].tolist() == [0, 300]
+    assert table["da"].tolist() == [2.0, 3.5] and table["n_episodes"].tolist() == [1, 2]
+    assert signal_over_time(run, "da", 300)["da"].tolist() == [1.0, 3.5, 5.5]
+    with pytest.raises(ValueError, match="'ne_gain'"):
+        signal_over_time(run, "ne_gain")
+
+
 def test_the_swept_keys_are_carried():
     swept = RUN.assign(**{"LC.gain": 2.0})
-    for table in (visits(swept), engagement(swept), occupancy(swept, 300), share_after(swept, 0)):
+    for table in (visits(swept), engagement(swept), occupancy(swept, 300), share_after(swept, 0),
+                  signal_over_time(swept.assign(da=1.0), "da")):
         assert (table["LC.gain"] == 2.0).all()
 
 
