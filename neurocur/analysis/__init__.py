@@ -21,13 +21,15 @@ One module per question, all re-exported here:
   the unlearnable contexts, modules per 10⁵ frames, compared paired by run;
 - :mod:`~neurocur.analysis.inverted_u` — the two-lines test of an interior peak (Simonsohn 2018),
   a quadratic fit beside it, the peak's location with a bootstrap interval;
+- :mod:`~neurocur.analysis.goldilocks` — engagement against learnability, the two-lines test per
+  model, its figure;
 - :mod:`~neurocur.analysis.event_locked` — DA and NE averaged around events (module storage,
   context switches, familiarity onset) with intervals across runs; tonic against phasic NE;
 - :mod:`~neurocur.analysis.cycles` — the estimation error per learning cycle, aligned to module
   storage (Figure 4D);
 - :mod:`~neurocur.analysis.figures` — matplotlib Figures (paper Figures 4D–G);
 - :mod:`~neurocur.analysis.figures_neuro` — the figures of the neuromodulator and behaviour
-  analyses (inverted U, engagement, occupancy, event-locked traces, efficiency).
+  analyses (inverted U, occupancy, signals over time, event-locked traces, efficiency).
 
 Not re-exported: :mod:`~neurocur.analysis.paper` (the paper's numbers, with their sections),
 :mod:`~neurocur.analysis.style` (the figure style and saving),
@@ -45,6 +47,7 @@ from neurocur.analysis import (
     event_locked,
     figures,
     figures_neuro,
+    goldilocks,
     inverted_u,
     learning_time,
     order,
@@ -60,6 +63,7 @@ from neurocur.analysis.efficiency import *  # noqa: F403
 from neurocur.analysis.event_locked import *  # noqa: F403
 from neurocur.analysis.figures import *  # noqa: F403
 from neurocur.analysis.figures_neuro import *  # noqa: F403
+from neurocur.analysis.goldilocks import *  # noqa: F403
 from neurocur.analysis.inverted_u import *  # noqa: F403
 from neurocur.analysis.io import load, order_tables, run_dirs, source_specs, throughput, write_summary
 from neurocur.analysis.learning_time import *  # noqa: F403
@@ -74,4 +78,5 @@ __all__ = ["load", "order_tables", "run_dirs", "source_specs", "throughput", "wr
            *order.__all__, *learning_time.__all__, *comparison.__all__, *significance.__all__, *bootstrap.__all__,
            *sweeps.__all__, *report.__all__, *figures.__all__, *dwell.__all__,
            *efficiency.__all__, *inverted_u.__all__,
-           *event_locked.__all__, *cycles.__all__, *figures_neuro.__all__]
+           *event_locked.__all__, *cycles.__all__, *figures_neuro.__all__,
+           *goldilocks.__all__]

@@ -6,11 +6,9 @@ Each function draws the tidy output of one analysis module and returns a
 * :func:`fig_inverted_u` — performance against a level, runs as points, level means with
   Student's t intervals, and the two lines of Simonsohn's (2018) test
   (:mod:`~neurocur.analysis.inverted_u`);
-* :func:`fig_engagement` — engagement (share of frames, mean dwell per visit) against a
-  property of the context such as its learning cost Ω (eq 40), one line per model (the
-  "Goldilocks" curve; :func:`~neurocur.analysis.dwell.engagement`);
 * :func:`fig_occupancy` — the share of frames in chosen contexts over time (the noisy TV;
-  :func:`~neurocur.analysis.dwell.occupancy`);
+  :func:`~neurocur.analysis.dwell.occupancy`), and :func:`fig_over_time` for any binned signal
+  (DA in the noise context, :func:`~neurocur.analysis.dwell.signal_over_time`);
 * :func:`fig_event_locked` — event-locked DA and NE with intervals across runs
   (:func:`~neurocur.analysis.event_locked.event_locked_average`);
 * :func:`fig_tonic_phasic` — phasic against tonic NE per run and context
@@ -18,14 +16,15 @@ Each function draws the tidy output of one analysis module and returns a
 * :func:`fig_efficiency` — frames until every learnable source is learned and frames in the
   unlearnable contexts, two conditions paired by run (:mod:`~neurocur.analysis.efficiency`).
 
+Engagement against learnability (the Goldilocks curve) is
+:func:`~neurocur.analysis.goldilocks.fig_goldilocks`.
+
 Intervals of means over runs are 95 % percentile bootstrap intervals (Efron & Tibshirani
 1993; seaborn's, seeded with :data:`~neurocur.analysis.bootstrap.BOOTSTRAP_SEED`) unless a
 function says otherwise.
 """
 
 from __future__ import annotations
-
-from collections.abc import Sequence
 
 import numpy as np
 import pandas as pd
@@ -41,7 +40,7 @@ from .inverted_u import level_means, two_lines
 from .significance import TESTS
 from .style import figure, style
 
-__all__ = ["fig_inverted_u", "fig_engagement", "fig_occupancy", "fig_event_locked", "fig_tonic_phasic",
+__all__ = ["fig_inverted_u", "fig_occupancy", "fig_over_time", "fig_event_locked", "fig_tonic_phasic",
            "fig_efficiency"]
 
 _CI = {"errorbar": ("ci", 95), "n_boot": N_BOOT, "seed": BOOTSTRAP_SEED}
@@ -101,35 +100,6 @@ def fig_inverted_u(
     return fig
 
 
-def fig_engagement(
-    table: pd.DataFrame,
-    x: str = "omega",
-    *,
-    hue: str = "condition",
-    metrics: Sequence[str] = ("share", "mean_dwell_frames"),
-    logx: bool = False,
-) -> Figure:
-    """Engagement against a property ``x`` of the context (e.g. its Ω), one line per ``hue``.
-
-    ``table``: :func:`~neurocur.analysis.dwell.engagement` with an ``x`` column added (one
-    value per context). One panel per metric (default: share of frames, mean dwell per visit
-    in frames): the runs as points, the mean over runs with its 95 % bootstrap interval.
-    ``logx`` draws x on a log axis (e.g. for 1 − Ω).
-    """
-    require_columns(table, [x, hue, *metrics], needed_by="fig_engagement")
-    labels = {"share": "share of frames", "mean_dwell_frames": "mean dwell per visit (frames)",
-              "mean_dwell_episodes": "mean dwell per visit (episodes)", "n_visits": "visits"}
-    with style():
-        fig, axes = figure(1, len(metrics), figsize=(4.8 * len(metrics), 3.8))
-        for ax, metric in zip(axes[0], metrics):
-            sns.scatterplot(data=table, x=x, y=metric, hue=hue, alpha=0.35, s=14, legend=False, ax=ax)
-            sns.lineplot(data=table, x=x, y=metric, hue=hue, marker="o", ax=ax, **_CI)
-            if logx:
-                ax.set_xscale("log")
-            ax.set(xlabel=x, ylabel=labels.get(metric, metric))
-    return fig
-
-
 def fig_occupancy(table: pd.DataFrame, contexts, spec=None, *, hue: str = "condition") -> Figure:
     """The share of frames spent in ``contexts`` (indices or names; names need ``spec``) per time bin.
 
@@ -145,12 +115,23 @@ def fig_occupancy(table: pd.DataFrame, contexts, spec=None, *, hue: str = "condi
     grouping = list(dict.fromkeys(["condition", hue, "run", "bin", "step"]))
     summed = table[keep].groupby(grouping, as_index=False)["share"].sum()
     names = contexts if isinstance(contexts, (str, int)) else ", ".join(map(str, contexts))
+    fig = fig_over_time(summed, "share", hue=hue, ylabel=f"share of frames in {names}",
+                        title=f"Occupancy of {names} over time ({summed['run'].nunique()} runs)")
+    fig.axes[0].set_ylim(-0.02, 1.02)
+    return fig
+
+
+def fig_over_time(table: pd.DataFrame, column: str, *, hue: str = "condition", ylabel: str | None = None,
+                  title: str | None = None) -> Figure:
+    """A binned per-run quantity against time, e.g. :func:`~neurocur.analysis.dwell.signal_over_time`
+    (DA in a noise context): one line per ``hue``, the mean over runs with its 95 % bootstrap interval."""
+    require_columns(table, ["run", "step", column, hue], needed_by="fig_over_time")
     with style():
         fig, axes = figure()
         ax = axes[0, 0]
-        sns.lineplot(data=summed, x="step", y="share", hue=hue, ax=ax, **_CI)
-        ax.set(xlabel="global step (frames; bin start)", ylabel=f"share of frames in {names}", ylim=(-0.02, 1.02),
-               title=f"Occupancy of {names} over time ({summed['run'].nunique()} runs)")
+        sns.lineplot(data=table, x="step", y=column, hue=hue, ax=ax, **_CI)
+        ax.set(xlabel="global step (frames; bin start)", ylabel=ylabel or column,
+               title=title or f"{column} over time ({table['run'].nunique()} runs)")
     return fig
 
 

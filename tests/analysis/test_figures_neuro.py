@@ -11,15 +11,15 @@ from neuro_tables import episodes_of
 
 from neurocur.analysis import (
     efficiency_per_run,
-    engagement,
     event_locked_average,
     fig_efficiency,
-    fig_engagement,
     fig_event_locked,
     fig_inverted_u,
     fig_occupancy,
+    fig_over_time,
     fig_tonic_phasic,
     occupancy,
+    signal_over_time,
     tonic_phasic,
 )
 
@@ -39,18 +39,23 @@ def test_inverted_u_panels_and_level_means():
     assert means.get_ydata() == pytest.approx(expected.to_numpy())
 
 
-def test_engagement_and_occupancy(tables):
+def test_occupancy(tables):
     episodes, _ = tables
-    eng = engagement(episodes)
-    eng["omega"] = eng["context"] * 0.002 + 0.99
-    fig = fig_engagement(eng, "omega")
-    assert len(fig.axes) == 2 and fig.axes[0].get_ylabel() == "share of frames"
     occ = occupancy(episodes, 1000)
     ax = fig_occupancy(occ, [3, 4]).axes[0]
     curious = ax.lines[0]                                        # hue order: curious first
     # CYCLE spends 3 of every 15 episodes in each context: bin 0 (episodes 0-9) has C4 (9-11 → 9) and none of C5
     first = occ[(occ["condition"] == "curious") & (occ["bin"] == 0) & occ["context"].isin([3, 4])]
     assert curious.get_ydata()[0] == pytest.approx(first.groupby("run")["share"].sum().mean()) == 0.1
+
+
+def test_a_signal_over_time(tables):
+    episodes, _ = tables
+    table = signal_over_time(episodes, "da", 1000, contexts=[4])
+    ax = fig_over_time(table, "da").axes[0]
+    expected = table[table["condition"] == "curious"].groupby("step")["da"].mean()
+    assert ax.lines[0].get_ydata() == pytest.approx(expected.to_numpy())
+    assert ax.get_ylabel() == "da"
 
 
 def test_event_locked_grid():

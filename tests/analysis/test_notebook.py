@@ -82,6 +82,6 @@ def test_neuromodulators_notebook_executes(tmp_path, monkeypatch):
     outputs = [o for cell in nb.cells if cell.cell_type == "code" for o in cell.outputs]
     assert not [o for o in outputs if o.output_type == "error"]
     images = [o for o in outputs if "image/png" in o.get("data", {})]
-    assert len(images) == 6  # occupancy, efficiency, event-locked, tonic-phasic, engagement, inverted U
+    assert len(images) == 7  # occupancy, DA in the TV, efficiency, event-locked, tonic-phasic, Goldilocks, inverted U
     html = "".join(o.get("data", {}).get("text/html", "") for o in outputs)
     assert "interior_peak" in html and "frames_to_learn_all_censored" in html
