@@ -18,7 +18,9 @@ from matplotlib.figure import Figure
 
 from neurocur.analysis.bootstrap import bootstrap_ci
 from neurocur.analysis.cycles import error_cycles
-from neurocur.analysis.io import load
+from neurocur.analysis.efficiency import efficiency_per_run
+from neurocur.analysis.figures_neuro import fig_efficiency
+from neurocur.analysis.io import load, source_specs
 from neurocur.analysis.learning_time import learning_times, require_learning_columns
 from neurocur.analysis.order import position_counts, require_order_columns
 from neurocur.analysis.style import figure, save_figures, style
@@ -382,7 +384,9 @@ def write_all(results_dir: str | Path, out_dir: str | Path | None = None, *, dpi
     ``out_dir`` defaults to ``results_dir/figures``. Writes ``order_counts.png``,
     ``learning_time.png`` and, per condition, ``cumulative_error_<condition>.png``,
     ``intrinsic_reward_<condition>.png``, ``reward_function_<condition>.png`` and
-    ``neuromodulators_<condition>.png`` (the latter two for the condition's first run).
+    ``neuromodulators_<condition>.png`` (the latter two for the condition's first run), and
+    ``efficiency.png`` when the folder has the conditions ``curious`` and ``random_switching``
+    (:func:`~neurocur.analysis.figures_neuro.fig_efficiency`).
     The reward function uses the condition's own PFC ``alpha`` (:func:`pfc_alphas`; the
     :class:`~neurocur.regions.pfc.PFCParams` default when config.toml records none).
     A results folder of the iCub world (``world.type = "icub"`` in its config.toml) gets
@@ -407,4 +411,6 @@ def write_all(results_dir: str | Path, out_dir: str | Path | None = None, *, dpi
         figures[f"intrinsic_reward_{condition}"] = fig_intrinsic_reward(episodes, condition)
         figures[f"reward_function_{condition}"] = fig_reward_function(episodes, condition=condition, alpha=alpha)
         figures[f"neuromodulators_{condition}"] = fig_neuromodulators(episodes, condition=condition)
+    if {"curious", "random_switching"} <= set(episodes["condition"]):
+        figures["efficiency"] = fig_efficiency(efficiency_per_run(episodes, modules, source_specs(results_dir)))
     return save_figures(figures, out, dpi)

@@ -178,7 +178,7 @@ def test_write_all(results_dir, tmp_path):
     paths = write_all(results_dir, tmp_path / "figs")
     names = sorted(p.name for p in paths)
     per_condition = ["cumulative_error", "intrinsic_reward", "neuromodulators", "reward_function"]
-    expected = sorted(["order_counts.png", "learning_time.png"]
+    expected = sorted(["order_counts.png", "learning_time.png", "efficiency.png"]
                       + [f"{k}_{c}.png" for k in per_condition for c in ("curious", "random_switching")])
     assert names == expected
     for path in paths:
