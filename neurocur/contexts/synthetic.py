@@ -9,7 +9,8 @@ S-A (the very same frames), C3, C4 and C5 show S-B, S-C and S-D.
 Choices the paper leaves open (all options of :class:`SyntheticWorld`):
 
 * ``normalise`` — ``"global"`` (default): one min–max scaling over all frames of a
-  source. The mixing stays affine, so the frames are exactly a linear process of the
+  source (of each draw of a redrawn source; declared noise is centred and scaled
+  symmetrically instead, :mod:`.user_sources`). The mixing stays affine, so the frames are exactly a linear process of the
   source ("hide each of these sources within a different high-dimensional process,
   albeit linearly, so that linear IncSFA will be able to extract them") and each
   context's Ω is its source's Ω (0.9933, 0.9988, 0.9997; 1 for S-D).
@@ -219,7 +220,7 @@ class SyntheticWorld(World):
         self,
         contexts: Sequence[str] = PAPER_CONTEXTS,
         *,
-        sources: Mapping[str, np.ndarray] | None = None,
+        sources: Mapping[str, np.ndarray | Mapping] | None = None,
         visit_length: int = 100,
         normalise: str = "global",
         clock_offsets: str | Sequence[int] = "random",
