@@ -7,9 +7,20 @@ from pathlib import Path
 
 import nbclient
 import nbformat
+import numpy as np
+import pandas as pd
 import pytest
 
-from neurocur.analysis import load
+from neurocur.analysis import (
+    efficiency_per_run,
+    engagement,
+    event_locked_average,
+    events,
+    load,
+    occupancy,
+    source_specs,
+    visits,
+)
 from neurocur.cli import main
 from neurocur.tables import shipped_files
 
@@ -85,3 +96,29 @@ def test_neuromodulators_notebook_executes(tmp_path, monkeypatch):
     assert len(images) == 7  # occupancy, DA in the TV, efficiency, event-locked, tonic-phasic, Goldilocks, inverted U
     html = "".join(o.get("data", {}).get("text/html", "") for o in outputs)
     assert "interior_peak" in html and "frames_to_learn_all_censored" in html
+
+
+def test_the_behaviour_analyses_agree_on_a_real_run(real_results):
+    """The dwell, efficiency and event analyses of one real folder count the same frames and events."""
+    episodes, modules = load(real_results)
+    spec = source_specs(real_results)
+    frames = episodes.groupby(["condition", "run"])["n_frames"].sum()
+    engaged = engagement(episodes, spec).set_index(["condition", "run", "context_name"])
+    assert engaged.groupby(["condition", "run"])["frames"].sum().equals(frames)
+    assert np.allclose(engaged.groupby(["condition", "run"])["share"].sum(), 1.0)
+    assert occupancy(episodes, 10_000, spec).groupby(["condition", "run"])["frames"].sum().equals(frames)
+    table = visits(episodes, spec)
+    assert table.groupby(["condition", "run"])["frames"].sum().equals(frames)
+    runs = efficiency_per_run(episodes, modules, spec).set_index(["condition", "run"])
+    assert runs["n_steps"].equals(frames)
+    assert runs["frames_unlearnable"].equals(engaged.xs("C5", level="context_name")["frames"])
+    assert (runs["n_modules"] == modules.groupby(["condition", "run"]).size().reindex(runs.index, fill_value=0)).all()
+    found = events(episodes).groupby(["condition", "run", "event"]).size()
+    switches = found.xs("context_switch", level="event")
+    assert switches.equals(table.groupby(["condition", "run"]).size() - 1)
+    stored = found.xs("module_stored", level="event") if "module_stored" in found.index.get_level_values("event") \
+        else pd.Series(dtype=int)
+    assert stored.sum() == len(modules)
+    locked = event_locked_average(episodes, "da", "context_switch", window=2)
+    at_switch = locked[locked["lag"] == 0].set_index("condition")["n_events"]
+    assert at_switch.equals(switches.groupby("condition").sum().rename("n_events"))
