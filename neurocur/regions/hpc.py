@@ -58,7 +58,11 @@ class HPCROC(Region):
       (every state of the context has a stored error and their mean < threshold),
       ``context_sum`` (same, eq 11's literal sum < threshold), ``episode_mean``
       (``episode_error`` < threshold, the literal reading of section 4.1.2), and the
-      variant ``converged`` (not in the paper; see below);
+      variant ``converged`` (not in the paper; see below). A state whose last visit was
+      familiar needs no stored error in ``context_mean`` and ``converged``: the gating
+      module explains it (section 2.6), and the adaptive module, which learns nothing on
+      a familiar episode, never has a cluster there, so a partly gated context could
+      otherwise never be stored;
     - ``reward_error`` (to VTA): the context error (``"context"``) or ``episode_error``.
 
     The ``converged`` rule asks that the features have converged, not merely stopped
@@ -130,6 +134,7 @@ class HPCROC(Region):
 
     def reset(self, rng) -> None:
         self.library: list[ROCBank] = []
+        self.gated = np.zeros((self.n_contexts, self.m), dtype=bool)  # each state's last visit was familiar
         self._new_bank()
 
     def _new_bank(self) -> None:
@@ -150,6 +155,7 @@ class HPCROC(Region):
         familiar = bool(p.gating and min_err < p.threshold)
         if not familiar:
             gating = -1
+        self.gated[c, episode.states] = familiar
         if self.bank is None:
             self.bank = ROCBank(self.n_clusterers, features.shape[1], max_clusters=p.max_clusters,
                                 amnesic=p.amnesic, width=p.width)
@@ -169,14 +175,16 @@ class HPCROC(Region):
         else:
             total = float(row.sum())
             ctx_err = total / self.m
+        # a state seen only in gated episodes has no error (nothing is learned there): a frozen module explains it
+        complete = not (missing & ~self.gated[c]).any()
         if p.freeze == "context_mean":
-            rule = ctx_err < p.threshold and n_missing == 0
+            rule = ctx_err < p.threshold and complete
         elif p.freeze == "context_sum":
             rule = total < p.threshold
         elif p.freeze == "episode_mean":
             rule = ep_err < p.threshold
         else:
-            rule = n_missing == 0 and _extrapolated_drift(row, prev) < p.threshold
+            rule = complete and _extrapolated_drift(row[~missing], prev[~missing]) < p.threshold
         learned = bool(rule and not familiar and responds)
         self._frame_err, self._known = err, known
         self._idx, self._features, self._context = idx, features, c

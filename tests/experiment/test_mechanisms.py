@@ -152,7 +152,9 @@ def test_context_state_clusterers_leave_c2_unfamiliar_and_sa_is_learned_twice(se
     """clusterers = "context_state" (the default): a module has clusters only for the
     (context, state) pairs visited while it adapted. C2, visited for three early
     episodes, keeps stale clusters in three windows and none in the other seven: no C2
-    episode is gated by the S-A module, and a second S-A module is learned from C2."""
+    episode is gated by the S-A module, and a second S-A module is learned from C2's frames
+    (and C1's windows that the first leaves ungated; it may be stored on a visit of either,
+    since C1's gated windows no longer block the freeze), which then gates C2."""
     world = SyntheticWorld(**SA_WORLD)
     lc = ScriptedLC(prelude=(1, 1, 1), home=0, tour=(0, 1))
     sim = scripted(world, seed, lc=lc, **{"HPC.clusterers": "context_state"})
@@ -161,7 +163,7 @@ def test_context_state_clusterers_leave_c2_unfamiliar_and_sa_is_learned_twice(se
     run_until_stored(sim, 2, sim.n_frames + 60 * EPOCH)
     second = sim.n_episodes - 1  # noqa: F841
 
-    assert sim.products()["modules"]["context"].tolist() == [0, 1]  # S-A from C1, then S-A again from C2
+    assert sim.products()["modules"]["context"].tolist() in ([0, 0], [0, 1])  # S-A from C1, then S-A again
     windows = frozen_window_errors(sim, world)
     between = with_windows(sim.episodes()).query("@first < episode < @second")
     check_gating(between)
