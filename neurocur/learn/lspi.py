@@ -14,7 +14,9 @@ and policy iteration makes π greedy in Q until it no longer changes. With tabul
 Conventions: ``P[s, a, s']`` (shape (S, A, S)), ``R[s, a]`` the expected reward (S, A).
 Greedy actions break ties toward the lowest action index; Q values within ``tol``
 (relative to the largest |Q|, at least 1) of the best count as tied, so rounding cannot
-make the policy alternate between equally good actions.
+make the policy alternate between equally good actions. Policy iteration never switches
+to a tied action that is worse than the current one: every switch then improves the
+policy (Howard's policy improvement), so the loop cannot cycle.
 """
 
 from __future__ import annotations
@@ -119,6 +121,10 @@ class LSPI:
                 w_new = np.linalg.lstsq(A_mat, b, rcond=None)[0]
             Q = (Phi @ w_new).reshape(self.shape)
             new_policy = greedy(Q, self.tol)
+            # never switch to an action worse than the current one (greedy's ties within tol could):
+            # each switch then improves the policy, so policy iteration cannot cycle
+            worse = Q[self._states, new_policy] < Q[self._states, policy]
+            new_policy = np.where(worse, policy, new_policy)
             done = np.array_equal(new_policy, policy) or (w is not None and np.max(np.abs(w_new - w)) < self.tol)
             w, policy = w_new, new_policy
             if done:

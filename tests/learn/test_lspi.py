@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from neurocur.learn.lspi import greedy, lspi, value_iteration
+from neurocur.learn.lspi import LSPI, greedy, lspi, value_iteration
 
 
 def _random_mdp(seed, S, A, sparse=False):
@@ -203,3 +205,39 @@ def test_bad_solver_options(kwargs, match):
     P, R = _random_mdp(0, 3, 2)
     with pytest.raises(ValueError, match=match):
         lspi(P, R, 0.9, **kwargs)
+
+
+def test_ties_within_tol_do_not_make_policy_iteration_cycle():
+    """A reward model the PFC reaches (5 contexts, one tiny eq-14 entry): with ties within
+    ``tol`` going to the lowest index, policy iteration switched context 2 to a worse action
+    by 2e-11 and the other contexts back, in a 2-cycle, until max_iter. Switching only to an
+    action at least as good as the current one converges, to the optimum."""
+    P = _engage_mdp(5)
+    R = np.zeros((5, 2))
+    R[2, 1] = 2.1868802011349353e-08
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        Q, policy = lspi(P, R, 0.999)
+    np.testing.assert_array_equal(policy, [1, 1, 1, 1, 1])  # disengage towards the one paying context
+    np.testing.assert_allclose(Q, R + 0.999 * P @ Q.max(axis=1), atol=1e-12, rtol=0)  # Bellman optimality
+    np.testing.assert_allclose(Q, value_iteration(P, R, 0.999), atol=1e-8, rtol=0)
+
+
+@settings(max_examples=30, deadline=None)
+@given(n=st.integers(2, 6), discount=st.sampled_from([0.5, 0.9, 0.99, 0.999]),
+       alpha=st.sampled_from([0.05, 0.2, 1.0]), seed=st.integers(0, 2**32 - 1))
+def test_warm_started_pfc_planning_converges_to_the_optimum(n, discount, alpha, seed):
+    """The PFC's use: eq 14 updates with DA of -100 (boredom), 0 and small progress, each
+    followed by LSPI warm-started from the previous policy; never max_iter, always Q*."""
+    rng = np.random.default_rng(seed)
+    P = _engage_mdp(n)
+    planner, R3, policy = LSPI(P, discount), np.zeros((n, 2, n)), None
+    for _ in range(60):
+        o, a, o2 = rng.integers(n), rng.integers(2), rng.integers(n)
+        da = rng.choice([-100.0, 0.0, rng.normal(0, 0.1), rng.normal(0, 1e-6)])
+        R3[o, a, o2] += alpha * (da - R3[o, a, o2])
+        R = np.einsum("oas,oas->oa", P, R3)
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            Q, policy = planner.solve(R, policy)
+    np.testing.assert_allclose(Q, value_iteration(P, R, discount), atol=1e-6 * max(1.0, np.abs(Q).max()), rtol=0)
