@@ -51,11 +51,12 @@ from pathlib import Path
 
 import networkx as nx
 
-from .config import ConfigError, describe, make_params, params_to_dict
-from .regions import REGIONS, Region
-from .regions.pharmacology import DRUGS
-from .registry import UnknownType
-from .tables import check_keys, deep_merge, load_toml, require, resolve_file
+from ..config import ConfigError, describe, make_params, params_to_dict
+from ..regions import REGIONS, Region
+from ..regions.pharmacology import DRUGS
+from ..registry import UnknownType
+from ..tables import check_keys, require, resolve_file
+from .files import read_circuit_file
 
 __all__ = ["Circuit", "RegionSpec", "Link"]
 
@@ -124,7 +125,7 @@ class Circuit:
 
         ``path`` is a file path or the name of a shipped circuit (``"cd_misfa"``, :func:`~neurocur.tables.shipped_files`)."""
         path = resolve_file(path, Path(), "circuit", source=path, key=None)
-        data = _read_file(path, ())
+        data = read_circuit_file(path)
         regions = {}
         for name, table in data["regions"].items():
             regions[name] = _spec_from_table(name, table, prefix=f"regions.{name}")
@@ -178,7 +179,7 @@ class Circuit:
 
     def build(self, world, seed, record_frames: bool = False):
         """A ready-to-run :class:`~neurocur.scheduler.Simulator` on ``world``."""
-        from .scheduler import Simulator
+        from ..scheduler import Simulator
 
         return Simulator(self, world, seed, record_frames=record_frames)
 
@@ -377,43 +378,3 @@ def _lesioned(spec: RegionSpec, how, drug: Mapping, *, source, key) -> RegionSpe
         return dataclasses.replace(spec, params=params, instance=instance)
     made = make_params(DRUGS[how], drug, source=source, prefix=key)
     return dataclasses.replace(spec, drugs=spec.drugs + (made,))
-
-
-def _read_file(path: Path, chain: tuple) -> dict:
-    """Read a circuit file, resolving ``extends``; tag every table with its file and key."""
-    path = path.resolve()
-    if path in chain:
-        raise ConfigError(path, "extends", "a chain of files without a loop",
-                          " -> ".join(p.name for p in chain + (path,)))
-    raw = load_toml(path)
-    check_keys(raw, ("description", "extends", "regions", "edges", "lesion", "replace"), source=path)
-    if "extends" in raw:
-        base_name = require(raw, "extends", str, source=path, expected="a circuit file path or name (string)")
-        data = _read_file(resolve_file(base_name, path.parent, "circuit", source=path, key="extends"), chain + (path,))
-    else:
-        data = {"regions": {}, "edges": [], "lesion": [], "replace": {}}
-    regions = require(raw, "regions", dict, source=path, expected="a table of regions", default={})
-    for name, table in regions.items():
-        if not isinstance(table, dict):
-            raise ConfigError(path, f"regions.{name}", "a table with 'type' and 'params'", describe(table))
-        merged = deep_merge(data["regions"].get(name, {}), table)
-        merged["_origin"] = path
-        data["regions"][name] = merged
-    for field_, kind in (("edges", "edge"), ("lesion", "lesion")):
-        items = require(raw, field_, list, source=path, expected=f"an array of {kind} tables ([[{field_}]])", default=[])
-        for i, table in enumerate(items):
-            key = f"{field_}[{i}]"
-            if not isinstance(table, dict):
-                raise ConfigError(path, key, f"a {kind} table", describe(table))
-            if field_ == "lesion":
-                check_keys(table, ("region", "how", *{f for d in DRUGS.values() for f in d.__dataclass_fields__}),
-                           source=path, prefix=key, required=("region", "how"))
-                for f in ("region", "how"):
-                    require(table, f, str, source=path, prefix=key, expected="a name (string)")
-            data[field_].append({**table, "_origin": path, "_key": key})
-    replace = require(raw, "replace", dict, source=path, expected="a table of replacements", default={})
-    for name, table in replace.items():
-        if not isinstance(table, dict):
-            raise ConfigError(path, f"replace.{name}", "a table with 'type' and 'params'", describe(table))
-        data["replace"][name] = {**table, "_origin": path}
-    return data
