@@ -191,9 +191,10 @@ def test_mixture_at_the_ends_equals_its_parts(intrinsic):
 
 def test_mixture_passes_the_intrinsic_models_parameters():
     seq = [(0, 0.3, True, False, 4.0)]
-    assert das(make(MixtureVTA, weight=0.5, intrinsic_params={"boredom": -10.0}), seq).tolist() == [-3.0]
-    novelty = make(MixtureVTA, weight=0.5, intrinsic="vta.novelty", intrinsic_params={"scale": 6.0})
+    assert das(make(MixtureVTA, weight=0.5, boredom=-10.0), seq).tolist() == [-3.0]
+    novelty = make(MixtureVTA, weight=0.5, intrinsic="vta.novelty", scale=6.0)
     assert das(novelty, seq).tolist() == [5.0]
+    assert novelty.intrinsic.params == NoveltyVTA.Params(scale=6.0)
 
 
 # ------------------------------------------------------------------ sensory: the extrinsic reward
