@@ -181,7 +181,7 @@ def _cmd_run(args) -> int:
 
 
 def _cmd_figures(args) -> int:
-    from neurocur.analysis.figures import write_all
+    from neurocur.analysis.write import write_all
 
     if args.out is not None:
         _check_writable_folder(Path(args.out), "--out")

@@ -28,6 +28,7 @@ One module per question, all re-exported here:
 - :mod:`~neurocur.analysis.cycles` — the estimation error per learning cycle, aligned to module
   storage (Figure 4D);
 - :mod:`~neurocur.analysis.figures` — matplotlib Figures (paper Figures 4D–G);
+- :mod:`~neurocur.analysis.write` — every figure of a results folder as PNG files (``write_all``);
 - :mod:`~neurocur.analysis.figures_neuro` — the figures of the neuromodulator and behaviour
   analyses (inverted U, occupancy, signals over time, event-locked traces, efficiency).
 
@@ -71,6 +72,7 @@ from neurocur.analysis.order import *  # noqa: F403
 from neurocur.analysis.report import *  # noqa: F403
 from neurocur.analysis.significance import *  # noqa: F403
 from neurocur.analysis.sweeps import *  # noqa: F403
+from neurocur.analysis.write import pfc_alphas, write_all
 from neurocur.contexts.base import SourceSpec
 from neurocur.contexts.synthetic import SYNTHETIC
 
@@ -79,4 +81,4 @@ __all__ = ["load", "order_tables", "run_dirs", "source_specs", "throughput", "wr
            *sweeps.__all__, *report.__all__, *figures.__all__, *dwell.__all__,
            *efficiency.__all__, *inverted_u.__all__,
            *event_locked.__all__, *cycles.__all__, *figures_neuro.__all__,
-           *goldilocks.__all__]
+           *goldilocks.__all__, "pfc_alphas", "write_all"]

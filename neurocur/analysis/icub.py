@@ -18,7 +18,7 @@ Figures (each a :class:`matplotlib.figure.Figure` in the style of :mod:`neurocur
 - :func:`fig_feature_output` — the slowest output over reference episodes against the
   object's displacement (Figure 7).
 
-:func:`write_icub_figures` draws them all; :func:`neurocur.analysis.figures.write_all`
+:func:`write_icub_figures` draws them all; :func:`neurocur.analysis.write.write_all`
 calls it when a results folder's world type is ``icub``.
 """
 
@@ -32,10 +32,11 @@ import pandas as pd
 import seaborn as sns
 from matplotlib.figure import Figure
 
-from neurocur.analysis.figures import _condition, fig_neuromodulators, fig_order_counts, fig_reward_function, pfc_alphas
+from neurocur.analysis.figures import _condition, fig_neuromodulators, fig_order_counts, fig_reward_function
 from neurocur.analysis.order import order_counts, require_order_columns
 from neurocur.analysis.paper import ICUB_CURIOUS
 from neurocur.analysis.style import figure, save_figures, style
+from neurocur.analysis.write import pfc_alphas
 from neurocur.contexts import build_world
 from neurocur.contexts.icub import ICUB
 from neurocur.contract import require_columns
@@ -321,7 +322,7 @@ def write_icub_figures(results_dir: str | Path, out_dir: str | Path | None = Non
     ``config.toml``, reading the episode cache), per condition ``feature_output_<condition>.png``
     (when it stored a module), ``reward_function_<condition>.png`` and
     ``neuromodulators_<condition>.png``. The reward function uses the condition's own PFC
-    ``alpha``, as in :func:`neurocur.analysis.figures.write_all`. Returns the written paths.
+    ``alpha``, as in :func:`neurocur.analysis.write.write_all`. Returns the written paths.
     """
     results_dir = Path(results_dir)
     episodes, modules = load(results_dir)

@@ -21,7 +21,7 @@ from neurocur.analysis import (
     reward_estimates,
     write_all,
 )
-from neurocur.analysis import figures as figures_module
+from neurocur.analysis import write as write_module
 from neurocur.analysis.figures import EVENT_GID
 from neurocur.regions.pfc import DISENGAGE, ENGAGE, PFCLSPI, PFCParams, reward_update
 
@@ -105,13 +105,13 @@ def test_reward_function(tables):
 def test_write_all_draws_the_reward_function_with_the_folders_alpha(results_dir, tables, pfc_alpha, tmp_path,
                                                                     monkeypatch):
     assert pfc_alphas(results_dir) == pfc_alpha
-    drawn, save = {}, figures_module.save_figures
+    drawn, save = {}, write_module.save_figures
 
     def keep(figs, out, dpi):
         drawn.update(figs)
         return save(figs, out, dpi)
 
-    monkeypatch.setattr(figures_module, "save_figures", keep)
+    monkeypatch.setattr(write_module, "save_figures", keep)
     write_all(results_dir, tmp_path / "figs")
     episodes, _ = tables
     for condition, alpha in pfc_alpha.items():
