@@ -1,5 +1,6 @@
 """Grid sweeps: the [sweep] table, --set KEY=V1,V2, sweep columns, a folder that grows by points."""
 
+import json
 import os
 import textwrap
 from pathlib import Path
@@ -96,8 +97,14 @@ def test_sweep_columns_and_a_folder_that_grows_by_points(tmp_path):
     grown, _ = load(out)
     old = grown[grown["PFC.discount"] == 0.5].reset_index(drop=True)
     pd.testing.assert_frame_equal(old, episodes[episodes["PFC.discount"] == 0.5].reset_index(drop=True))
-    # paired seeds: run i starts in the same context at every point and in every condition
-    first = grown[grown["episode"] == 0].groupby("run")["context"].nunique()
+    # paired seeds: run i has the same seed at every point and in every condition, and another run another one
+    seeds = {}
+    for run_dir in ResultsStore(out).run_dirs():
+        summary = json.loads((run_dir / "run.json").read_text())
+        seeds.setdefault(summary["run"], set()).add(json.dumps(summary["seed"], sort_keys=True))
+    assert sorted(seeds) == [0, 1] and all(len(s) == 1 for s in seeds.values())  # 6 runs each
+    assert seeds[0] != seeds[1]
+    first = grown[grown["episode"] == 0].groupby("run")["context"].nunique()  # hence the same first context
     assert (first == 1).all()
 
 
