@@ -107,9 +107,20 @@ def check_gating(episodes):
     assert (episodes["gating_module"] >= 0).eq(episodes["familiar"]).all()
 
 
+#: The cause is in the learner (CCIPCA, Algorithm 2), not in HPC: C1's frames are rank 2, and the
+#: first two CCIPCA directions, whose eigenvalues are nearly equal (2.358, 2.339), drift out of
+#: orthogonality (cosine -0.054); deflating by non-orthogonal directions leaves a residual inside
+#: the data, so the third component converges onto a copy of the first (cosine 0.995) with
+#: eigenvalue sin^2 x lambda_1 = 0.0026 lambda_1, above eig_cutoff = 1e-3, and is active. The
+#: whitening is then invalid (whitened variance 382 instead of 1, so gamma = 4 no longer exceeds
+#: lambda_1 of the derivative and both CIMCA vectors coincide); the features jump by ~30 between
+#: epochs and the per-visit drift happens to be small for one epoch. The same seed under the
+#: synthetic experiment's reading (converged rule, min_spread) stores the same kind of module
+#: (|corr| with the source 0.38). Orthonormalising the CCIPCA directions (Gram-Schmidt) fixes
+#: every seed 0-15 of this test in a trial; the learner is not HPC's to change.
 FROZEN_BUT_UNFAMILIAR = pytest.mark.xfail(strict=True, reason=(
-    "seed 10: the freeze rule fires (mean stored error < 0.3) on a module whose own errors on "
-    "eight of C1's ten windows are 0.36-40: it does not recognise the context it was learned in"))
+    "seed 10: the module is stored although its own errors on eight of C1's ten windows are 0.36-40; "
+    "cause: a spurious third CCIPCA component inside the rank-2 data makes the whitening invalid"))
 
 
 @pytest.mark.parametrize("seed", [2, 3, pytest.param(10, marks=FROZEN_BUT_UNFAMILIAR)])
