@@ -189,9 +189,11 @@ def mixture():
 
 
 CASES = {
-    "circuit default": ("sb_frames", {}),
+    "learner default": ("sb_frames", {}),
+    "circuit (equal rates)": ("sb_frames", {"mca_rates": "equal"}),
     "gamma auto": ("sb_frames", {"gamma": "auto"}),
     "full rank, K = 6, J = 3": ("mixture", {"n_components": 3, "n_pca": 6}),
+    "full rank, equal rates": ("mixture", {"n_components": 3, "n_pca": 6, "mca_rates": "equal"}),
     "var_fraction": ("mixture", {"n_components": 2, "n_pca": 6, "var_fraction": 0.9}),
     "amnesic schedule": ("mixture", {"n_components": 2, "n_pca": 4, "amnesic": AmnesicSchedule(5, 50, 2.0, 500)}),
 }
