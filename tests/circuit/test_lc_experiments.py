@@ -4,19 +4,16 @@ synthetic and the iCub experiments, through the runner: the recorded decisions, 
 from __future__ import annotations
 
 import dataclasses
-import json
 
 import numpy as np
 import pytest
 
 from neurocur.circuit import Circuit
 from neurocur.contract import EPISODE_COLUMNS
-from neurocur.experiments import load_experiment, run_one
+from neurocur.experiments import run_one
 
 #: the shipped circuit of each LC model beside the paper's
 LC_CIRCUITS = {"lc.softmax": "lc_softmax", "lc.adaptive_gain": "lc_adaptive_gain", "lc.fhn": "lc_fhn"}
-#: a freeze that stores modules within a few thousand frames
-STORING = ['HPC.freeze="episode_mean"', "HPC.threshold=1.0"]
 
 
 def _with_lc(experiment, type_name):
@@ -37,8 +34,8 @@ def _check(episodes):
 
 
 @pytest.fixture(scope="module")
-def synthetic():
-    return load_experiment("synthetic", steps=5000, sets=STORING)
+def synthetic(short_experiment):
+    return short_experiment("synthetic", 5000)
 
 
 @pytest.mark.parametrize("type_name", LC_CIRCUITS)
@@ -50,16 +47,8 @@ def test_every_lc_model_runs_in_the_synthetic_experiment(synthetic, type_name):
 
 
 @pytest.fixture(scope="module")
-def icub(tmp_path_factory):
-    cache = tmp_path_factory.mktemp("icub")
-    exp = load_experiment("icub", steps=1500, sets=[f"world.cache_dir={json.dumps(str(cache))}",
-                                                    "world.n_episodes=3", "world.n_jobs=1", *STORING])
-    cond = exp.conditions["curious"]
-    try:
-        cond.world_class.prepare(cond.world_params)  # simulates the data set: needs MuJoCo offscreen rendering
-    except Exception as exc:  # any GL or import failure means no iCub data set here
-        pytest.skip(f"the iCub data set cannot be simulated here: {exc}")
-    return exp
+def icub(short_experiment):
+    return short_experiment("icub", 1500)
 
 
 @pytest.mark.parametrize("type_name", LC_CIRCUITS)

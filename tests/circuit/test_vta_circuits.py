@@ -5,14 +5,13 @@ the extrinsic reward reaching the VTA, and clear errors for bad input."""
 from __future__ import annotations
 
 import dataclasses
-import json
 
 import numpy as np
 import pytest
 
 from neurocur.circuit import Circuit
 from neurocur.config import ConfigError
-from neurocur.experiments import load_experiment, run_one
+from neurocur.experiments import run_one
 from neurocur.regions import REGIONS
 from neurocur.regions.vta_td import TDVTA
 
@@ -21,8 +20,6 @@ CIRCUIT_FILES = {"vta_novelty": "vta.novelty", "vta_abs_lp": "vta.abs_learning_p
                  "vta_content_novelty": "vta.content_novelty", "vta_surprise": "vta.surprise", "vta_td": "vta.td",
                  "vta_mixture": "vta.mixture"}
 VTA_TYPES = [n for n in REGIONS.names() if n.startswith("vta.")]
-#: a freeze that stores modules within a few thousand frames, so familiar episodes and storage occur
-STORING = ['HPC.freeze="episode_mean"', "HPC.threshold=1.0"]
 
 
 def replayed(circuit: Circuit, episodes, error_column: str) -> np.ndarray:
@@ -76,8 +73,8 @@ def test_td_learns_the_worlds_reward_in_the_circuit(circuits_dir, small, make_wo
 
 
 @pytest.fixture(scope="module")
-def synthetic():
-    return load_experiment("synthetic", steps=5000, sets=STORING)
+def synthetic(short_experiment):
+    return short_experiment("synthetic", 5000)
 
 
 @pytest.mark.parametrize("type_name", VTA_TYPES)
@@ -103,16 +100,8 @@ def test_the_mixture_halves_learning_progress_and_leaves_the_behaviour(synthetic
 
 
 @pytest.fixture(scope="module")
-def icub(tmp_path_factory):
-    cache = tmp_path_factory.mktemp("icub")
-    exp = load_experiment("icub", steps=600, sets=[f"world.cache_dir={json.dumps(str(cache))}",
-                                                    "world.n_episodes=3", "world.n_jobs=1", *STORING])
-    cond = exp.conditions["curious"]
-    try:
-        cond.world_class.prepare(cond.world_params)  # simulates the data set: needs MuJoCo offscreen rendering
-    except Exception as exc:  # any GL or import failure means no iCub data set here
-        pytest.skip(f"the iCub data set cannot be simulated here: {exc}")
-    return exp
+def icub(short_experiment):
+    return short_experiment("icub", 600)
 
 
 @pytest.mark.parametrize("type_name", VTA_TYPES)
