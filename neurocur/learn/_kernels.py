@@ -138,6 +138,40 @@ def ccipca_step(u, dirs, lam, eta, dx, proj):
 
 
 @njit(cache=True, fastmath=False)
+def orthonormalize(dirs):
+    """Modified Gram–Schmidt on the rows of ``dirs``, in order: v̂_1 keeps its direction,
+    each later v̂_i loses its parts along v̂_1..v̂_{i−1} and is renormalised.
+
+    Algorithm 2's deflation keeps the directions orthogonal only approximately: the old
+    part (1 − η) v_i of an update is not deflated by the *updated* v̂_j (j < i). When two
+    eigenvalues are nearly equal the errors accumulate, and a later component can
+    converge onto a copy of an earlier one. A row with (almost) nothing left after the
+    projections, a component inside the span of the earlier ones, is left unchanged.
+    """
+    K, D = dirs.shape
+    keep = np.empty(D)
+    for i in range(K):
+        for d in range(D):
+            keep[d] = dirs[i, d]
+        for j in range(i):
+            c = 0.0
+            for d in range(D):
+                c += dirs[i, d] * dirs[j, d]
+            for d in range(D):
+                dirs[i, d] -= c * dirs[j, d]
+        n2 = 0.0
+        for d in range(D):
+            n2 += dirs[i, d] * dirs[i, d]
+        if n2 > 1e-24:
+            inv = 1.0 / np.sqrt(n2)
+            for d in range(D):
+                dirs[i, d] *= inv
+        else:
+            for d in range(D):
+                dirs[i, d] = keep[d]
+
+
+@njit(cache=True, fastmath=False)
 def active_mask(lam, total_var, eig_cutoff, var_fraction, mask):
     """Mark the components the whitening may use (``mask[i] = True``); return their count.
 
@@ -215,17 +249,21 @@ def cimca_step(zdot, W, rates, gamma, mask, coup, new):
 
 
 @njit(cache=True, fastmath=False)
-def ccipca_fit(X, t, mean, dirs, lam, total_var, t1, t2, c, r, u):
+def ccipca_fit(X, t, mean, dirs, lam, total_var, t1, t2, c, r, ortho_every, u):
     """Run Algorithm 2 over the rows of ``X``; return the new (sample count, total variance).
 
-    Per sample: t ← t + 1, η = amnesic_rate(t); the mean and the total variance
-    (the trace of the covariance, for the variance-fraction rule) are tracked with the
-    same η, then ``ccipca_step`` runs on the centred sample.
+    Per sample: t ← t + 1, η = amnesic_rate(t); if ``ortho_every > 0`` and t is a
+    multiple of it, the directions are first re-orthonormalised (``orthonormalize``);
+    the mean and the total variance (the trace of the covariance, for the
+    variance-fraction rule) are tracked with the same η, then ``ccipca_step`` runs on
+    the centred sample.
     """
     T, D = X.shape
     none = np.empty(0)
     for s in range(T):
         t += 1
+        if ortho_every > 0 and t % ortho_every == 0:
+            orthonormalize(dirs)
         eta = amnesic_rate(t, t1, t2, c, r)
         for d in range(D):
             m = mean[d] + eta * (X[s, d] - mean[d])
@@ -262,13 +300,14 @@ def cimca_fit(Z, W, rates, gamma, gamma_factor, gdir, glam, t, mask, coup, new, 
 @njit(cache=True, fastmath=False)
 def incsfa_fit(
     X, t, total_var, has_prev, mean, dirs, lam, prev, W, gdir, glam,
-    t1, t2, c, r, eig_cutoff, var_fraction, rates, gamma, gamma_factor,
+    t1, t2, c, r, ortho_every, eig_cutoff, var_fraction, rates, gamma, gamma_factor,
     mask, u, dx, zdot, gres, coup, new,
 ):
     """Run IncSFA (Algorithm 1) over one block of consecutive samples ``X``.
 
-    Per sample x(t): update the mean, the total variance and CCIPCA on x − ū with the
-    amnesic rate; choose the active components (``active_mask``); then, if the previous
+    Per sample x(t): re-orthonormalise the CCIPCA directions if ``ortho_every > 0``
+    and t is a multiple of it (as in ``ccipca_fit``); update the mean, the total
+    variance and CCIPCA on x − ū with the amnesic rate; choose the active components (``active_mask``); then, if the previous
     sample of the same episode is known (``has_prev``), form the whitened derivative
     with the current whitening matrix S,  ż = Sᵀ(x(t) − x(t−1)),  and update CIMCA on
     it. Inactive components have ż = 0 and are excluded from the CIMCA vectors.
@@ -282,6 +321,8 @@ def incsfa_fit(
     none = np.empty(0)
     for s in range(T):
         t += 1
+        if ortho_every > 0 and t % ortho_every == 0:
+            orthonormalize(dirs)
         eta = amnesic_rate(t, t1, t2, c, r)
         for d in range(D):
             x = X[s, d]

@@ -104,6 +104,11 @@ class CCIPCA(Estimator):
     var_fraction : if set, only the leading components explaining this fraction of the
         total variance are active (e.g. 0.98, the paper's iCub setting).
     eig_cutoff : components with eigenvalue below ``eig_cutoff`` × the largest are inactive.
+    orthonormalize : every this many samples the directions are made orthonormal again
+        by Gram–Schmidt, leading component first (``_kernels.orthonormalize``); 0, the
+        default, never does (Algorithm 2 as published). Algorithm 2 keeps them
+        orthogonal only approximately; with two nearly equal eigenvalues a later
+        component can drift onto an earlier one and the whitening becomes invalid.
     random_state : seed of the initial directions.
 
     Attributes (after ``fit`` or ``partial_fit``): ``n_features_in_`` (D); ``mean_`` (D,);
@@ -117,15 +122,18 @@ class CCIPCA(Estimator):
         "amnesic": ParamSpec(float, low=0.0, classes=(AmnesicSchedule,)),
         "var_fraction": ParamSpec(float, low=0.0, high=1.0, low_open=True, optional=True),
         "eig_cutoff": ParamSpec(float, low=0.0, high=1.0, high_open=True),
+        "orthonormalize": ParamSpec(int, low=0),
         "random_state": RANDOM_STATE,
     }
     _min_first_rows = 2  # a variance needs two samples
 
-    def __init__(self, n_components=2, *, amnesic=2.0, var_fraction=None, eig_cutoff=1e-3, random_state=None):
+    def __init__(self, n_components=2, *, amnesic=2.0, var_fraction=None, eig_cutoff=1e-3, orthonormalize=0,
+                 random_state=None):
         self.n_components = n_components
         self.amnesic = amnesic
         self.var_fraction = var_fraction
         self.eig_cutoff = eig_cutoff
+        self.orthonormalize = orthonormalize
         self.random_state = random_state
         self._checked_params()
 
@@ -160,7 +168,8 @@ class CCIPCA(Estimator):
             self._start(X.shape[1])
         t1, t2, c, r = amnesic_params(params["amnesic"])
         self.n_samples_seen_, self._total = ccipca_fit(
-            X, self.n_samples_seen_, self.mean_, self._dirs, self._lam, self._total, t1, t2, c, r, self._work
+            X, self.n_samples_seen_, self.mean_, self._dirs, self._lam, self._total, t1, t2, c, r,
+            params["orthonormalize"], self._work,
         )
         return self
 

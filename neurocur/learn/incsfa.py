@@ -50,6 +50,8 @@ class IncSFA(Estimator):
     amnesic : CCIPCA's amnesic parameter, a constant l or an ``AmnesicSchedule``; the
         mean is tracked with the same rate.
     var_fraction, eig_cutoff : which whitened components are active (see ``CCIPCA``).
+    orthonormalize : re-orthonormalise the CCIPCA directions every this many samples
+        (see ``CCIPCA``); 0, the default, never does (Algorithm 2 as published).
     mca_rate : CIMCA's learning rate η in (0, 0.5].
     mca_rates : ``"decreasing"`` (the default: the slowest feature's vector learns at η, the
         others slower; :func:`~neurocur.learn.mca.component_rates`) or ``"equal"`` (the
@@ -74,6 +76,7 @@ class IncSFA(Estimator):
         "amnesic": CCIPCA.param_specs["amnesic"],
         "var_fraction": CCIPCA.param_specs["var_fraction"],
         "eig_cutoff": CCIPCA.param_specs["eig_cutoff"],
+        "orthonormalize": CCIPCA.param_specs["orthonormalize"],
         "mca_rate": MCA.param_specs["learning_rate"],
         "mca_rates": MCA.param_specs["component_rates"],
         "gamma": MCA.param_specs["gamma"],
@@ -89,6 +92,7 @@ class IncSFA(Estimator):
         amnesic=2.0,
         var_fraction=None,
         eig_cutoff=1e-3,
+        orthonormalize=0,
         mca_rate=0.05,
         mca_rates="decreasing",
         gamma=4.0,
@@ -99,6 +103,7 @@ class IncSFA(Estimator):
         self.amnesic = amnesic
         self.var_fraction = var_fraction
         self.eig_cutoff = eig_cutoff
+        self.orthonormalize = orthonormalize
         self.mca_rate = mca_rate
         self.mca_rates = mca_rates
         self.gamma = gamma
@@ -157,7 +162,7 @@ class IncSFA(Estimator):
         self.n_samples_seen_, self._total, self.n_active_ = incsfa_fit(
             X, self.n_samples_seen_, self._total, bool(continues and self._has_prev),
             self.mean_, self._dirs, self._lam, self._prev, self._W, self._gdir, self._glam,
-            t1, t2, c, r, params["eig_cutoff"], frac,
+            t1, t2, c, r, params["orthonormalize"], params["eig_cutoff"], frac,
             component_rates(params["mca_rate"], params["n_components"], params["mca_rates"]), gamma,
             AUTO_GAMMA_FACTOR if gamma < 0 else 0.0,
             self._mask, u, dx, zdot, gres, coup, new,

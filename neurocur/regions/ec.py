@@ -24,6 +24,8 @@ class ECParams:
                                                doc="keep the fewest components explaining this variance fraction")
     eig_cutoff: float = learner_param(IncSFA, "eig_cutoff", 1e-3,
                                       doc="relative eigenvalue below which a component is dropped")
+    orthonormalize: int = learner_param(IncSFA, "orthonormalize", 100,
+                                        doc="re-orthonormalise the CCIPCA directions every this many samples (0: never, Algorithm 2)")
     mca_rate: float = learner_param(IncSFA, "mca_rate", 0.05, doc="MCA learning rate")
     mca_rates: str = learner_param(IncSFA, "mca_rates", "equal",
                                    doc="'equal' (the paper) or 'decreasing' (slower rates for the faster features)")
@@ -80,7 +82,7 @@ class ECIncSFA(Region):
         p = self.params
         self._proj = self._offset = None
         return IncSFA(p.n_components, p.n_pca, amnesic=p.amnesic, var_fraction=p.var_fraction,
-                      eig_cutoff=p.eig_cutoff, mca_rate=p.mca_rate, mca_rates=p.mca_rates, gamma=p.gamma,
+                      eig_cutoff=p.eig_cutoff, orthonormalize=p.orthonormalize, mca_rate=p.mca_rate, mca_rates=p.mca_rates, gamma=p.gamma,
                       random_state=int(self.rng.integers(2**63)))
 
     def step(self, episode):

@@ -137,7 +137,7 @@ def test_deterministic_and_params():
     b = CCIPCA(3, random_state=7).partial_fit(X)
     np.testing.assert_array_equal(a.whitening_matrix(), b.whitening_matrix())
     assert a.get_params() == {
-        "n_components": 3, "amnesic": 2.0, "var_fraction": None, "eig_cutoff": 1e-3, "random_state": 7,
+        "n_components": 3, "amnesic": 2.0, "var_fraction": None, "eig_cutoff": 1e-3, "orthonormalize": 0, "random_state": 7,
     }
     assert repr(a).startswith("CCIPCA(n_components=3, amnesic=2.0")
     c = a.copy()

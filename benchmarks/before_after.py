@@ -1,0 +1,84 @@
+"""Paired statistics of one experiment run twice on the same seeds: before and after a code change.
+
+    python benchmarks/before_after.py BEFORE_DIR AFTER_DIR [--condition curious ...]
+
+A change that alters the results tables for the same seeds is shown with this table in
+its commit message and in ``docs/reproduction.md``. For every condition present in both
+folders, run i of BEFORE and run i of AFTER share their seed, so they are compared
+paired by run: the order metrics by :func:`neurocur.analysis.comparison.compare`
+(Wilcoxon signed-rank for numbers, McNemar's exact test for yes/no) and the efficiency
+metrics by :func:`neurocur.analysis.efficiency.compare_efficiency`, Holm-adjusted over all
+the metrics of a condition. The mean learning time of each source's first module
+(epochs, Figure 4F) follows, tested (Wilcoxon) on the runs that learned the source both
+times; ``n_pairs`` counts them.
+"""
+
+from __future__ import annotations
+
+import argparse
+
+import pandas as pd
+
+from neurocur.analysis import (
+    adjust_pvalues,
+    compare,
+    compare_efficiency,
+    learning_times,
+    load,
+    source_specs,
+    wilcoxon_signed_rank,
+)
+from neurocur.analysis.order import BINARY_METRICS, NUMERIC_METRICS
+
+
+def relabelled(results_dir: str, condition: str, label: str):
+    """The (episodes, modules) of one condition of a folder, its condition renamed ``label``."""
+    episodes, modules = load(results_dir)
+    tables = [t[t["condition"] == condition].assign(condition=label) for t in (episodes, modules)]
+    return tables[0], tables[1]
+
+
+def condition_table(before: str, after: str, condition: str) -> pd.DataFrame:
+    """The paired before/after rows of one condition: metric, before, after, difference [CI], p, p (Holm)."""
+    spec = source_specs(after)[condition]
+    pairs = [relabelled(before, condition, "before"), relabelled(after, condition, "after")]
+    episodes, modules = (pd.concat(t, ignore_index=True) for t in zip(*pairs))
+    rows = pd.concat([
+        compare((episodes, modules), "after", "before", [*NUMERIC_METRICS, *BINARY_METRICS], spec, adjust=None),
+        compare_efficiency((episodes, modules), "after", "before", spec, adjust=None),
+    ], ignore_index=True)
+    times = learning_times(episodes, modules, spec).query("learnable and first_of_source")
+    by_run = times.pivot_table(index="run", columns=["source", "condition"], values="epochs")
+    for source in sorted(times["source"].unique()):
+        a, b = by_run.get((source, "after")), by_run.get((source, "before"))
+        both = by_run[[(source, "after"), (source, "before")]].dropna() if a is not None and b is not None else None
+        test = wilcoxon_signed_rank(both.iloc[:, 0], both.iloc[:, 1]) if both is not None and len(both) else {}
+        rows.loc[len(rows), ["metric", "value_a", "value_b", "difference", "n_pairs", "p_value"]] = [
+            f"learning time {source} (epochs, first module)",
+            a.mean() if a is not None else float("nan"), b.mean() if b is not None else float("nan"),
+            (both.iloc[:, 0] - both.iloc[:, 1]).mean() if both is not None else float("nan"),
+            len(both) if both is not None else 0, test.get("p_value", float("nan"))]
+    rows = adjust_pvalues(rows, "holm")
+    return rows.assign(condition=condition)
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("before", help="results folder computed by the code before the change")
+    parser.add_argument("after", help="results folder of the same experiment and seeds, after the change")
+    parser.add_argument("--condition", action="append", help="only this condition (repeatable; default: all shared)")
+    args = parser.parse_args(argv)
+    shared = [c for c in source_specs(args.after) if c in source_specs(args.before)]
+    conditions = args.condition or shared
+    columns = {"condition": "condition", "metric": "metric", "value_b": "before", "value_a": "after",
+               "difference": "after − before", "ci_diff_low": "CI low", "ci_diff_high": "CI high",
+               "n_pairs": "pairs", "p_value": "p", "p_adjusted": "p (Holm)"}
+    table = pd.concat([condition_table(args.before, args.after, c) for c in conditions], ignore_index=True)
+    table = table[list(columns)].rename(columns=columns)
+    with pd.option_context("display.width", 250, "display.max_columns", None, "display.max_rows", None,
+                           "display.float_format", "{:.4g}".format):
+        print(table.to_string(index=False))
+
+
+if __name__ == "__main__":
+    main()
