@@ -26,6 +26,10 @@ class HPCParams:
     prune_min_weight: float = learner_param(ROCBank, "min_weight", 0.5,
                                             doc="clusters lighter than this are pruned at storage")
     freeze: str = param("context_mean", str, choices=FREEZE_RULES, doc="module storage rule")
+    ordered: bool = param(False, bool,
+                          doc="variant: store a module only if its outputs on the context are ordered by slowness (eq 4)")
+    drift_ratios: int = param(1, int, low=1,
+                              doc="converged: successive visit-to-visit error ratios that must all shrink (rho: the largest)")
     reward_error: str = param("context", str, choices=("context", "episode"), doc="error sent to VTA")
     clusterers: str = param("context_state", str, choices=("context_state", "state"),
                             doc="one clusterer per (context, state) or per state shared by all contexts")
@@ -75,6 +79,23 @@ class HPCROC(Region):
     still to come, ``E / (1 - rho)`` (a geometric tail, as in Aitken's extrapolation).
     It fires when every state has two stored errors and this extrapolated drift is
     below the threshold; a source whose error does not shrink (rho >= 1) never fires.
+    With ``drift_ratios = n > 1`` every state needs n + 1 stored errors, each of the n
+    successive ratios of summed errors (this visit to the previous, the previous to the
+    one before, ...) must be below 1, and rho is the largest of them. The drift is not
+    always geometric: a slow feature that starts near a faster direction leaves it
+    slowly, so its drift per visit first *grows*, and a single ratio taken just after the
+    whitening settles (errors falling ten-fold in one visit) predicts almost no drift to
+    come (docs/reproduction.md, "Learning times").
+
+    ``ordered`` (a variant, not in the paper; off by default) stores the adaptive module
+    only if its outputs on the context are ordered by slowness, as SFA's solution is
+    (eqs 4-7): Δ_j = <ẏ_j²> / var(y_j) does not decrease with j, taken like the context
+    error over the latest visit of every state of the context (each state keeps its last
+    outputs and their derivatives; none across a start). A slowest output still sitting on
+    a faster direction (a saddle of CIMCA, which it leaves only slowly) hardly moves
+    between visits, so the drift-based rules would store it; its outputs are then out of
+    order. One episode is too short a sample: two outputs of nearly equal slowness (a
+    module whose whitening was fitted to other contexts) pass on some episodes by chance.
 
     ``error_scale = "spread"`` (a variant, not in the paper) divides every frame's eq-10
     error by the module's output spread on the episode, sqrt(mean_t ||y_t - mean(y)||^2).
@@ -139,8 +160,10 @@ class HPCROC(Region):
 
     def _new_bank(self) -> None:
         self.bank = None  # created at the first step, when the feature dimension is known
-        self.stored = np.full((self.n_contexts, self.m), np.nan)
-        self.previous = np.full((self.n_contexts, self.m), np.nan)  # each state's error at its previous visit
+        # each state's error at its last visit (``stored``), the visit before (``previous``), ...
+        self.history = np.full((self.params.drift_ratios + 1, self.n_contexts, self.m), np.nan)
+        self.stored, self.previous = self.history[0], self.history[1]
+        self.state_outputs = self.state_derivatives = None  # (contexts, states, J): each state's last, for ``ordered``
 
     def step(self, episode, features, library_features):
         p = self.params
@@ -161,9 +184,9 @@ class HPCROC(Region):
                                 amnesic=p.amnesic, width=p.width)
         err, known, responds = self._errors(self.bank, idx, features)
         ep_err = _known_mean(err, known)
-        row, prev = self.stored[c], self.previous[c]
+        row, history = self.stored[c], self.history[:, c]
         visited = episode.states[known]
-        prev[visited] = row[visited]
+        history[1:, visited] = history[:-1, visited]
         row[visited] = err[known]
         missing = np.isnan(row)
         n_missing = np.count_nonzero(missing)
@@ -184,13 +207,28 @@ class HPCROC(Region):
         elif p.freeze == "episode_mean":
             rule = ep_err < p.threshold
         else:
-            rule = complete and _extrapolated_drift(row[~missing], prev[~missing]) < p.threshold
-        learned = bool(rule and not familiar and responds)
+            rule = complete and _extrapolated_drift(history[:, ~missing]) < p.threshold
+        self.ordered = self._ordered(episode, features) if p.ordered else True
+        learned = bool(rule and not familiar and responds and self.ordered)
         self._frame_err, self._known = err, known
         self._idx, self._features, self._context = idx, features, c
         self.familiar, self.module_learned = familiar, learned
         self._rec = (familiar, gating, ctx_err, ep_err, min_err, learned)
         return familiar, learned, float(ctx_err if p.reward_error == "context" else ep_err)
+
+    def _ordered(self, episode, y: np.ndarray) -> bool:
+        """Keep each visited state's outputs and derivatives; whether the context's are ordered by slowness."""
+        if self.state_outputs is None:
+            self.state_outputs = np.full((self.n_contexts, self.m, y.shape[1]), np.nan)
+            self.state_derivatives = np.full_like(self.state_outputs, np.nan)
+        c, states = episode.context, episode.states
+        dy = np.empty_like(y)
+        dy[0] = np.nan
+        dy[1:] = np.diff(y, axis=0)
+        dy[episode.starts] = np.nan  # no derivative spans a start
+        self.state_outputs[c, states] = y
+        self.state_derivatives[c, states] = dy
+        return _slowness_ordered(self.state_outputs[c], self.state_derivatives[c])
 
     def _errors(self, bank: ROCBank, idx: np.ndarray, y: np.ndarray):
         """Eq-10 errors of a module's outputs ``y`` per frame, the ``known`` mask, and whether it responds.
@@ -239,14 +277,31 @@ def _spread(y: np.ndarray) -> float:
     return float(np.sqrt(((y - y.mean(axis=0)) ** 2).sum(axis=1).mean()))
 
 
-def _extrapolated_drift(row: np.ndarray, prev: np.ndarray) -> float:
-    """Mean stored error over ``1 - rho``, rho = sum(row) / sum(prev); inf unless it shrinks."""
-    if np.isnan(prev).any():
+def _slowness_ordered(y: np.ndarray, dy: np.ndarray) -> bool:
+    """Whether Δ_j = mean(dy_j²) / var(y_j) (eq 4 for unit-variance outputs) does not
+    decrease with j; NaN rows are left out. False if an output is constant or no
+    derivative is known."""
+    keep = ~np.isnan(dy[:, 0])
+    var = np.nanvar(y, axis=0)
+    if not keep.any() or not (var > 0).all():
+        return False
+    delta = (dy[keep] ** 2).mean(axis=0) / var
+    return bool((np.diff(delta) >= 0).all())
+
+
+def _extrapolated_drift(history: np.ndarray) -> float:
+    """Mean stored error over ``1 - rho``: ``history`` (n + 1, states) holds each state's
+    error at its last n + 1 visits, newest first; rho is the largest of the n ratios of
+    successive summed errors. inf unless every state has them all and every ratio is < 1."""
+    if np.isnan(history).any():
         return np.inf
-    now, before = float(row.sum()), float(prev.sum())
-    if now >= before:
-        return np.inf
-    return now / len(row) / (1.0 - now / before)
+    sums = history.sum(axis=1)
+    now, rho = float(sums[0]), 0.0
+    for newer, older in zip(sums[:-1], sums[1:]):
+        if newer >= older:
+            return np.inf
+        rho = max(rho, float(newer) / float(older))
+    return now / history.shape[1] / (1.0 - rho)
 
 
 def _known_mean(err: np.ndarray, known: np.ndarray) -> float:
