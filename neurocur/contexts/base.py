@@ -8,6 +8,7 @@ never decides that.
 
     world.reset(seed=None, options=None)   -> (episode, info)     # a new run, first visit
     world.step(context)                    -> (episode, 0.0, False, False, info)
+    world.visits(context, n)               -> episode: n visits of context as one block
 
 Seeding follows gymnasium: ``reset(seed=s)`` re-seeds :attr:`World.np_random` with
 ``numpy.random.default_rng(s)``; ``reset()`` without a seed starts a new run from the
@@ -40,7 +41,8 @@ from numba import njit
 from ..registry import Registry
 from .rewards import Rewards
 
-__all__ = ["FRAME_TOLERANCE", "WORLDS", "Episode", "SourceSpec", "World", "conform_frames", "register_world"]
+__all__ = ["FRAME_TOLERANCE", "WORLDS", "Episode", "SourceSpec", "World", "concatenate_episodes", "conform_frames",
+           "register_world"]
 
 #: World types by name; third-party world types come from the entry-point group ``neurocur.worlds``.
 WORLDS = Registry("world", "neurocur.worlds")
@@ -75,17 +77,34 @@ class Episode:
             yield self.frames[a:b], self.states[a:b]
 
 
+def concatenate_episodes(episodes) -> Episode:
+    """One block from consecutive episodes of a context; ``starts`` marks every segment, ``reward`` is their sum."""
+    offsets = np.cumsum([0] + [len(e.frames) for e in episodes[:-1]])
+    return Episode(
+        frames=np.concatenate([e.frames for e in episodes]),
+        states=np.concatenate([e.states for e in episodes]),
+        context=episodes[0].context,
+        starts=np.concatenate([e.starts + o for e, o in zip(episodes, offsets)]).astype(np.int64),
+        reward=float(sum(e.reward for e in episodes)),
+    )
+
+
 #: How far beyond [0, 1] a frame value may lie (floating-point rounding of a normalisation).
 FRAME_TOLERANCE = 1e-9
 
 
 @njit(cache=True, nogil=True)
 def _in_unit_range(flat, tol):  # pragma: no cover - compiled
-    """True when every value is in [-tol, 1 + tol] (NaN is not); stops at the first one outside."""
+    """True when every value is in [-tol, 1 + tol] (NaN is not); stops after the first block with one
+    outside. Inside a block the test is branch-free, so the loop is vectorised."""
     low, high = -tol, 1.0 + tol
-    for i in range(flat.shape[0]):
-        v = flat[i]
-        if not (v >= low and v <= high):
+    n = flat.shape[0]
+    for a in range(0, n, 1024):
+        ok = True
+        for i in range(a, min(a + 1024, n)):
+            v = flat[i]
+            ok &= (v >= low) & (v <= high)
+        if not ok:
             return False
     return True
 
@@ -233,11 +252,33 @@ class World(ABC):
         ep = self._paid(conform_frames(self._visit(self._check_context(context)), self))
         return ep, ep.reward, False, False, {"context": context}
 
+    def visits(self, context: int, n: int) -> Episode:
+        """``n`` consecutive visits of ``context`` as one block (what staying in a context delivers).
+
+        The same frames, states and random draws as ``n`` calls of :meth:`step`; ``starts``
+        marks where each visit begins (a temporal derivative never spans two visits) and
+        ``reward`` is the sum of the visits' rewards.
+        """
+        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
+            raise ValueError(f"n must be a positive integer (visits); got {n!r}")
+        return conform_frames(self._visits(self._check_context(context), int(n)), self)
+
+    def _visits(self, context: int, n: int) -> Episode:
+        """The block of :meth:`visits`, frames not yet conformed. Default: ``n`` paid :meth:`_visit`
+        episodes joined; a world that can cut the block from its frames at once overrides it."""
+        return concatenate_episodes([self._paid(self._visit(context)) for _ in range(n)])
+
     def _paid(self, episode: Episode) -> Episode:
         """``episode`` with this visit's extrinsic reward (unchanged when the world pays none)."""
         if self.rewards is None:
             return episode
         return dataclasses.replace(episode, reward=self.rewards.pay(episode.context))
+
+    def _reward_of_visits(self, context: int, n: int) -> float:
+        """The summed reward of ``n`` visits of ``context`` (each counted, as :meth:`_paid` does)."""
+        if self.rewards is None:
+            return 0.0
+        return float(sum(self.rewards.pay(context) for _ in range(n)))
 
     #: The parameter dataclass (fields made with :func:`neurocur.config.param`) that an
     #: experiment file's ``[world]`` table becomes; None for a world built only from Python.
