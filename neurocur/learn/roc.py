@@ -47,7 +47,7 @@ from typing import ClassVar
 import numpy as np
 
 from ..config import ParamSpec, coerce_params
-from ._roc_kernels import roc_error, roc_partial_fit
+from ._roc_kernels import roc_episode_error, roc_error, roc_partial_fit
 from ._validation import check_block
 
 
@@ -125,6 +125,27 @@ class ROCBank:
         known = np.empty(len(Y), dtype=np.bool_)
         roc_error(self.centers_, self.n_clusters_, s, Y, err, known)
         return err, known
+
+    def episode_error(self, states, Y, *, spread: bool = False, divide: bool = False):
+        """Eq 10 per row of one episode, with the episode's figures, in one compiled call.
+
+        Returns ``(err, known, mean, spread)``: :meth:`error`'s ``err`` and ``known``, the
+        mean error over the rows whose state has a cluster (NaN if none) and, if ``spread``,
+        the features' spread ``sqrt(mean_t ||Y[t] - mean(Y)||²)`` (else NaN). ``divide``
+        (needs ``spread``): every row's error is divided by the spread first (infinite when
+        it is 0). Inputs are checked as by :meth:`error`; their values inside the loop.
+        """
+        s, Y = np.asarray(states), np.asarray(Y)
+        if not (s.dtype == np.int64 and Y.dtype == np.float64 and s.ndim == 1 and Y.ndim == 2
+                and Y.shape == (len(s), self.n_features) and len(s)):
+            s, Y = self._check(states, Y)
+        err = np.empty(len(Y))
+        known = np.empty(len(Y), dtype=np.bool_)
+        mean, found, bad = roc_episode_error(self.centers_, self.n_clusters_, s, Y, err, known, spread or divide,
+                                             divide)
+        if bad >= 0:
+            self._check(states, Y)  # raises the ValueError that names the bad value
+        return err, known, mean, found
 
     def prune(self, min_weight) -> int:
         """Remove clusters of weight below ``min_weight`` ≥ 0 (section 2.6), keeping each latest-sample cluster.

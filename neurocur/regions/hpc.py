@@ -148,8 +148,8 @@ class HPCROC(Region):
         idx = episode.states + c * p.n_states if p.clusterers == "context_state" else episode.states
         min_err, gating = np.nan, -1
         for m, bank in enumerate(self.library):
-            err, known, responds = self._errors(bank, idx, library_features[:, m, :])
-            e = _known_mean(err, known) if responds else np.nan
+            _, _, e, responds = self._errors(bank, idx, library_features[:, m, :])
+            e = e if responds else np.nan
             if e < min_err or (e == e and min_err != min_err):
                 min_err, gating = e, m
         familiar = bool(p.gating and min_err < p.threshold)
@@ -159,8 +159,7 @@ class HPCROC(Region):
         if self.bank is None:
             self.bank = ROCBank(self.n_clusterers, features.shape[1], max_clusters=p.max_clusters,
                                 amnesic=p.amnesic, width=p.width)
-        err, known, responds = self._errors(self.bank, idx, features)
-        ep_err = _known_mean(err, known)
+        err, known, ep_err, responds = self._errors(self.bank, idx, features)
         row, prev = self.stored[c], self.previous[c]
         visited = episode.states[known]
         prev[visited] = row[visited]
@@ -193,20 +192,18 @@ class HPCROC(Region):
         return familiar, learned, float(ctx_err if p.reward_error == "context" else ep_err)
 
     def _errors(self, bank: ROCBank, idx: np.ndarray, y: np.ndarray):
-        """Eq-10 errors of a module's outputs ``y`` per frame, the ``known`` mask, and whether it responds.
+        """Eq-10 errors of a module's outputs ``y`` per frame, the ``known`` mask, their mean over the
+        known frames, and whether the module responds.
 
         Errors are divided by the episode's feature spread under ``error_scale =
         "spread"``; the module responds when that spread is at least ``min_spread``.
         The spread is computed only when one of the two options needs it.
         """
         p = self.params
-        err, known = bank.error(idx, y)
-        if p.error_scale == "absolute" and p.min_spread == 0.0:
-            return err, known, True
-        spread = _spread(y)
-        if p.error_scale == "spread":
-            err = err / spread if spread > 0 else np.full_like(err, np.inf)
-        return err, known, spread >= p.min_spread
+        divide = p.error_scale == "spread"
+        need = divide or p.min_spread != 0.0
+        err, known, mean, spread = bank.episode_error(idx, y, spread=need, divide=divide)
+        return err, known, mean, (spread >= p.min_spread if need else True)
 
     def learn(self) -> None:
         if self.familiar:
@@ -234,11 +231,6 @@ class HPCROC(Region):
         return {"modules": stored[columns].astype(np.int64).reset_index(drop=True)}
 
 
-def _spread(y: np.ndarray) -> float:
-    """The features' spread on an episode: sqrt(mean_t ||y_t - mean(y)||^2)."""
-    return float(np.sqrt(((y - y.mean(axis=0)) ** 2).sum(axis=1).mean()))
-
-
 def _extrapolated_drift(row: np.ndarray, prev: np.ndarray) -> float:
     """Mean stored error over ``1 - rho``, rho = sum(row) / sum(prev); inf unless it shrinks."""
     if np.isnan(prev).any():
@@ -247,11 +239,3 @@ def _extrapolated_drift(row: np.ndarray, prev: np.ndarray) -> float:
     if now >= before:
         return np.inf
     return now / len(row) / (1.0 - now / before)
-
-
-def _known_mean(err: np.ndarray, known: np.ndarray) -> float:
-    """Mean of ``err`` over the frames whose state has a cluster; NaN if none has."""
-    n = np.count_nonzero(known)
-    if n == len(err):
-        return float(err.sum()) / n
-    return float(err[known].sum()) / n if n else np.nan
