@@ -149,6 +149,8 @@ def pairwise_sum(a, lo, n):
     1-d array: blocks of at most 128 values summed by eight accumulators; a longer range is
     split at half its length (rounded down to a multiple of 8) and the halves' sums added.
     The recursion runs on an explicit stack (numba cannot cache recursive functions)."""
+    if n <= 128:
+        return _block_sum(a, lo, n)
     todo_lo = np.empty(128, np.int64)  # (lo, n) to sum, or n = -1: add the two sums on top of ``done``
     todo_n = np.empty(128, np.int64)
     done = np.empty(64)
