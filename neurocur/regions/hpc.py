@@ -10,6 +10,7 @@ import pandas as pd
 from ..config import check_params, learner_param, param
 from ..contract import MODULE_COLUMNS
 from ..learn.roc import ROCBank
+from ._hpc_kernels import store_errors
 from .base import Probe, Region, Signal, register
 
 FREEZE_RULES = ("context_mean", "context_sum", "episode_mean", "converged")
@@ -160,22 +161,9 @@ class HPCROC(Region):
             self.bank = ROCBank(self.n_clusterers, features.shape[1], max_clusters=p.max_clusters,
                                 amnesic=p.amnesic, width=p.width)
         err, known, ep_err, responds = self._errors(self.bank, idx, features)
-        row, prev = self.stored[c], self.previous[c]
-        visited = episode.states[known]
-        prev[visited] = row[visited]
-        row[visited] = err[known]
-        missing = np.isnan(row)
-        n_missing = np.count_nonzero(missing)
-        if n_missing == self.m:
-            ctx_err = total = np.nan
-        elif n_missing:
-            total = np.nan
-            ctx_err = float(row[~missing].sum()) / (self.m - n_missing)
-        else:
-            total = float(row.sum())
-            ctx_err = total / self.m
         # a state seen only in gated episodes has no error (nothing is learned there): a frozen module explains it
-        complete = not (missing & ~self.gated[c]).any()
+        ctx_err, total, complete, drift = store_errors(self.stored[c], self.previous[c], self.gated[c], episode.states,
+                                                       err, known)
         if p.freeze == "context_mean":
             rule = ctx_err < p.threshold and complete
         elif p.freeze == "context_sum":
@@ -183,7 +171,7 @@ class HPCROC(Region):
         elif p.freeze == "episode_mean":
             rule = ep_err < p.threshold
         else:
-            rule = complete and _extrapolated_drift(row[~missing], prev[~missing]) < p.threshold
+            rule = complete and drift < p.threshold
         learned = bool(rule and not familiar and responds)
         self._frame_err, self._known = err, known
         self._idx, self._features, self._context = idx, features, c
@@ -229,13 +217,3 @@ class HPCROC(Region):
         if stored.empty:
             return {"modules": pd.DataFrame({c: np.empty(0, np.int64) for c in columns})}
         return {"modules": stored[columns].astype(np.int64).reset_index(drop=True)}
-
-
-def _extrapolated_drift(row: np.ndarray, prev: np.ndarray) -> float:
-    """Mean stored error over ``1 - rho``, rho = sum(row) / sum(prev); inf unless it shrinks."""
-    if np.isnan(prev).any():
-        return np.inf
-    now, before = float(row.sum()), float(prev.sum())
-    if now >= before:
-        return np.inf
-    return now / len(row) / (1.0 - now / before)
