@@ -20,8 +20,10 @@ generator as it stands (seeded from the OS only if it never was). ``options`` ma
 Episodes never terminate the world. :meth:`World.as_env` wraps a world as a real
 ``gymnasium.Env`` (:class:`neurocur.contexts.gym.WorldEnv`).
 
-**The frame contract** (:func:`conform_frames`) is enforced by :meth:`World.reset` and
-:meth:`World.step`, where every episode leaves a world: frames are float64 in [0, 1].
+**The frame contract** (:func:`conform_frames`) is enforced by :meth:`World.reset`,
+:meth:`World.step` and :meth:`World.visits`, where every episode leaves a world: frames are
+float64 in [0, 1] (a world whose frames keep it by construction, :attr:`World.frames_conform`,
+checks what it renders instead).
 uint8 frames are divided by 255; frames of another numeric type are converted to float64
 when their values lie in [0, 1] (up to :data:`FRAME_TOLERANCE`, values kept as they are);
 any other frames are a ``ValueError`` naming the world, the context and the range found.
@@ -202,6 +204,10 @@ class World(ABC):
     #: The most frames one visit returns (the padded length of :meth:`as_env`'s observation);
     #: None if the world does not bound it.
     max_frames: int | None = None
+    #: True when every frame the world's visits return is float64 in [0, 1] by construction (the
+    #: world checks what it renders, once): :meth:`reset`, :meth:`step` and :meth:`visits` then
+    #: skip :func:`conform_frames`, a pass over every episode's frames.
+    frames_conform: ClassVar[bool] = False
     #: The extrinsic reward of each visit (:mod:`.rewards`); None pays 0.0. Subclasses set it
     #: from their parameters' ``rewards`` (``Rewards.of(params.rewards)``).
     rewards: Rewards | None = None
@@ -245,11 +251,11 @@ class World(ABC):
         self._reset()
         if self.rewards is not None:
             self.rewards.reset()
-        return self._paid(conform_frames(self._visit(context), self)), {"context": context}
+        return self._paid(self._conformed(self._visit(context))), {"context": context}
 
     def step(self, context: int):
         """Visit ``context`` and return ``(episode, episode.reward, False, False, info)``."""
-        ep = self._paid(conform_frames(self._visit(self._check_context(context)), self))
+        ep = self._paid(self._conformed(self._visit(self._check_context(context))))
         return ep, ep.reward, False, False, {"context": context}
 
     def visits(self, context: int, n: int) -> Episode:
@@ -261,12 +267,17 @@ class World(ABC):
         """
         if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
             raise ValueError(f"n must be a positive integer (visits); got {n!r}")
-        return conform_frames(self._visits(self._check_context(context), int(n)), self)
+        return self._conformed(self._visits(self._check_context(context), int(n)))
 
     def _visits(self, context: int, n: int) -> Episode:
         """The block of :meth:`visits`, frames not yet conformed. Default: ``n`` paid :meth:`_visit`
         episodes joined; a world that can cut the block from its frames at once overrides it."""
         return concatenate_episodes([self._paid(self._visit(context)) for _ in range(n)])
+
+    def _conformed(self, episode: Episode) -> Episode:
+        """``episode`` with frames that keep the contract (:func:`conform_frames`; as it is when
+        :attr:`frames_conform`)."""
+        return episode if self.frames_conform else conform_frames(episode, self)
 
     def _paid(self, episode: Episode) -> Episode:
         """``episode`` with this visit's extrinsic reward (unchanged when the world pays none)."""

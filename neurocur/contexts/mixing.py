@@ -31,10 +31,18 @@ def mix_frames(signal: np.ndarray, mixing: np.ndarray, normalise: str, *, limits
 
 
 def frame_limits(raw: np.ndarray, normalise: str, symmetric: bool = False) -> tuple[float, float]:
-    """The (low, high) that :func:`mix_frames` maps to [0, 1] for the mixed frames ``raw``."""
+    """The (low, high) that :func:`mix_frames` maps to [0, 1] for the mixed frames ``raw``.
+
+    Checks that ``raw`` is finite and its range representable (a ``ValueError`` otherwise):
+    min-max scaling then maps every value into [0, 1] exactly, because rounding is
+    monotone (``low <= x <= high`` gives ``0 <= (x - low) / (high - low) <= 1``).
+    """
+    low, high = float(raw.min()), float(raw.max())
+    if not np.isfinite(high - low):
+        raise ValueError(f"cannot normalise frames: the mixed frames span [{low}, {high}], which is not finite "
+                         "(a source with values too large?)")
     if normalise == "image":
         return 0.0, 1.0
-    low, high = float(raw.min()), float(raw.max())
     if symmetric:
         peak = max(high, -low)  # the largest magnitude, without a temporary |raw|
         low, high = -peak, peak

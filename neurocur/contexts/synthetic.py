@@ -188,6 +188,9 @@ class SyntheticWorld(World):
     """
 
     Params = SyntheticParams
+    #: Every draw's mixed frames are checked finite when rendered (:func:`.mixing.frame_limits`),
+    #: and min-max scaling then maps them into [0, 1] exactly.
+    frames_conform = True
 
     def __init__(
         self,

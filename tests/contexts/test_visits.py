@@ -71,3 +71,12 @@ def test_visits_checks_its_arguments():
             world.visits(0, n)
     with pytest.raises(ValueError, match="context must be an int"):
         world.visits(3, 2)
+
+
+def test_a_source_too_large_to_scale_is_refused_when_rendered():
+    t = np.linspace(-1.0, 1.0, 20)
+    for normalise in ("global", "image"):
+        world = SyntheticWorld(["X"], sources={"X": np.column_stack([t * 1e308, t[::-1]])}, frame_shape=(2, 2),
+                               normalise=normalise)
+        with pytest.raises(ValueError, match="not finite"):
+            world.reset(seed=0)
