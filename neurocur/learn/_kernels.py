@@ -35,6 +35,8 @@ import types
 import numpy as np
 from numba import njit
 
+from ._lanes import dot4_lanes
+
 #: LLVM fast-math flags of the fast path: no ``nnan``/``ninf``, so tests for NaN,
 #: infinity and zero stay exact
 FAST_MATH = {"reassoc", "contract", "nsz", "arcp"}
@@ -82,27 +84,11 @@ def dot2(x, y, z):
 
 @njit(cache=True, fastmath=False)
 def dot4(v, r, x):
-    """(v·r, r·r, v·x, r·x) in one pass, with two partial sums each."""
-    n = v.shape[0]
-    a0 = a1 = b0 = b1 = c0 = c1 = e0 = e1 = 0.0
-    m = n - n % 2
-    for d in range(0, m, 2):
-        v0, r0, x0 = v[d], r[d], x[d]
-        v1, r1, x1 = v[d + 1], r[d + 1], x[d + 1]
-        a0 += v0 * r0
-        a1 += v1 * r1
-        b0 += r0 * r0
-        b1 += r1 * r1
-        c0 += v0 * x0
-        c1 += v1 * x1
-        e0 += r0 * x0
-        e1 += r1 * x1
-    if m < n:
-        a0 += v[m] * r[m]
-        b0 += r[m] * r[m]
-        c0 += v[m] * x[m]
-        e0 += r[m] * x[m]
-    return a0 + a1, b0 + b1, c0 + c1, e0 + e1
+    """(v·r, r·r, v·x, r·x) in one pass, with two partial sums each: one over the even and
+    one over the odd indices, in order (an odd last element joins the even one), added
+    at the end. The two partial sums are the lanes of one SIMD vector
+    (``_lanes.dot4_lanes``), which keeps this order exactly."""
+    return dot4_lanes(v, r, x)
 
 
 @njit(cache=True, fastmath=False)
