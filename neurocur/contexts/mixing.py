@@ -11,10 +11,20 @@ scaled on its own (:func:`scale_frames`) and equals those rows of the scaled who
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
 
 __all__ = ["NORMALISATIONS", "frame_limits", "mix_frames", "scale_frames"]
 
 NORMALISATIONS = ("global", "image")
+
+
+@njit(cache=True)
+def _scale(raw, low, span, out):  # pragma: no cover - compiled
+    """``(raw - low) / span`` elementwise into ``out`` (2-d): numpy's two passes fused, the same values."""
+    for i in range(raw.shape[0]):
+        for j in range(raw.shape[1]):
+            out[i, j] = (raw[i, j] - low) / span
+    return out
 
 
 def mix_frames(signal: np.ndarray, mixing: np.ndarray, normalise: str, *, limits=None, symmetric=False):
@@ -64,8 +74,7 @@ def scale_frames(raw: np.ndarray, normalise: str, limits, *, out=None) -> np.nda
     """
     if normalise == "global":
         low, high = _checked_limits(*limits)
-        frames = np.subtract(raw, low, out=out)
-        return np.divide(frames, high - low, out=frames)
+        return _scale(raw, low, high - low, np.empty(raw.shape) if out is None else out)
     if normalise == "image":
         low = raw.min(axis=1, keepdims=True)
         span = raw.max(axis=1, keepdims=True) - low

@@ -76,7 +76,19 @@ def test_visits_checks_its_arguments():
 def test_a_source_too_large_to_scale_is_refused_when_rendered():
     t = np.linspace(-1.0, 1.0, 20)
     for normalise in ("global", "image"):
-        world = SyntheticWorld(["X"], sources={"X": np.column_stack([t * 1e308, t[::-1]])}, frame_shape=(2, 2),
-                               normalise=normalise)
-        with pytest.raises(ValueError, match="not finite"):
-            world.reset(seed=0)
+        with np.errstate(over="ignore"), pytest.raises(ValueError, match="not finite"):  # the range overflows
+            SyntheticWorld(["X"], sources={"X": np.column_stack([t * 1e308, t[::-1]])}, frame_shape=(2, 2),
+                           normalise=normalise).reset(seed=0)
+
+
+def test_compiled_std_and_scaling_equal_numpy():
+    from neurocur.contexts.mixing import _scale
+    from neurocur.contexts.sources import _column_std
+
+    rng = np.random.default_rng(4)
+    for n in (2, 9, 1000, 1001):
+        walk = rng.standard_normal((n, 2)) * 10.0 ** rng.uniform(-3, 3, 2)
+        np.testing.assert_array_equal(_column_std(walk), walk.std(axis=0))
+        raw = rng.standard_normal((n, 7)) * 10.0 ** rng.uniform(-3, 3)
+        low, high = float(raw.min()), float(raw.max())
+        np.testing.assert_array_equal(_scale(raw, low, high - low, np.empty_like(raw)), (raw - low) / (high - low))
