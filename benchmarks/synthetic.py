@@ -10,7 +10,10 @@
    once (sampled from /proc every 0.1 s; Linux), plus ``getrusage(RUSAGE_CHILDREN)``.
    Workers are started by a forkserver, so they are the command's grandchildren:
    their usage reaches RUSAGE_CHILDREN only through the forkserver, which is why the
-   /proc sampling is the figure to read.
+   /proc sampling is the figure to read. A worker's resident size counts the pages of the
+   modules the forkserver imported before forking (numpy, pandas, numba, scikit-learn:
+   about 245 MB), which every worker shares; its proportional set size (PSS) counts a
+   shared page in proportion to the processes sharing it.
    From the wall time: seconds per run per core (wall x jobs / runs) and runs per
    core-hour (3600 / that), the figure a sweep of many runs is paid in.
 2. IncSFA alone: ``IncSFA.partial_fit`` on the same number of frames, in visits of 100
@@ -60,6 +63,7 @@ class MemorySampler(threading.Thread):
         super().__init__(daemon=True)
         self.root, self.interval = root_pid, interval
         self.hwm: dict[int, int] = {}
+        self.pss: dict[int, int] = {}
         self.peak_total = 0
         self._halt = threading.Event()
 
@@ -92,7 +96,17 @@ class MemorySampler(threading.Thread):
             if "VmHWM" in fields:
                 self.hwm[pid] = max(self.hwm.get(pid, 0), int(fields["VmHWM"].split()[0]))
                 total += int(fields["VmRSS"].split()[0])
+                self.pss[pid] = max(self.pss.get(pid, 0), _pss(pid))
         self.peak_total = max(self.peak_total, total)
+
+
+def _pss(pid: int) -> int:
+    """Proportional set size (kB): the process's private pages plus its share of the pages it shares."""
+    try:
+        text = Path(f"/proc/{pid}/smaps_rollup").read_text()
+    except OSError:
+        return 0
+    return next((int(line.split()[1]) for line in text.splitlines() if line.startswith("Pss:")), 0)
 
 
 def sweep(runs: int, steps: int, condition: str, jobs: int) -> dict:
@@ -109,7 +123,9 @@ def sweep(runs: int, steps: int, condition: str, jobs: int) -> dict:
         if child.returncode != 0:
             raise SystemExit(f"neurocur run failed (exit {child.returncode}):\n{output}")
     command = sampler.hwm.pop(child.pid, 0)
+    sampler.pss.pop(child.pid, 0)
     return {
+        "worker_pss_kb": max(sampler.pss.values(), default=0),
         "wall": wall,
         "command_kb": command,
         "worker_kb": max(sampler.hwm.values(), default=0),
@@ -185,6 +201,8 @@ def main(argv=None) -> int:
           f"{3600 / per_run:.0f} runs per core-hour)")
     print(f"  peak RSS, command      {s['command_kb'] / 1024:8.1f} MB")
     print(f"  peak RSS, largest worker {s['worker_kb'] / 1024:6.1f} MB   ({s['processes']} processes)")
+    print(f"  peak PSS, largest worker {s['worker_pss_kb'] / 1024:6.1f} MB   (pages shared with the forkserver "
+          f"counted in proportion)")
     print(f"  peak RSS, all at once  {s['total_kb'] / 1024:8.1f} MB")
     print(f"  getrusage children     {s['rusage_children_kb'] / 1024:8.1f} MB   (largest reaped descendant)")
     print("  " + "\n  ".join(line for line in s["output"].splitlines() if line.strip()))
