@@ -208,16 +208,9 @@ def roc_episode_error(centers, n_clusters, states, Y, err, known, need_spread, d
     has a cluster (NaN if none) and the features' :func:`spread` (NaN unless ``need_spread``).
 
     ``divide``: each row's error is divided by the spread first (infinite when the spread is 0).
-    Returns ``(mean, spread, bad)``: ``bad`` is -1, or the first row whose state lies outside
-    ``[0, n_states)`` or whose features are not finite (then nothing else is computed).
+    Returns ``(mean, spread)``. Inputs are validated by the caller (:func:`first_bad`).
     """
-    T, n_states = Y.shape[0], centers.shape[0]
-    for t in range(T):
-        if states[t] < 0 or states[t] >= n_states:
-            return np.nan, np.nan, t
-        for f in range(Y.shape[1]):
-            if not np.isfinite(Y[t, f]):
-                return np.nan, np.nan, t
+    T = Y.shape[0]
     roc_error(centers, n_clusters, states, Y, err, known)
     s = spread(Y) if need_spread else np.nan
     if divide:
@@ -228,13 +221,25 @@ def roc_episode_error(centers, n_clusters, states, Y, err, known, need_spread, d
         if known[t]:
             n += 1
     if n == T:
-        return pairwise_sum(err, 0, T) / n, s, -1
+        return pairwise_sum(err, 0, T) / n, s
     if n == 0:
-        return np.nan, s, -1
+        return np.nan, s
     kept = np.empty(n)
     k = 0
     for t in range(T):
         if known[t]:
             kept[k] = err[t]
             k += 1
-    return pairwise_sum(kept, 0, n) / n, s, -1
+    return pairwise_sum(kept, 0, n) / n, s
+
+
+@njit(cache=True)
+def first_bad(states, Y, n_states):
+    """The first row whose state lies outside ``[0, n_states)`` or whose features are not finite; -1 if none."""
+    for t in range(Y.shape[0]):
+        if states[t] < 0 or states[t] >= n_states:
+            return t
+        for f in range(Y.shape[1]):
+            if not np.isfinite(Y[t, f]):
+                return t
+    return -1
