@@ -279,7 +279,7 @@ class SyntheticWorld(World):
         if not source.redraws:
             frames = shown.frames()[start : start + T] if start + T <= N else shown.frames()[states]
         else:
-            frames, a = np.empty((T, self.n_pixels)), 0
+            frames, a = np.empty((T, len(shown.mixing))), 0
             for b in range(N - start, T + 1, N):  # the clock wraps after row b - 1 (at the end too): a new draw
                 shown.scale_rows(int(states[a]), frames[a:b])
                 shown.show(source.draw(self.np_random, N))
