@@ -18,7 +18,7 @@
    core-hour (3600 / that), the figure a sweep of many runs is paid in.
 2. IncSFA alone: ``IncSFA.partial_fit`` on the same number of frames, in visits of 100
    frames of one paper source (S-A) with the experiment's EC parameters, in this
-   process; the ratio of a run's seconds per core to it is what the rest of the model
+   process (single-threaded, as the workers are); the ratio of a run's seconds per core to it is what the rest of the model
    costs on top of learning the features.
 3. The breakdown: one run of the condition in this process under cProfile (after a
    short warm-up run, so numba's compilation is not counted), the cumulative time of
@@ -41,6 +41,10 @@ import time
 from pathlib import Path
 
 EXPERIMENT = Path(__file__).resolve().parents[1] / "neurocur" / "experiments_data" / "synthetic.toml"
+#: One BLAS/numba thread in this process too, as in the workers (neurocur.experiments.processes): set before
+#: numpy is imported; a second BLAS thread spinning on a busy machine would slow every matrix product.
+for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS"):
+    os.environ[_var] = "1"
 
 #: (label, file suffix, function name): top-level calls whose cumulative times do not nest.
 COMPONENTS = (
