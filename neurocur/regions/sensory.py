@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..config import check_params, param
+from ..contexts.base import World, concatenate_episodes
 from .base import Probe, Region, Signal, register
 
 
@@ -68,7 +69,7 @@ class SensoryWorld(Region):
         if next_context is None:
             ep = self._first
         elif next_context == self.context and self.params.episodes_on_engage > 1:
-            ep = self.world.visits(next_context, self.params.episodes_on_engage)
+            ep = _stay(self.world, next_context, self.params.episodes_on_engage)
         else:
             ep = self.world.step(next_context)[0]
         self.episode, self.context, self.n_frames, self.reward = ep, ep.context, len(ep.frames), float(ep.reward)
@@ -80,3 +81,10 @@ class SensoryWorld(Region):
     def record_frames(self):
         return self.episode.states[:, None]
 
+
+def _stay(world, context: int, n: int):
+    """``n`` visits of ``context`` as one block: :meth:`World.visits`, or for an object that only has
+    ``step`` (any world with gymnasium's reset/step), its ``n`` episodes joined."""
+    if isinstance(world, World):
+        return world.visits(context, n)
+    return concatenate_episodes([world.step(context)[0] for _ in range(n)])
