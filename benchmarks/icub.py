@@ -6,15 +6,21 @@ worker processes, the time to read it back from the cache, and (with ``--omega``
 learning cost Ω of each context (eq 40, η = 0.01, PCA to 98 % of the variance), and
 (with ``--experiment``) the wall time of the whole iCub experiment
 (``neurocur/experiments_data/icub.toml``: both conditions × 15 runs, into a temporary folder, the data
-set already cached) and of one run.
+set already cached), of one run of each condition and the runs per core-hour, and (with
+``--profile``) where one curious run's time goes: run 0 in this process under cProfile,
+single-threaded BLAS, after a short warm-up run. ``--set`` passes settings to both, as
+``neurocur run --set`` does (e.g. ``--set EC.dtype=float32``).
 
     python benchmarks/icub.py [--episodes 70] [--jobs 2] [--omega] [--experiment [--runs 15] [--run-jobs 1]]
+                              [--profile] [--set KEY=VALUE ...] [--runs-only]
 """
 
 from __future__ import annotations
 
 import argparse
+import cProfile
 import json
+import pstats
 import tempfile
 import time
 from pathlib import Path
@@ -41,36 +47,48 @@ def frames_per_second(n_episodes: int = 4) -> dict:
     return out
 
 
-def experiment_time(runs: int, jobs: int) -> tuple[float, list[float], int]:
+def experiment_time(runs: int, jobs: int, sets=()) -> tuple[float, dict[str, list[float]], int]:
     """Wall time of ``neurocur/experiments_data/icub.toml`` (both conditions, ``runs`` runs each, ``jobs`` workers).
 
     The data set is built (or read from the default cache) before the clock starts.
-    Returns (total seconds, each run's own seconds from its run.json, frames per run).
+    Returns (total seconds, each condition's runs' own seconds from their run.json, frames per run).
     """
     from neurocur.experiments import load_experiment, run_experiment
 
-    exp = load_experiment(EXPERIMENT, runs=runs)
+    exp = load_experiment(EXPERIMENT, runs=runs, sets=sets)
     for condition in exp.conditions.values():
         condition.world_class.prepare(condition.world_params)
     with tempfile.TemporaryDirectory() as out:
         start = time.perf_counter()
         run_experiment(exp, out, jobs=jobs, progress=False)
         total = time.perf_counter() - start
-        per_run = [json.loads(p.read_text())["seconds"] for p in sorted(Path(out).glob("runs/*/*/run.json"))]
+        per_run = {name: [json.loads(p.read_text())["seconds"] for p in sorted(Path(out).glob(f"runs/{name}/*/run.json"))]
+                   for name in exp.conditions}
     return total, per_run, exp.steps
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--episodes", type=int, default=70)
-    parser.add_argument("--jobs", type=int, default=2)
-    parser.add_argument("--omega", action="store_true", help="also compute Omega of both contexts (~1 min)")
-    parser.add_argument("--experiment", action="store_true",
-                        help="also time neurocur/experiments_data/icub.toml, both conditions (~20 min at 15 runs, 1 job)")
-    parser.add_argument("--runs", type=int, default=15, help="runs per condition for --experiment")
-    parser.add_argument("--run-jobs", type=int, default=1, help="worker processes for --experiment")
-    args = parser.parse_args()
+def profile_run(sets=(), top: int = 25) -> None:
+    """Print cProfile's table (by own time) of run 0 of the curious condition, in this process."""
+    from threadpoolctl import threadpool_limits
 
+    from neurocur.experiments import load_experiment
+    from neurocur.experiments.run import run_one
+
+    exp = load_experiment(EXPERIMENT, sets=sets)
+    condition = exp.conditions["curious"]
+    condition.world_class.prepare(condition.world_params)
+    run_one(condition, 0, 2000, exp.run_seed(0))  # warm-up: numba's cache, the data set's read
+    profiler = cProfile.Profile()
+    with threadpool_limits(1):
+        start = time.perf_counter()
+        profiler.runcall(run_one, condition, 0, exp.steps, exp.run_seed(0))
+        seconds = time.perf_counter() - start
+    print(f"profiled curious run 0 ({exp.steps} frames): {seconds:.1f} s under cProfile")
+    pstats.Stats(profiler).sort_stats("tottime").print_stats(top)
+
+
+def data_set(args) -> None:
+    """Print the simulation speed, the data set's build and read times, its episodes and (``--omega``) Ω."""
     for obj, fps in frames_per_second().items():
         print(f"simulate+render, {obj:6s}: {fps:7.1f} frames/s (one process)")
 
@@ -104,11 +122,36 @@ def main() -> None:
             value = omega_episodes(episodes, 0.01)
             print(f"        Omega = {value:.5f} (PCA 98 %: {dims} dims; {time.perf_counter() - start:.0f} s)")
 
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--episodes", type=int, default=70)
+    parser.add_argument("--jobs", type=int, default=2)
+    parser.add_argument("--omega", action="store_true", help="also compute Omega of both contexts (~1 min)")
+    parser.add_argument("--experiment", action="store_true",
+                        help="also time neurocur/experiments_data/icub.toml, both conditions (~20 min at 15 runs, 1 job)")
+    parser.add_argument("--runs", type=int, default=15, help="runs per condition for --experiment")
+    parser.add_argument("--run-jobs", type=int, default=1, help="worker processes for --experiment")
+    parser.add_argument("--profile", action="store_true", help="also profile one curious run (~1 min)")
+    parser.add_argument("--runs-only", action="store_true",
+                        help="skip the simulation and data-set figures (for --experiment and --profile)")
+    parser.add_argument("--set", nargs="+", default=[], metavar="KEY=VALUE",
+                        help="settings for --experiment and --profile, e.g. EC.dtype=float32")
+    args = parser.parse_args()
+
+    if not args.runs_only:
+        data_set(args)
     if args.experiment:
-        total, per_run, steps = experiment_time(args.runs, args.run_jobs)
-        print(f"experiment icub.toml, 2 conditions x {args.runs} runs x {steps} frames on {args.run_jobs} "
-              f"process(es): {total:.0f} s ({total / 60:.1f} min); one run {np.mean(per_run):.0f} +- "
-              f"{np.std(per_run):.0f} s ({1e3 * np.mean(per_run) / steps:.2f} ms/frame)")
+        total, per_run, steps = experiment_time(args.runs, args.run_jobs, args.set)
+        n_runs = sum(len(s) for s in per_run.values())
+        print(f"experiment icub.toml {' '.join(args.set)}, 2 conditions x {args.runs} runs x {steps} frames on "
+              f"{args.run_jobs} process(es): {total:.0f} s ({total / 60:.1f} min), "
+              f"{n_runs * 3600 / (total * args.run_jobs):.0f} runs per core-hour")
+        for name, seconds in per_run.items():
+            print(f"    {name}: one run {np.mean(seconds):.1f} +- {np.std(seconds):.1f} s "
+                  f"({1e3 * np.mean(seconds) / steps:.2f} ms/frame), {3600 / np.mean(seconds):.0f} runs per core-hour")
+    if args.profile:
+        profile_run(args.set)
 
 
 if __name__ == "__main__":

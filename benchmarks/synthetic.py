@@ -10,8 +10,17 @@
    once (sampled from /proc every 0.1 s; Linux), plus ``getrusage(RUSAGE_CHILDREN)``.
    Workers are started by a forkserver, so they are the command's grandchildren:
    their usage reaches RUSAGE_CHILDREN only through the forkserver, which is why the
-   /proc sampling is the figure to read.
-2. The breakdown: one run of the condition in this process under cProfile (after a
+   /proc sampling is the figure to read. A worker's resident size counts the pages of the
+   modules the forkserver imported before forking (numpy, pandas, numba, scikit-learn:
+   about 245 MB), which every worker shares; its proportional set size (PSS) counts a
+   shared page in proportion to the processes sharing it.
+   From the wall time: seconds per run per core (wall x jobs / runs) and runs per
+   core-hour (3600 / that), the figure a sweep of many runs is paid in.
+2. IncSFA alone: ``IncSFA.partial_fit`` on the same number of frames, in visits of 100
+   frames of one paper source (S-A) with the experiment's EC parameters, in this
+   process (single-threaded, as the workers are); the ratio of a run's seconds per core to it is what the rest of the model
+   costs on top of learning the features.
+3. The breakdown: one run of the condition in this process under cProfile (after a
    short warm-up run, so numba's compilation is not counted), the cumulative time of
    the learners and of the world, and the rest (regions' own code, the scheduler,
    recording, tables).
@@ -32,15 +41,20 @@ import time
 from pathlib import Path
 
 EXPERIMENT = Path(__file__).resolve().parents[1] / "neurocur" / "experiments_data" / "synthetic.toml"
+#: One BLAS/numba thread in this process too, as in the workers (neurocur.experiments.processes): set before
+#: numpy is imported; a second BLAS thread spinning on a busy machine would slow every matrix product.
+for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS"):
+    os.environ[_var] = "1"
 
 #: (label, file suffix, function name): top-level calls whose cumulative times do not nest.
 COMPONENTS = (
     ("IncSFA partial_fit (EC learn)", "neurocur/learn/incsfa.py", "partial_fit"),
-    ("ROC error (HPC step)", "neurocur/learn/roc.py", "error"),
+    ("ROC episode_error (HPC step)", "neurocur/learn/roc.py", "episode_error"),
     ("ROC partial_fit (HPC learn)", "neurocur/learn/roc.py", "partial_fit"),
     ("ROC prune (storage)", "neurocur/learn/roc.py", "prune"),
     ("LSPI solve (PFC step)", "neurocur/learn/lspi.py", "solve"),
-    ("world: visits, frames (sensory step)", "neurocur/contexts/base.py", "step"),
+    ("world: a visit (sensory step)", "neurocur/contexts/base.py", "step"),
+    ("world: a stay's visits (sensory step)", "neurocur/contexts/base.py", "visits"),
     ("EC encoding: matrix products (EC step)", "neurocur/regions/ec.py", "step"),
     ("tables: episodes(), modules()", "neurocur/scheduler.py", "episodes"),
 )
@@ -53,6 +67,7 @@ class MemorySampler(threading.Thread):
         super().__init__(daemon=True)
         self.root, self.interval = root_pid, interval
         self.hwm: dict[int, int] = {}
+        self.pss: dict[int, int] = {}
         self.peak_total = 0
         self._halt = threading.Event()
 
@@ -85,7 +100,17 @@ class MemorySampler(threading.Thread):
             if "VmHWM" in fields:
                 self.hwm[pid] = max(self.hwm.get(pid, 0), int(fields["VmHWM"].split()[0]))
                 total += int(fields["VmRSS"].split()[0])
+                self.pss[pid] = max(self.pss.get(pid, 0), _pss(pid))
         self.peak_total = max(self.peak_total, total)
+
+
+def _pss(pid: int) -> int:
+    """Proportional set size (kB): the process's private pages plus its share of the pages it shares."""
+    try:
+        text = Path(f"/proc/{pid}/smaps_rollup").read_text()
+    except OSError:
+        return 0
+    return next((int(line.split()[1]) for line in text.splitlines() if line.startswith("Pss:")), 0)
 
 
 def sweep(runs: int, steps: int, condition: str, jobs: int) -> dict:
@@ -102,7 +127,9 @@ def sweep(runs: int, steps: int, condition: str, jobs: int) -> dict:
         if child.returncode != 0:
             raise SystemExit(f"neurocur run failed (exit {child.returncode}):\n{output}")
     command = sampler.hwm.pop(child.pid, 0)
+    sampler.pss.pop(child.pid, 0)
     return {
+        "worker_pss_kb": max(sampler.pss.values(), default=0),
         "wall": wall,
         "command_kb": command,
         "worker_kb": max(sampler.hwm.values(), default=0),
@@ -111,6 +138,31 @@ def sweep(runs: int, steps: int, condition: str, jobs: int) -> dict:
         "rusage_children_kb": resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss,
         "output": output,
     }
+
+
+def incsfa_alone(steps: int, condition: str) -> float:
+    """Seconds of ``IncSFA.partial_fit`` on ``steps`` frames of S-A in visits of 100, the learner
+    built as the condition's EC builds its adaptive module."""
+    import numpy as np
+
+    from neurocur.contexts.synthetic import SyntheticWorld
+    from neurocur.experiments import load_experiment
+
+    cond = load_experiment(EXPERIMENT).select([condition])[0]
+    world = SyntheticWorld(["S-A"])
+    world.reset(seed=0)
+    frames = world.context_frames(0)
+    visits = [frames[s : s + 100] for s in range(0, len(frames), 100)]
+    models = []
+    for _ in range(2):  # the first is a warm-up: numba's compilation
+        ec = cond.circuit.specs["EC"].make()
+        ec.reset(np.random.default_rng(0))
+        models.append(ec.adaptive)
+    models[0].partial_fit(visits[0])
+    start = time.perf_counter()
+    for i in range(steps // 100):
+        models[1].partial_fit(visits[i % len(visits)])
+    return time.perf_counter() - start
 
 
 def profile_one(steps: int, condition: str) -> tuple[float, list[tuple[str, float]], dict]:
@@ -148,12 +200,19 @@ def main(argv=None) -> int:
     print(f"sweep: {args.runs} runs x {args.steps} frames of {args.condition!r}, {args.jobs} jobs "
           f"({os.cpu_count()} cores, load average {os.getloadavg()[0]:.2f})")
     s = sweep(args.runs, args.steps, args.condition, args.jobs)
-    print(f"  wall time              {s['wall']:8.1f} s   ({s['wall'] * args.jobs / args.runs:.2f} s per run per job)")
+    per_run = s["wall"] * args.jobs / args.runs
+    print(f"  wall time              {s['wall']:8.1f} s   ({per_run:.2f} s per run per core, "
+          f"{3600 / per_run:.0f} runs per core-hour)")
     print(f"  peak RSS, command      {s['command_kb'] / 1024:8.1f} MB")
     print(f"  peak RSS, largest worker {s['worker_kb'] / 1024:6.1f} MB   ({s['processes']} processes)")
+    print(f"  peak PSS, largest worker {s['worker_pss_kb'] / 1024:6.1f} MB   (pages shared with the forkserver "
+          f"counted in proportion)")
     print(f"  peak RSS, all at once  {s['total_kb'] / 1024:8.1f} MB")
     print(f"  getrusage children     {s['rusage_children_kb'] / 1024:8.1f} MB   (largest reaped descendant)")
     print("  " + "\n  ".join(line for line in s["output"].splitlines() if line.strip()))
+    alone = incsfa_alone(args.steps, args.condition)
+    print(f"IncSFA alone on {args.steps} frames: {alone:.2f} s; a run per core is {per_run / alone:.1f}x that "
+          f"(load average {os.getloadavg()[0]:.2f})")
     if args.profile:
         total, rows, summary = profile_one(args.steps, args.condition)
         print(f"\nprofile of one run in this process: {summary['frames']} frames, {summary['n_episodes']} episodes, "

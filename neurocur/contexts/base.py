@@ -8,6 +8,7 @@ never decides that.
 
     world.reset(seed=None, options=None)   -> (episode, info)     # a new run, first visit
     world.step(context)                    -> (episode, 0.0, False, False, info)
+    world.visits(context, n)               -> episode: n visits of context as one block
 
 Seeding follows gymnasium: ``reset(seed=s)`` re-seeds :attr:`World.np_random` with
 ``numpy.random.default_rng(s)``; ``reset()`` without a seed starts a new run from the
@@ -19,8 +20,10 @@ generator as it stands (seeded from the OS only if it never was). ``options`` ma
 Episodes never terminate the world. :meth:`World.as_env` wraps a world as a real
 ``gymnasium.Env`` (:class:`neurocur.contexts.gym.WorldEnv`).
 
-**The frame contract** (:func:`conform_frames`) is enforced by :meth:`World.reset` and
-:meth:`World.step`, where every episode leaves a world: frames are float64 in [0, 1].
+**The frame contract** (:func:`conform_frames`) is enforced by :meth:`World.reset`,
+:meth:`World.step` and :meth:`World.visits`, where every episode leaves a world: frames are
+float64 in [0, 1] (a world whose frames keep it by construction, :attr:`World.frames_conform`,
+checks what it renders instead).
 uint8 frames are divided by 255; frames of another numeric type are converted to float64
 when their values lie in [0, 1] (up to :data:`FRAME_TOLERANCE`, values kept as they are);
 any other frames are a ``ValueError`` naming the world, the context and the range found.
@@ -40,7 +43,8 @@ from numba import njit
 from ..registry import Registry
 from .rewards import Rewards
 
-__all__ = ["FRAME_TOLERANCE", "WORLDS", "Episode", "SourceSpec", "World", "conform_frames", "register_world"]
+__all__ = ["FRAME_TOLERANCE", "WORLDS", "Episode", "SourceSpec", "World", "concatenate_episodes", "conform_frames",
+           "register_world"]
 
 #: World types by name; third-party world types come from the entry-point group ``neurocur.worlds``.
 WORLDS = Registry("world", "neurocur.worlds")
@@ -75,17 +79,34 @@ class Episode:
             yield self.frames[a:b], self.states[a:b]
 
 
+def concatenate_episodes(episodes) -> Episode:
+    """One block from consecutive episodes of a context; ``starts`` marks every segment, ``reward`` is their sum."""
+    offsets = np.cumsum([0] + [len(e.frames) for e in episodes[:-1]])
+    return Episode(
+        frames=np.concatenate([e.frames for e in episodes]),
+        states=np.concatenate([e.states for e in episodes]),
+        context=episodes[0].context,
+        starts=np.concatenate([e.starts + o for e, o in zip(episodes, offsets)]).astype(np.int64),
+        reward=float(sum(e.reward for e in episodes)),
+    )
+
+
 #: How far beyond [0, 1] a frame value may lie (floating-point rounding of a normalisation).
 FRAME_TOLERANCE = 1e-9
 
 
 @njit(cache=True, nogil=True)
 def _in_unit_range(flat, tol):  # pragma: no cover - compiled
-    """True when every value is in [-tol, 1 + tol] (NaN is not); stops at the first one outside."""
+    """True when every value is in [-tol, 1 + tol] (NaN is not); stops after the first block with one
+    outside. Inside a block the test is branch-free, so the loop is vectorised."""
     low, high = -tol, 1.0 + tol
-    for i in range(flat.shape[0]):
-        v = flat[i]
-        if not (v >= low and v <= high):
+    n = flat.shape[0]
+    for a in range(0, n, 1024):
+        ok = True
+        for i in range(a, min(a + 1024, n)):
+            v = flat[i]
+            ok &= (v >= low) & (v <= high)
+        if not ok:
             return False
     return True
 
@@ -183,6 +204,10 @@ class World(ABC):
     #: The most frames one visit returns (the padded length of :meth:`as_env`'s observation);
     #: None if the world does not bound it.
     max_frames: int | None = None
+    #: True when every frame the world's visits return is float64 in [0, 1] by construction (the
+    #: world checks what it renders, once): :meth:`reset`, :meth:`step` and :meth:`visits` then
+    #: skip :func:`conform_frames`, a pass over every episode's frames.
+    frames_conform: ClassVar[bool] = False
     #: The extrinsic reward of each visit (:mod:`.rewards`); None pays 0.0. Subclasses set it
     #: from their parameters' ``rewards`` (``Rewards.of(params.rewards)``).
     rewards: Rewards | None = None
@@ -226,18 +251,45 @@ class World(ABC):
         self._reset()
         if self.rewards is not None:
             self.rewards.reset()
-        return self._paid(conform_frames(self._visit(context), self)), {"context": context}
+        return self._paid(self._conformed(self._visit(context))), {"context": context}
 
     def step(self, context: int):
         """Visit ``context`` and return ``(episode, episode.reward, False, False, info)``."""
-        ep = self._paid(conform_frames(self._visit(self._check_context(context)), self))
+        ep = self._paid(self._conformed(self._visit(self._check_context(context))))
         return ep, ep.reward, False, False, {"context": context}
+
+    def visits(self, context: int, n: int) -> Episode:
+        """``n`` consecutive visits of ``context`` as one block (what staying in a context delivers).
+
+        The same frames, states and random draws as ``n`` calls of :meth:`step`; ``starts``
+        marks where each visit begins (a temporal derivative never spans two visits) and
+        ``reward`` is the sum of the visits' rewards.
+        """
+        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
+            raise ValueError(f"n must be a positive integer (visits); got {n!r}")
+        return self._conformed(self._visits(self._check_context(context), int(n)))
+
+    def _visits(self, context: int, n: int) -> Episode:
+        """The block of :meth:`visits`, frames not yet conformed. Default: ``n`` paid :meth:`_visit`
+        episodes joined; a world that can cut the block from its frames at once overrides it."""
+        return concatenate_episodes([self._paid(self._visit(context)) for _ in range(n)])
+
+    def _conformed(self, episode: Episode) -> Episode:
+        """``episode`` with frames that keep the contract (:func:`conform_frames`; as it is when
+        :attr:`frames_conform`)."""
+        return episode if self.frames_conform else conform_frames(episode, self)
 
     def _paid(self, episode: Episode) -> Episode:
         """``episode`` with this visit's extrinsic reward (unchanged when the world pays none)."""
         if self.rewards is None:
             return episode
         return dataclasses.replace(episode, reward=self.rewards.pay(episode.context))
+
+    def _reward_of_visits(self, context: int, n: int) -> float:
+        """The summed reward of ``n`` visits of ``context`` (each counted, as :meth:`_paid` does)."""
+        if self.rewards is None:
+            return 0.0
+        return float(sum(self.rewards.pay(context) for _ in range(n)))
 
     #: The parameter dataclass (fields made with :func:`neurocur.config.param`) that an
     #: experiment file's ``[world]`` table becomes; None for a world built only from Python.

@@ -47,6 +47,7 @@ family, from trivially easy to practically unlearnable) by their Ω.
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
 
 from neurocur.learn._validation import check_positive_int, check_random_state
 from neurocur.learn.omega import omega
@@ -111,7 +112,29 @@ def isotropic_random_walk(random_state=None, n_steps: int = N_STEPS) -> np.ndarr
     spectrum[1 : k.size + 1] = coef
     z = np.fft.ifft(spectrum) * n_steps
     walk = np.column_stack([z.real, z.imag])
-    return walk / walk.std(axis=0)
+    return walk / _column_std(walk)
+
+
+@njit(cache=True)
+def _column_std(a):  # pragma: no cover - compiled
+    """``a.std(axis=0)`` of a C-contiguous (n, d) array with d > 1, bit-identical: numpy sums each
+    column row by row (the mean, then the squared deviations) and divides by n."""
+    n, d = a.shape
+    mean, var = a[0].copy(), np.empty(d)
+    for t in range(1, n):
+        for f in range(d):
+            mean[f] += a[t, f]
+    for f in range(d):
+        mean[f] = mean[f] / n
+        dev = a[0, f] - mean[f]
+        var[f] = dev * dev
+    for t in range(1, n):
+        for f in range(d):
+            dev = a[t, f] - mean[f]
+            var[f] += dev * dev
+    for f in range(d):
+        var[f] = np.sqrt(var[f] / n)
+    return var
 
 
 def paper_source(name: str, random_state=None, n_steps: int = N_STEPS) -> np.ndarray:

@@ -50,6 +50,7 @@ redrawn draws again from the same generator at each wrap of a clock showing it.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
@@ -60,6 +61,7 @@ from neurocur.learn.correlation import abs_corr
 from neurocur.learn.omega import omega
 
 from .base import Episode, SourceSpec, World, register_world
+from .mixing import NORMALISATIONS, SourceFrames, mix_frames
 from .rewards import Rewards, check_rewards, rewards_param
 from .sources import LEARNABLE, SLOW_DIM
 from .user_sources import SOURCES_SPEC, check_sources, make_sources
@@ -76,41 +78,12 @@ __all__ = [
 PAPER_CONTEXTS = ("S-A", "S-A", "S-B", "S-C", "S-D")
 """The source of each of the paper's five contexts C1..C5."""
 
-NORMALISATIONS = ("global", "image")
-
 #: The synthetic world of section 4.1: C1, C2 share S-A; Ω(S-A) < Ω(S-B) < Ω(S-C); S-D is noise.
 SYNTHETIC = SourceSpec(
     context_names=("C1", "C2", "C3", "C4", "C5"),
     context_sources=("S-A", "S-A", "S-B", "S-C", "S-D"),
     learnable=("S-A", "S-B", "S-C"),
 )
-
-
-def mix_frames(signal: np.ndarray, mixing: np.ndarray, normalise: str, *, limits=None, symmetric=False):
-    """Frames ``signal @ mixing.T`` scaled to [0, 1]; returns ``(frames, (low, high))``.
-
-    ``normalise="global"`` maps ``[low, high]`` (the min and max over all frames, or
-    ``±`` the largest magnitude if ``symmetric``, or the given ``limits``) to [0, 1];
-    ``"image"`` scales each frame (row) by its own min and max (``limits`` and
-    ``symmetric`` are then ignored and ``(0.0, 1.0)`` returned).
-    """
-    raw = signal @ mixing.T
-    if normalise == "global":
-        if limits is None:
-            peak = float(np.abs(raw).max())
-            limits = (-peak, peak) if symmetric else (raw.min(), raw.max())
-        low, high = map(float, limits)
-        if not high > low:
-            raise ValueError("cannot normalise frames: every pixel of every frame has the same value")
-        return (raw - low) / (high - low), (low, high)
-    if normalise == "image":
-        low = raw.min(axis=1, keepdims=True)
-        span = raw.max(axis=1, keepdims=True) - low
-        flat = span[:, 0] == 0.0
-        frames = (raw - low) / np.where(flat[:, None], 1.0, span)
-        frames[flat] = 0.5
-        return frames, (0.0, 1.0)
-    raise ValueError(f"normalise must be one of {', '.join(map(repr, NORMALISATIONS))}; got {normalise!r}")
 
 
 _NAME = ParamSpec(str)
@@ -215,6 +188,9 @@ class SyntheticWorld(World):
     """
 
     Params = SyntheticParams
+    #: Every draw's mixed frames are checked finite when rendered (:func:`.mixing.frame_limits`),
+    #: and min-max scaling then maps them into [0, 1] exactly.
+    frames_conform = True
 
     def __init__(
         self,
@@ -249,10 +225,7 @@ class SyntheticWorld(World):
         self.clock_offsets = p.clock_offsets
         self.nonstationary = p.nonstationary
         self.learnable = p.learnable
-        self._signals: dict[str, np.ndarray] = {}
-        self._mixing: dict[str, np.ndarray] = {}
-        self._limits: dict[str, tuple[float, float]] = {}
-        self._frames: dict[str, np.ndarray] = {}
+        self._shown: dict[str, SourceFrames] = {}
         self._clocks = np.zeros(self.n_contexts, dtype=np.int64)
 
     @classmethod
@@ -274,13 +247,13 @@ class SyntheticWorld(World):
 
     def _reset(self) -> None:
         rng = self.np_random
-        for table in (self._signals, self._mixing, self._limits, self._frames):
-            table.clear()
+        self._shown.clear()
         for name, source in self._sources.items():
             signal = source.draw(rng, self.n_states)
-            self._mixing[name] = rng.standard_normal((self.n_pixels, signal.shape[1]))
-            self._mixing[name].flags.writeable = False
-            self._show(name, signal)
+            mixing = rng.standard_normal((self.n_pixels, signal.shape[1]))
+            shown = self._shown[name] = SourceFrames(mixing, self.normalise, symmetric=source.centred,
+                                                     whole=not source.redraws)
+            shown.show(signal)
         if self.clock_offsets == "random":
             self._clocks = rng.integers(0, self.n_states, size=self.n_contexts).astype(np.int64)
         elif self.clock_offsets == "zero":
@@ -288,30 +261,35 @@ class SyntheticWorld(World):
         else:
             self._clocks = np.array(self.clock_offsets, dtype=np.int64)
 
-    def _show(self, name: str, signal: np.ndarray) -> None:
-        """Make ``signal`` the current driving force of source ``name`` and render its frames."""
-        frames, limits = self._render(name, signal)
-        for arr in (signal, frames):
-            arr.flags.writeable = False
-        self._signals[name], self._limits[name], self._frames[name] = signal, limits, frames
-
-    def _render(self, name: str, signal: np.ndarray):
-        """``(frames, limits)`` of ``signal`` as source ``name`` (declared noise: symmetric limits)."""
-        return mix_frames(signal, self._mixing[name], self.normalise, symmetric=self._sources[name].centred)
-
     def _visit(self, context: int) -> Episode:
-        name = self.source_names[context]
-        self._require(name, self._frames)
-        start = self._clocks[context]
-        states = (start + np.arange(self.visit_length, dtype=np.int64)) % self.n_states
-        frames = self._frames[name][states]
-        wrap = self.n_states - start  # rows from here on belong to the next epoch
-        if self._sources[name].redraws:
-            for first in range(wrap, self.visit_length + 1, self.n_states):  # a wrap at the end counts too
-                self._show(name, self._sources[name].draw(self.np_random, self.n_states))
-                frames[first:] = self._frames[name][states[first:]]
-        self._clocks[context] = (start + self.visit_length) % self.n_states
-        return Episode(frames=frames, states=states, context=context)
+        return self._block(context, 1)
+
+    def _visits(self, context: int, n: int) -> Episode:
+        return dataclasses.replace(self._block(context, n), reward=self._reward_of_visits(context, n))
+
+    def _block(self, context: int, n: int) -> Episode:
+        """The next ``n`` visits of ``context`` (the next ``n * visit_length`` steps of its clock),
+        unpaid. Read-only frames: a view of the rendered frames when the clock does not wrap."""
+        shown, source = self._require(self.source_names[context]), self._sources[self.source_names[context]]
+        T, N = n * self.visit_length, self.n_states
+        start = int(self._clocks[context])
+        states = np.arange(start, start + T, dtype=np.int64)
+        if start + T > N:
+            states %= N
+        if not source.redraws:
+            frames = shown.frames()[start : start + T] if start + T <= N else shown.frames()[states]
+        else:
+            frames, a = np.empty((T, len(shown.mixing))), 0
+            for b in range(N - start, T + 1, N):  # the clock wraps after row b - 1 (at the end too): a new draw
+                shown.scale_rows(int(states[a]), frames[a:b])
+                shown.show(source.draw(self.np_random, N))
+                a = b
+            if a < T:
+                shown.scale_rows(int(states[a]), frames[a:])
+        frames.flags.writeable = False
+        self._clocks[context] = (start + T) % N
+        return Episode(frames=frames, states=states, context=context,
+                       starts=np.arange(0, T, self.visit_length, dtype=np.int64))
 
     def source_spec(self) -> SourceSpec:
         """Learnable sources: ``learnable`` if given, else the built-in learnable sources shown
@@ -341,19 +319,20 @@ class SyntheticWorld(World):
 
     def source_signal(self, name: str) -> np.ndarray:
         """This run's driving force ``name``, shape (n_steps, n_dims), read-only."""
-        return self._require(name, self._signals)
+        return self._require(name).signal
 
     def mixing(self, name: str) -> np.ndarray:
         """This run's mixing matrix of source ``name``, shape (n_pixels, n_dims), read-only."""
-        return self._require(name, self._mixing)
+        return self._require(name).mixing
 
     def normalisation_limits(self, name: str) -> tuple[float, float]:
         """The raw (low, high) mapped to [0, 1] under ``normalise="global"``."""
-        return self._require(name, self._limits)
+        return self._require(name).limits
 
     def context_frames(self, context) -> np.ndarray:
-        """All frames of ``context`` in local-time order, (n_steps, n_pixels), read-only."""
-        return self._require(self.source_of(context), self._frames)
+        """All frames of ``context`` in local-time order, (n_steps, n_pixels), read-only (of a
+        redrawn source: its current draw)."""
+        return self._require(self.source_of(context)).frames()
 
     def redraws(self, context) -> bool:
         """Whether the source of ``context`` is drawn again every epoch (S-D, noise, re-sampled files)."""
@@ -380,7 +359,7 @@ class SyntheticWorld(World):
             value = omega(self.context_frames(context) @ basis, eta)
             return value, np.array([value])
         rng, source = np.random.default_rng(seed), self._sources[name]
-        frames = [self._render(name, source.draw(rng, self.n_states))[0] @ basis for _ in range(draws)]
+        frames = [self._shown[name].render(source.draw(rng, self.n_states))[0] @ basis for _ in range(draws)]
         per_draw = np.array([omega(f, eta) for f in frames])
         return omega(np.concatenate(frames), eta, starts=np.arange(draws) * self.n_states), per_draw
 
@@ -395,9 +374,9 @@ class SyntheticWorld(World):
             return self.context_names.index(context)
         return self._check_context(context)
 
-    def _require(self, name, table):
-        if not self._frames:
+    def _require(self, name) -> SourceFrames:
+        if not self._shown:
             raise RuntimeError("the world has not been reset yet: call world.reset(seed=...) first")
-        if name not in table:
+        if name not in self._shown:
             raise ValueError(f"unknown source {name!r}; this world shows {', '.join(dict.fromkeys(self.source_names))}")
-        return table[name]
+        return self._shown[name]

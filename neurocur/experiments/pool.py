@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import json
 import multiprocessing
+import multiprocessing.forkserver
 import os
 import signal
 import sys
@@ -109,6 +110,14 @@ class _CtrlC:
             signal.signal(signal.SIGINT, self._previous)
 
 
+def _start_fork_server() -> None:
+    """Start the fork server now (with the workers' settings), so that it imports the runner while
+    this process runs the pre-flight checks; the pool's first worker would otherwise wait for it."""
+    if isinstance(_mp_context(), multiprocessing.context.ForkServerContext):
+        with single_threaded_children(), _ctrl_c_held():
+            multiprocessing.forkserver.ensure_running()
+
+
 def _mp_context():
     if "forkserver" not in multiprocessing.get_all_start_methods():
         return multiprocessing.get_context("spawn")
@@ -160,6 +169,8 @@ def run_experiment(exp: Experiment, out, *, jobs: int | None = None, conditions=
         done = store.completed(names, exp.runs)
         todo = [(c, i) for c in selected for i in range(exp.runs) if (c.name, i) not in done]
         jobs = max(1, min(jobs or os.cpu_count() or 1, len(todo) or 1))
+        if todo and scheduler is None:
+            _start_fork_server()  # its imports overlap the pre-flight checks
         if todo:
             _preflight(exp, todo, jobs, max_memory)
         store.save_config(grown)

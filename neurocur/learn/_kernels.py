@@ -13,12 +13,33 @@ the two apart means a component whose length is still zero (nothing learned yet,
 direction outside the data's rank) never causes a division by zero: its direction is
 kept and its eigenvalue is 0. The amnesic schedule (t1, t2, c, r) covers both of the
 paper's forms: the constant amnesic parameter ``l`` is ``(0, 0, l, inf)``.
+
+Fast path
+---------
+``incsfa_fit_fast`` is ``incsfa_fit`` compiled again from the same source with LLVM's
+fast-math flags ``FAST_MATH`` (reassociation and contraction, so the sums vectorise and
+multiply-adds fuse), with CCIPCA's passes ``sums``/``update_sums`` replaced by plain
+one-accumulator loops in float32 that the compiler splits into SIMD lanes itself, and
+the update of component i fused with the sums of component i + 1 (K + 1 passes over
+the frame instead of 2K). IncSFA uses it for ``dtype="float32"``: the directions, the
+residual and the derivative are stored in float32 and the D-length passes compute in
+float32; the mean, the eigenvalues, the whitening and CIMCA stay in float64. Its
+results differ from ``incsfa_fit``'s by float32 round-off (about 1e-7 relative) in every
+pass, and so drift apart over a run; it is never the default.
 """
 
 from __future__ import annotations
 
+import types
+
 import numpy as np
 from numba import njit
+
+from ._lanes import dot4_lanes
+
+#: LLVM fast-math flags of the fast path: no ``nnan``/``ninf``, so tests for NaN,
+#: infinity and zero stay exact
+FAST_MATH = {"reassoc", "contract", "nsz", "arcp"}
 
 
 @njit(cache=True, fastmath=False)
@@ -63,27 +84,33 @@ def dot2(x, y, z):
 
 @njit(cache=True, fastmath=False)
 def dot4(v, r, x):
-    """(v·r, r·r, v·x, r·x) in one pass, with two partial sums each."""
-    n = v.shape[0]
-    a0 = a1 = b0 = b1 = c0 = c1 = e0 = e1 = 0.0
-    m = n - n % 2
-    for d in range(0, m, 2):
-        v0, r0, x0 = v[d], r[d], x[d]
-        v1, r1, x1 = v[d + 1], r[d + 1], x[d + 1]
-        a0 += v0 * r0
-        a1 += v1 * r1
-        b0 += r0 * r0
-        b1 += r1 * r1
-        c0 += v0 * x0
-        c1 += v1 * x1
-        e0 += r0 * x0
-        e1 += r1 * x1
-    if m < n:
-        a0 += v[m] * r[m]
-        b0 += r[m] * r[m]
-        c0 += v[m] * x[m]
-        e0 += r[m] * x[m]
-    return a0 + a1, b0 + b1, c0 + c1, e0 + e1
+    """(v·r, r·r, v·x, r·x) in one pass, with two partial sums each: one over the even and
+    one over the odd indices, in order (an odd last element joins the even one), added
+    at the end. The two partial sums are the lanes of one SIMD vector
+    (``_lanes.dot4_lanes``), which keeps this order exactly."""
+    return dot4_lanes(v, r, x)
+
+
+@njit(cache=True, fastmath=False)
+def sums(row, res, dx, project):
+    """(row·r, r·r, row·dx, r·dx) with ``project``, else (row·r, r·r, 0, 0): one pass."""
+    if project:
+        return dot4(row, res, dx)
+    p, rr = dot2(res, row, res)
+    return p, rr, 0.0, 0.0
+
+
+@njit(cache=True, fastmath=False)
+def update_sums(row, res, a, b, inv, c, nxt, dx, project, more):
+    """Set row ← (a row + b r)/‖·‖ (``inv`` = 1/‖·‖), deflate r ← r − c row; then, if
+    ``more``, return ``sums(nxt, r, dx, project)`` of the next component (else zeros)."""
+    for d in range(res.shape[0]):
+        v = (a * row[d] + b * res[d]) * inv
+        row[d] = v
+        res[d] -= c * v
+    if more:
+        return sums(nxt, res, dx, project)
+    return 0.0, 0.0, 0.0, 0.0
 
 
 @njit(cache=True, fastmath=False)
@@ -95,27 +122,24 @@ def ccipca_step(u, dirs, lam, eta, dx, proj):
     place (``u`` is overwritten). With v_i = λ_i v̂_i, a = (1 − η) λ_i and
     b = η (r·v̂_i), the new length is ||a v̂_i + b r||² = a² + 2ab (r·v̂_i) + b² ||r||²,
     a sum of non-negative terms; r·v̂_i and ||r||² come from one pass over the inputs
-    and the update is a second pass. (||r||² is not carried through the deflations as
-    ||r||² − (r·v̂_i)²: that cancels once the residual is at round-off level, as for
-    rank-deficient input, and an underestimate would inflate v̂_i.)
+    (``sums``) and the update is a second pass (``update_sums``, which the fast path
+    fuses with the next component's sums). (||r||² is not carried through the
+    deflations as ||r||² − (r·v̂_i)²: that cancels once the residual is at round-off
+    level, as for rank-deficient input, and an underestimate would inflate v̂_i.)
 
     If ``dx`` is non-empty, ``proj[i]`` receives v̂_i·dx for the updated v̂_i (IncSFA's
     unscaled whitened derivative) from the same passes:
     v̂_i'·dx = (a v̂_i·dx + b r·dx) / λ_i'. Returns ||u||².
     """
-    K, D = dirs.shape
+    K = dirs.shape[0]
     project = dx.shape[0] > 0
     res = u
-    uu = 0.0
+    p, rr, q, rdx = sums(dirs[0], res, dx, project)
+    uu = rr
     for i in range(K):
         row = dirs[i]
-        if project:
-            p, rr, q, rdx = dot4(row, res, dx)
-        else:
-            p, rr = dot2(res, row, res)
-            q = rdx = 0.0
-        if i == 0:
-            uu = rr
+        more = i + 1 < K
+        nxt = dirs[i + 1] if more else row
         a = (1.0 - eta) * lam[i]
         b = eta * p
         norm2 = a * a + 2.0 * a * b * p + b * b * rr
@@ -123,17 +147,16 @@ def ccipca_step(u, dirs, lam, eta, dx, proj):
             lam[i] = 0.0
             if project:
                 proj[i] = 0.0
+            if more:
+                p, rr, q, rdx = sums(nxt, res, dx, project)
             continue
         new = np.sqrt(norm2)
         inv = 1.0 / new
         c = (a * p + b * rr) * inv  # r · v̂_new
-        for d in range(D):
-            v = (a * row[d] + b * res[d]) * inv
-            row[d] = v
-            res[d] -= c * v
         lam[i] = new
         if project:
             proj[i] = (a * q + b * rdx) * inv
+        p, rr, q, rdx = update_sums(row, res, a, b, inv, c, nxt, dx, project, more)
     return uu
 
 
@@ -318,7 +341,7 @@ def incsfa_fit(
     T, D = X.shape
     K = dirs.shape[0]
     n_active = 0
-    none = np.empty(0)
+    none = np.empty(0, dx.dtype)
     for s in range(T):
         t += 1
         if ortho_every > 0 and t % ortho_every == 0:
@@ -346,3 +369,78 @@ def incsfa_fit(
             cimca_step(zdot, W, rates, gamma, mask, coup, new)
         has_prev = True
     return t, total_var, n_active
+
+
+@njit(cache=True, fastmath=FAST_MATH)
+def plain_sums(row, res, dx, project):
+    """``sums`` as plain float32 sums, for the fast path (the compiler orders them)."""
+    a = b = c = e = np.float32(0.0)
+    if project:
+        for d in range(res.shape[0]):
+            r = res[d]
+            a += row[d] * r
+            b += r * r
+            c += row[d] * dx[d]
+            e += r * dx[d]
+    else:
+        for d in range(res.shape[0]):
+            r = res[d]
+            a += row[d] * r
+            b += r * r
+    return a, b, c, e
+
+
+@njit(cache=True, fastmath=FAST_MATH)
+def fused_update_sums(row, res, a, b, inv, c, nxt, dx, project, more):
+    """``update_sums`` in one pass and in float32: the next component's sums are taken
+    as r is deflated; the update is written row ← (a/‖·‖) row + (b/‖·‖) r."""
+    a, b, c = np.float32(a * inv), np.float32(b * inv), np.float32(c)
+    s0 = s1 = s2 = s3 = np.float32(0.0)
+    if not more:
+        for d in range(res.shape[0]):
+            v = a * row[d] + b * res[d]
+            row[d] = v
+            res[d] -= c * v
+    elif project:
+        for d in range(res.shape[0]):
+            v = a * row[d] + b * res[d]
+            row[d] = v
+            r = res[d] - c * v
+            res[d] = r
+            w, x = nxt[d], dx[d]
+            s0 += w * r
+            s1 += r * r
+            s2 += w * x
+            s3 += r * x
+    else:
+        for d in range(res.shape[0]):
+            v = a * row[d] + b * res[d]
+            row[d] = v
+            r = res[d] - c * v
+            res[d] = r
+            s0 += nxt[d] * r
+            s1 += r * r
+    return s0, s1, s2, s3
+
+
+def _fast_math_twin(names, replace):
+    """Recompile the kernels ``names`` (callees first) with ``FAST_MATH``; return the last.
+
+    Each twin is built from the same Python code with globals in which the earlier twins
+    and ``replace`` stand for the originals, and gets its own qualified name, so that
+    numba's on-disk cache keeps it apart from the exact kernel.
+    """
+    scope = {**globals(), **replace}
+    for name in names:
+        exact = globals()[name].py_func
+        twin = types.FunctionType(exact.__code__, scope, name, exact.__defaults__)
+        twin.__qualname__ = f"{name}_fast_math"
+        twin.__doc__ = exact.__doc__
+        scope[name] = njit(cache=True, fastmath=FAST_MATH)(twin)
+    return scope[names[-1]]
+
+
+incsfa_fit_fast = _fast_math_twin(
+    ("amnesic_rate", "ccipca_step", "active_mask", "cimca_step", "incsfa_fit"),
+    {"sums": plain_sums, "update_sums": fused_update_sums},
+)

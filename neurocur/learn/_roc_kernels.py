@@ -115,3 +115,131 @@ def roc_error(centers, n_clusters, states, Y, err, known):
                 best = d2
         err[t] = np.sqrt(best)
         known[t] = True
+
+
+@njit(cache=True)
+def _block_sum(a, lo, n):
+    """One leaf of :func:`pairwise_sum`: ``n <= 128`` values summed as numpy does."""
+    if n < 8:
+        res = 0.0
+        for i in range(lo, lo + n):
+            res += a[i]
+        return res
+    r0, r1, r2, r3 = a[lo], a[lo + 1], a[lo + 2], a[lo + 3]
+    r4, r5, r6, r7 = a[lo + 4], a[lo + 5], a[lo + 6], a[lo + 7]
+    m = n - n % 8
+    for i in range(lo + 8, lo + m, 8):
+        r0 += a[i]
+        r1 += a[i + 1]
+        r2 += a[i + 2]
+        r3 += a[i + 3]
+        r4 += a[i + 4]
+        r5 += a[i + 5]
+        r6 += a[i + 6]
+        r7 += a[i + 7]
+    res = ((r0 + r1) + (r2 + r3)) + ((r4 + r5) + (r6 + r7))
+    for i in range(lo + m, lo + n):
+        res += a[i]
+    return res
+
+
+@njit(cache=True)
+def pairwise_sum(a, lo, n):
+    """``a[lo:lo + n].sum()`` in numpy's order, so bit-identical to numpy's ``sum`` of a contiguous
+    1-d array: blocks of at most 128 values summed by eight accumulators; a longer range is
+    split at half its length (rounded down to a multiple of 8) and the halves' sums added.
+    The recursion runs on an explicit stack (numba cannot cache recursive functions)."""
+    if n <= 128:
+        return _block_sum(a, lo, n)
+    todo_lo = np.empty(128, np.int64)  # (lo, n) to sum, or n = -1: add the two sums on top of ``done``
+    todo_n = np.empty(128, np.int64)
+    done = np.empty(64)
+    top, k = 1, 0
+    todo_lo[0], todo_n[0] = lo, n
+    while top:
+        top -= 1
+        lo, n = todo_lo[top], todo_n[top]
+        if n == -1:
+            k -= 1
+            done[k - 1] += done[k]
+        elif n <= 128:
+            done[k] = _block_sum(a, lo, n)
+            k += 1
+        else:
+            n2 = n // 2
+            n2 -= n2 % 8
+            todo_lo[top], todo_n[top] = 0, -1
+            todo_lo[top + 1], todo_n[top + 1] = lo + n2, n - n2
+            todo_lo[top + 2], todo_n[top + 2] = lo, n2
+            top += 3
+    return done[0]
+
+
+@njit(cache=True)
+def spread(Y):
+    """``sqrt(mean_t ||Y[t] - mean(Y)||²)`` in numpy's order of operations (the column means
+    summed row by row, or pairwise for a single column; each row's squares and the mean over
+    rows pairwise)."""
+    T, J = Y.shape
+    mean = np.zeros(J)
+    if J == 1:  # numpy sums a single column as one 1-d array: pairwise
+        mean[0] = pairwise_sum(Y[:, 0], 0, T)
+    else:
+        for f in range(J):
+            mean[f] = Y[0, f]
+        for t in range(1, T):
+            for f in range(J):
+                mean[f] += Y[t, f]
+    for f in range(J):
+        mean[f] /= T
+    row = np.empty(J)
+    dist = np.empty(T)
+    for t in range(T):
+        for f in range(J):
+            diff = Y[t, f] - mean[f]
+            row[f] = diff * diff
+        dist[t] = pairwise_sum(row, 0, J)
+    return np.sqrt(pairwise_sum(dist, 0, T) / T)
+
+
+@njit(cache=True)
+def roc_episode_error(centers, n_clusters, states, Y, err, known, need_spread, divide):
+    """Eq 10 per row (:func:`roc_error`) and, of one episode, the mean error over the rows whose state
+    has a cluster (NaN if none) and the features' :func:`spread` (NaN unless ``need_spread``).
+
+    ``divide``: each row's error is divided by the spread first (infinite when the spread is 0).
+    Returns ``(mean, spread)``. Inputs are validated by the caller (:func:`first_bad`).
+    """
+    T = Y.shape[0]
+    roc_error(centers, n_clusters, states, Y, err, known)
+    s = spread(Y) if need_spread else np.nan
+    if divide:
+        for t in range(T):
+            err[t] = err[t] / s if s > 0 else np.inf
+    n = 0
+    for t in range(T):
+        if known[t]:
+            n += 1
+    if n == T:
+        return pairwise_sum(err, 0, T) / n, s
+    if n == 0:
+        return np.nan, s
+    kept = np.empty(n)
+    k = 0
+    for t in range(T):
+        if known[t]:
+            kept[k] = err[t]
+            k += 1
+    return pairwise_sum(kept, 0, n) / n, s
+
+
+@njit(cache=True)
+def first_bad(states, Y, n_states):
+    """The first row whose state lies outside ``[0, n_states)`` or whose features are not finite; -1 if none."""
+    for t in range(Y.shape[0]):
+        if states[t] < 0 or states[t] >= n_states:
+            return t
+        for f in range(Y.shape[1]):
+            if not np.isfinite(Y[t, f]):
+                return t
+    return -1

@@ -96,7 +96,7 @@ def check_scale(X: np.ndarray, *, name: str = "X", first: bool = False, centred:
     accepted = f"accepted: largest |value| <= {MAX_SCALE:g}"
     if first:
         accepted += f" and, on the first fit, {'largest feature range' if centred else 'largest |value|'} >= {MIN_SCALE:g}"
-    biggest = float(np.abs(X).max()) if X.size else 0.0
+    biggest = max(float(X.max()), -float(X.min())) if X.size else 0.0  # NaN propagates through both
     if not np.isfinite(biggest):
         raise ValueError(f"{name} must be finite: it contains NaN or inf")
     if biggest > MAX_SCALE:

@@ -25,6 +25,7 @@ import warnings
 from typing import ClassVar
 
 import numpy as np
+from numba import njit
 
 from ..config import ParamSpec, coerce_params
 
@@ -61,8 +62,48 @@ def _check_mdp(P, R) -> tuple[np.ndarray, np.ndarray]:
 
 def greedy(Q: np.ndarray, tol: float = 0.0) -> np.ndarray:
     """The greedy action per state (int64, (S,)), ties within ``tol`` toward the lowest index."""
-    atol = tol * max(1.0, float(np.abs(Q).max()))
-    return np.argmax(Q >= Q.max(axis=1, keepdims=True) - atol, axis=1).astype(np.int64)
+    return _greedy(np.asarray(Q, dtype=np.float64), float(tol))
+
+
+@njit(cache=True)
+def _greedy(Q, tol):  # pragma: no cover - compiled
+    """:func:`greedy`: the first action whose Q is within ``tol * max(1, max|Q|)`` of its state's best."""
+    S, A = Q.shape
+    biggest = 1.0
+    for s in range(S):
+        for a in range(A):
+            biggest = max(biggest, abs(Q[s, a]))
+    atol = tol * biggest
+    policy = np.empty(S, np.int64)
+    for s in range(S):
+        best = Q[s, 0]
+        for a in range(1, A):
+            best = max(best, Q[s, a])
+        policy[s] = 0
+        for a in range(A):
+            if Q[s, a] >= best - atol:
+                policy[s] = a
+                break
+    return policy
+
+
+@njit(cache=True)
+def _improve(Q, policy, tol, w_new, w_old, first):  # pragma: no cover - compiled
+    """One policy improvement: ``(new policy, done)``. The greedy policy in ``Q``, except that a state
+    keeps its action where the greedy one is worse (a tie within ``tol``); done when the policy is
+    unchanged or, after the ``first`` iteration, the weights moved by less than ``tol`` (max-norm)."""
+    new = _greedy(Q, tol)
+    same = True
+    for s in range(len(policy)):
+        if Q[s, new[s]] < Q[s, policy[s]]:
+            new[s] = policy[s]
+        same = same and new[s] == policy[s]
+    if same or first:
+        return new, same
+    moved = 0.0
+    for i in range(len(w_new)):
+        moved = max(moved, abs(w_new[i] - w_old[i]))
+    return new, moved < tol
 
 
 class LSPI:
@@ -111,8 +152,8 @@ class LSPI:
         Phi, gamma = self.Phi, self.gamma
         b = Phi.T @ R.ravel()
         policy = greedy(R, self.tol) if policy is None else np.asarray(policy, dtype=np.int64)
-        w = None
-        for _ in range(self.max_iter):
+        w = b  # unused before the first iteration
+        for i in range(self.max_iter):
             next_phi = self.P_flat @ self.phi[self._states, policy]  # E[φ(s', π(s')) | s, a]
             A_mat = Phi.T @ (Phi - gamma * next_phi)
             try:
@@ -120,13 +161,10 @@ class LSPI:
             except np.linalg.LinAlgError:
                 w_new = np.linalg.lstsq(A_mat, b, rcond=None)[0]
             Q = (Phi @ w_new).reshape(self.shape)
-            new_policy = greedy(Q, self.tol)
             # never switch to an action worse than the current one (greedy's ties within tol could):
             # each switch then improves the policy, so policy iteration cannot cycle
-            worse = Q[self._states, new_policy] < Q[self._states, policy]
-            new_policy = np.where(worse, policy, new_policy)
-            done = np.array_equal(new_policy, policy) or (w is not None and np.max(np.abs(w_new - w)) < self.tol)
-            w, policy = w_new, new_policy
+            policy, done = _improve(Q, policy, self.tol, w_new, w, i == 0)
+            w = w_new
             if done:
                 return Q, policy
         warnings.warn(f"lspi did not converge in max_iter={self.max_iter} iterations", RuntimeWarning, stacklevel=2)

@@ -47,7 +47,7 @@ from typing import ClassVar
 import numpy as np
 
 from ..config import ParamSpec, coerce_params
-from ._roc_kernels import roc_error, roc_partial_fit
+from ._roc_kernels import first_bad, roc_episode_error, roc_error, roc_partial_fit
 from ._validation import check_block
 
 
@@ -109,9 +109,18 @@ class ROCBank:
             raise ValueError(f"states must lie in [0, {self.n_states}); got {bad}")
         return np.ascontiguousarray(s, dtype=np.int64), Y
 
+    def _fast(self, states, Y) -> tuple[np.ndarray, np.ndarray]:
+        """``(states, Y)`` as given when they are int64 and float64 arrays of the right shapes whose
+        values one compiled pass finds valid; otherwise :meth:`_check`'s conversion, or its error."""
+        s, Y_ = np.asarray(states), np.asarray(Y)
+        if (s.dtype == np.int64 and Y_.dtype == np.float64 and s.ndim == 1 and Y_.ndim == 2
+                and Y_.shape == (len(s), self.n_features) and len(s) and first_bad(s, Y_, self.n_states) < 0):
+            return s, Y_
+        return self._check(states, Y)
+
     def partial_fit(self, states, Y) -> ROCBank:
         """Run Algorithm 3 on each row ``Y[t]`` with the clusterer of ``states[t]``, in order."""
-        s, Y = self._check(states, Y)
+        s, Y = self._fast(states, Y)
         roc_partial_fit(
             self.centers_, self.weights_, self.n_clusters_, self.latest_, s, Y,
             self.amnesic, 0.5 / self.width**2,
@@ -120,11 +129,26 @@ class ROCBank:
 
     def error(self, states, Y) -> tuple[np.ndarray, np.ndarray]:
         """Eq 10 per row: ``(err (T,), known (T,) bool)``; ``err`` is 0.0 where the state has no cluster."""
-        s, Y = self._check(states, Y)
+        s, Y = self._fast(states, Y)
         err = np.empty(len(Y))
         known = np.empty(len(Y), dtype=np.bool_)
         roc_error(self.centers_, self.n_clusters_, s, Y, err, known)
         return err, known
+
+    def episode_error(self, states, Y, *, spread: bool = False, divide: bool = False):
+        """Eq 10 per row of one episode, with the episode's figures, in one compiled call.
+
+        Returns ``(err, known, mean, spread)``: :meth:`error`'s ``err`` and ``known``, the
+        mean error over the rows whose state has a cluster (NaN if none) and, if ``spread``,
+        the features' spread ``sqrt(mean_t ||Y[t] - mean(Y)||²)`` (else NaN). ``divide``
+        (needs ``spread``): every row's error is divided by the spread first (infinite when
+        it is 0). Inputs are checked as by :meth:`error`.
+        """
+        s, Y = self._fast(states, Y)
+        err = np.empty(len(Y))
+        known = np.empty(len(Y), dtype=np.bool_)
+        mean, found = roc_episode_error(self.centers_, self.n_clusters_, s, Y, err, known, spread or divide, divide)
+        return err, known, mean, found
 
     def prune(self, min_weight) -> int:
         """Remove clusters of weight below ``min_weight`` ≥ 0 (section 2.6), keeping each latest-sample cluster.

@@ -30,6 +30,8 @@ class ECParams:
     mca_rates: str = learner_param(IncSFA, "mca_rates", "equal",
                                    doc="'equal' (the paper) or 'decreasing' (slower rates for the faster features)")
     gamma: float | str = learner_param(IncSFA, "gamma", 4.0, doc="MCA deflation gamma")
+    dtype: str = learner_param(IncSFA, "dtype", "float64",
+                               doc="'float64' (exact) or 'float32' (faster, not bit-identical)")
 
     def __post_init__(self):
         check_params(self)
@@ -82,8 +84,8 @@ class ECIncSFA(Region):
         p = self.params
         self._proj = self._offset = None
         return IncSFA(p.n_components, p.n_pca, amnesic=p.amnesic, var_fraction=p.var_fraction,
-                      eig_cutoff=p.eig_cutoff, orthonormalize=p.orthonormalize, mca_rate=p.mca_rate, mca_rates=p.mca_rates, gamma=p.gamma,
-                      random_state=int(self.rng.integers(2**63)))
+                      eig_cutoff=p.eig_cutoff, orthonormalize=p.orthonormalize, mca_rate=p.mca_rate,
+                      mca_rates=p.mca_rates, gamma=p.gamma, random_state=int(self.rng.integers(2**63)), dtype=p.dtype)
 
     def step(self, episode):
         X = episode.frames

@@ -10,6 +10,7 @@ import pandas as pd
 from ..config import check_params, learner_param, param
 from ..contract import MODULE_COLUMNS
 from ..learn.roc import ROCBank
+from ._hpc_kernels import store_errors
 from .base import Probe, Region, Signal, register
 
 FREEZE_RULES = ("context_mean", "context_sum", "episode_mean", "converged")
@@ -171,8 +172,8 @@ class HPCROC(Region):
         idx = episode.states + c * p.n_states if p.clusterers == "context_state" else episode.states
         min_err, gating = np.nan, -1
         for m, bank in enumerate(self.library):
-            err, known, responds = self._errors(bank, idx, library_features[:, m, :])
-            e = _known_mean(err, known) if responds else np.nan
+            _, _, e, responds = self._errors(bank, idx, library_features[:, m, :])
+            e = e if responds else np.nan
             if e < min_err or (e == e and min_err != min_err):
                 min_err, gating = e, m
         familiar = bool(p.gating and min_err < p.threshold)
@@ -182,24 +183,9 @@ class HPCROC(Region):
         if self.bank is None:
             self.bank = ROCBank(self.n_clusterers, features.shape[1], max_clusters=p.max_clusters,
                                 amnesic=p.amnesic, width=p.width)
-        err, known, responds = self._errors(self.bank, idx, features)
-        ep_err = _known_mean(err, known)
-        row, history = self.stored[c], self.history[:, c]
-        visited = episode.states[known]
-        history[1:, visited] = history[:-1, visited]
-        row[visited] = err[known]
-        missing = np.isnan(row)
-        n_missing = np.count_nonzero(missing)
-        if n_missing == self.m:
-            ctx_err = total = np.nan
-        elif n_missing:
-            total = np.nan
-            ctx_err = float(row[~missing].sum()) / (self.m - n_missing)
-        else:
-            total = float(row.sum())
-            ctx_err = total / self.m
+        err, known, ep_err, responds = self._errors(self.bank, idx, features)
         # a state seen only in gated episodes has no error (nothing is learned there): a frozen module explains it
-        complete = not (missing & ~self.gated[c]).any()
+        ctx_err, total, complete, drift = store_errors(self.history[:, c], self.gated[c], episode.states, err, known)
         if p.freeze == "context_mean":
             rule = ctx_err < p.threshold and complete
         elif p.freeze == "context_sum":
@@ -207,7 +193,7 @@ class HPCROC(Region):
         elif p.freeze == "episode_mean":
             rule = ep_err < p.threshold
         else:
-            rule = complete and _extrapolated_drift(history[:, ~missing]) < p.threshold
+            rule = complete and drift < p.threshold
         self.ordered = self._ordered(episode, features) if p.ordered else True
         learned = bool(rule and not familiar and responds and self.ordered)
         self._frame_err, self._known = err, known
@@ -231,20 +217,18 @@ class HPCROC(Region):
         return _slowness_ordered(self.state_outputs[c], self.state_derivatives[c])
 
     def _errors(self, bank: ROCBank, idx: np.ndarray, y: np.ndarray):
-        """Eq-10 errors of a module's outputs ``y`` per frame, the ``known`` mask, and whether it responds.
+        """Eq-10 errors of a module's outputs ``y`` per frame, the ``known`` mask, their mean over the
+        known frames, and whether the module responds.
 
         Errors are divided by the episode's feature spread under ``error_scale =
         "spread"``; the module responds when that spread is at least ``min_spread``.
         The spread is computed only when one of the two options needs it.
         """
         p = self.params
-        err, known = bank.error(idx, y)
-        if p.error_scale == "absolute" and p.min_spread == 0.0:
-            return err, known, True
-        spread = _spread(y)
-        if p.error_scale == "spread":
-            err = err / spread if spread > 0 else np.full_like(err, np.inf)
-        return err, known, spread >= p.min_spread
+        divide = p.error_scale == "spread"
+        need = divide or p.min_spread != 0.0
+        err, known, mean, spread = bank.episode_error(idx, y, spread=need, divide=divide)
+        return err, known, mean, (spread >= p.min_spread if need else True)
 
     def learn(self) -> None:
         if self.familiar:
@@ -272,11 +256,6 @@ class HPCROC(Region):
         return {"modules": stored[columns].astype(np.int64).reset_index(drop=True)}
 
 
-def _spread(y: np.ndarray) -> float:
-    """The features' spread on an episode: sqrt(mean_t ||y_t - mean(y)||^2)."""
-    return float(np.sqrt(((y - y.mean(axis=0)) ** 2).sum(axis=1).mean()))
-
-
 def _slowness_ordered(y: np.ndarray, dy: np.ndarray) -> bool:
     """Whether Δ_j = mean(dy_j²) / var(y_j) (eq 4 for unit-variance outputs) does not
     decrease with j; NaN rows are left out. False if an output is constant or no
@@ -287,26 +266,3 @@ def _slowness_ordered(y: np.ndarray, dy: np.ndarray) -> bool:
         return False
     delta = (dy[keep] ** 2).mean(axis=0) / var
     return bool((np.diff(delta) >= 0).all())
-
-
-def _extrapolated_drift(history: np.ndarray) -> float:
-    """Mean stored error over ``1 - rho``: ``history`` (n + 1, states) holds each state's
-    error at its last n + 1 visits, newest first; rho is the largest of the n ratios of
-    successive summed errors. inf unless every state has them all and every ratio is < 1."""
-    if np.isnan(history).any():
-        return np.inf
-    sums = history.sum(axis=1)
-    now, rho = float(sums[0]), 0.0
-    for newer, older in zip(sums[:-1], sums[1:]):
-        if newer >= older:
-            return np.inf
-        rho = max(rho, float(newer) / float(older))
-    return now / history.shape[1] / (1.0 - rho)
-
-
-def _known_mean(err: np.ndarray, known: np.ndarray) -> float:
-    """Mean of ``err`` over the frames whose state has a cluster; NaN if none has."""
-    n = np.count_nonzero(known)
-    if n == len(err):
-        return float(err.sum()) / n
-    return float(err[known].sum()) / n if n else np.nan

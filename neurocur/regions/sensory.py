@@ -4,10 +4,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import numpy as np
-
 from ..config import check_params, param
-from ..contexts.base import Episode
+from ..contexts.base import World, concatenate_episodes
 from .base import Probe, Region, Signal, register
 
 
@@ -27,10 +25,11 @@ class SensoryWorld(Region):
     Step: visit the context chosen by LC at the end of the previous pass (a delayed
     input; ``None`` on the first pass, which returns the world's first episode). When
     the agent stayed (``next_context`` equals the current context) and
-    ``episodes_on_engage`` > 1, that many episodes are concatenated into one block
-    whose ``starts`` mark the independent segments (iCub experiment, section 4.2).
-    ``reward`` is the extrinsic reward the world paid for the visit (``Episode.reward``;
-    the sum over the concatenated episodes of a block), 0 unless the experiment declares one.
+    ``episodes_on_engage`` > 1, the world delivers that many visits as one block whose
+    ``starts`` mark the independent segments (:meth:`~neurocur.contexts.base.World.visits`;
+    iCub experiment, section 4.2). ``reward`` is the extrinsic reward the world paid for
+    the visit (``Episode.reward``; the sum over the visits of a block), 0 unless the
+    experiment declares one.
     """
 
     Params = SensoryParams
@@ -70,7 +69,7 @@ class SensoryWorld(Region):
         if next_context is None:
             ep = self._first
         elif next_context == self.context and self.params.episodes_on_engage > 1:
-            ep = _concatenate([self.world.step(next_context)[0] for _ in range(self.params.episodes_on_engage)])
+            ep = _stay(self.world, next_context, self.params.episodes_on_engage)
         else:
             ep = self.world.step(next_context)[0]
         self.episode, self.context, self.n_frames, self.reward = ep, ep.context, len(ep.frames), float(ep.reward)
@@ -83,13 +82,9 @@ class SensoryWorld(Region):
         return self.episode.states[:, None]
 
 
-def _concatenate(episodes) -> Episode:
-    """One block from consecutive episodes of a context; ``starts`` marks every segment, ``reward`` is their sum."""
-    offsets = np.cumsum([0] + [len(e.frames) for e in episodes[:-1]])
-    return Episode(
-        frames=np.concatenate([e.frames for e in episodes]),
-        states=np.concatenate([e.states for e in episodes]),
-        context=episodes[0].context,
-        starts=np.concatenate([e.starts + o for e, o in zip(episodes, offsets)]).astype(np.int64),
-        reward=float(sum(e.reward for e in episodes)),
-    )
+def _stay(world, context: int, n: int):
+    """``n`` visits of ``context`` as one block: :meth:`World.visits`, or for an object that only has
+    ``step`` (any world with gymnasium's reset/step), its ``n`` episodes joined."""
+    if isinstance(world, World):
+        return world.visits(context, n)
+    return concatenate_episodes([world.step(context)[0] for _ in range(n)])

@@ -156,7 +156,7 @@ def test_params():
     model = IncSFA(random_state=3)
     assert model.get_params() == {
         "n_components": 2, "n_pca": 3, "amnesic": 2.0, "var_fraction": None, "eig_cutoff": 1e-3, "orthonormalize": 0,
-        "mca_rate": 0.05, "mca_rates": "decreasing", "gamma": 4.0, "random_state": 3,
+        "mca_rate": 0.05, "mca_rates": "decreasing", "gamma": 4.0, "random_state": 3, "dtype": "float64",
     }
     model.set_params(gamma="auto", mca_rate=0.02)
     assert model.gamma == "auto" and model.mca_rate == 0.02
@@ -167,7 +167,7 @@ def test_params():
         model.set_params(eta=0.1)
     assert repr(model) == (
         "IncSFA(n_components=2, n_pca=3, amnesic=2.0, var_fraction=None, eig_cutoff=0.001, "
-        "orthonormalize=0, mca_rate=0.02, mca_rates='decreasing', gamma='auto', random_state=3)"
+        "orthonormalize=0, mca_rate=0.02, mca_rates='decreasing', gamma='auto', random_state=3, dtype='float64')"
     )
     assert IncSFA(**model.get_params()).get_params() == model.get_params()
 
