@@ -37,7 +37,7 @@ from neurocur.circuit import Circuit
 from neurocur.contexts.sources import SLOW_DIM
 from neurocur.contexts.synthetic import SyntheticWorld
 from neurocur.experiments.sets import parse_set
-from neurocur.regions.hpc import _extrapolated_drift
+from neurocur.regions._hpc_kernels import store_errors
 from neurocur.regions.lc import EpsilonGreedyLC
 from neurocur.regions.pfc import ENGAGE
 
@@ -53,6 +53,12 @@ class StayLC(EpsilonGreedyLC):
     def step(self, context, q, module_learned):
         self._rec = (ENGAGE, context, 0.0, 0.0, 0.0)
         return ENGAGE, context, 0.0
+
+
+def remaining_drift(history: np.ndarray) -> float:
+    """The ``converged`` rule's extrapolated drift of one context's stored errors (read only)."""
+    none = np.empty(0, dtype=np.int64)
+    return store_errors(history.copy(), np.zeros(history.shape[1], bool), none, np.empty(0), none.astype(bool))[3]
 
 
 def experiment_params(sets: list[str]) -> tuple[dict, dict]:
@@ -100,7 +106,7 @@ def single(seeds: int, epochs: int, sets: list[str]) -> pd.DataFrame:
                 row = hpc.stored[0]
                 known = ~np.isnan(row)
                 mean = row[known].mean() if known.all() else np.inf
-                drift = _extrapolated_drift(hpc.history[:, 0]) if known.all() else np.inf
+                drift = remaining_drift(hpc.history[:, 0]) if known.all() else np.inf
                 if not hpc.ordered:  # the variant's check, when it is on, vetoes both rules
                     mean = drift = np.inf
                 trace.append((sim.n_frames, quality(ec.adaptive, world, 0), mean, drift))

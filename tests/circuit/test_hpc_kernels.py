@@ -37,7 +37,8 @@ def test_store_errors_equals_numpy():
     rng = np.random.default_rng(0)
     finite = 0
     for m in (1, 7, 130, 1000):
-        row, prev = np.full(m, np.nan), np.full(m, np.nan)
+        history = np.full((2, m), np.nan)  # drift_ratios = 1: this visit's errors and the previous visit's
+        row, prev = history
         gated = rng.random(m) < 0.05
         row_ref, prev_ref = row.copy(), prev.copy()
         for visit in range(60):
@@ -45,7 +46,7 @@ def test_store_errors_equals_numpy():
             states = (int(rng.integers(m)) + np.arange(T)) % m
             err = rng.random(T) * 10.0 ** rng.uniform(-3, 1) * np.exp(-visit / 10)  # errors that shrink
             known = rng.random(T) < 0.9
-            got = store_errors(row, prev, gated, states, err, known)
+            got = store_errors(history, gated, states, err, known)
             ref = _numpy_store(row_ref, prev_ref, gated, states, err, known)
             np.testing.assert_array_equal(row, row_ref)
             np.testing.assert_array_equal(prev, prev_ref)

@@ -74,7 +74,7 @@ def test_td_learns_the_worlds_reward_in_the_circuit(circuits_dir, small, make_wo
 
 @pytest.fixture(scope="module")
 def synthetic(short_experiment):
-    return short_experiment("synthetic", 5000)
+    return short_experiment("synthetic", 15000)
 
 
 @pytest.mark.parametrize("type_name", VTA_TYPES)
