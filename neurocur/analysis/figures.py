@@ -190,7 +190,8 @@ def fig_learning_time(
     spec: SourceSpec = SYNTHETIC,
     since: str = "previous",
 ) -> Figure:
-    """Figure 4F: learning time per learnable source in epochs, mean ± sd over runs.
+    """Figure 4F: learning time per learnable source in epochs, median and interquartile range over runs
+    (learning times are skewed: a source learned late in a run can take ten times the median).
 
     One bar per (source, condition) — all conditions unless ``condition`` is given — with
     the runs as points. Learning time as in :func:`neurocur.analysis.learning_time.learning_times`
@@ -212,9 +213,9 @@ def fig_learning_time(
         else:
             kwargs = dict(data=times, x="source", y="epochs", hue="condition", order=list(spec.learnable),
                           hue_order=conditions, ax=ax)
-            sns.barplot(**kwargs, errorbar="sd", capsize=0.15, alpha=0.7)
+            sns.barplot(**kwargs, estimator="median", errorbar=("pi", 50), capsize=0.15, alpha=0.7)
             sns.stripplot(**kwargs, dodge=True, palette=["0.2"] * len(conditions), size=3, legend=False)
-        ax.set(xlabel="source", ylabel="learning time (epochs)", title="Learning time per source (mean ± sd)")
+        ax.set(xlabel="source", ylabel="learning time (epochs)", title="Learning time per source (median, quartiles)")
     return fig
 
 
