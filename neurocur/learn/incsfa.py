@@ -24,7 +24,7 @@ Choices the paper leaves open (see also ``ccipca`` and ``mca``):
 
 The whole per-episode loop (mean, CCIPCA, whitening, derivative, CIMCA) is one
 compiled call (``_kernels.incsfa_fit``). ``dtype="float32"`` opts into a faster one
-(``_kernels.incsfa_fit_fast``): the CCIPCA directions and the per-sample work vectors
+(``_kernels_fast.incsfa_fit_fast``): the CCIPCA directions and the per-sample work vectors
 are stored in float32, the sums accumulate in float64, and the loops are compiled with
 fast-math, so they vectorise. The mean, the eigenvalues and CIMCA stay in float64. Its
 results are not bit-identical to the default's (tests/learn/test_incsfa_float32.py
@@ -39,7 +39,8 @@ import numpy as np
 
 from ..config import ParamSpec
 from ._estimator import Estimator
-from ._kernels import incsfa_fit, incsfa_fit_fast
+from ._kernels import incsfa_fit
+from ._kernels_fast import incsfa_fit_fast
 from ._validation import check_random_state
 from .ccipca import CCIPCA, amnesic_params, check_first_block, init_directions
 from .mca import AUTO_GAMMA_FACTOR, MCA, component_rates, gamma_code, init_weights
