@@ -107,7 +107,7 @@ def single(seeds: int, epochs: int, sets: list[str]) -> pd.DataFrame:
                 known = ~np.isnan(row)
                 mean = row[known].mean() if known.all() else np.inf
                 drift = remaining_drift(hpc.history[:, 0]) if known.all() else np.inf
-                if not hpc.ordered:  # the variant's check, when it is on, vetoes both rules
+                if hpc.params.ordered and not hpc.ordered(0):  # the variant's check vetoes both rules
                     mean = drift = np.inf
                 trace.append((sim.n_frames, quality(ec.adaptive, world, 0), mean, drift))
             frames, q, mean, drift = map(np.array, zip(*trace))

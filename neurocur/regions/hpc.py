@@ -194,16 +194,18 @@ class HPCROC(Region):
             rule = ep_err < p.threshold
         else:
             rule = complete and drift < p.threshold
-        self.ordered = self._ordered(episode, features) if p.ordered else True
-        learned = bool(rule and not familiar and responds and self.ordered)
+        learned = bool(rule and not familiar and responds)
+        if p.ordered:
+            self._keep_outputs(episode, features)
+            learned = learned and self.ordered(c)  # read only when it decides: it scans every state
         self._frame_err, self._known = err, known
         self._idx, self._features, self._context = idx, features, c
         self.familiar, self.module_learned = familiar, learned
         self._rec = (familiar, gating, ctx_err, ep_err, min_err, learned)
         return familiar, learned, float(ctx_err if p.reward_error == "context" else ep_err)
 
-    def _ordered(self, episode, y: np.ndarray) -> bool:
-        """Keep each visited state's outputs and derivatives; whether the context's are ordered by slowness."""
+    def _keep_outputs(self, episode, y: np.ndarray) -> None:
+        """Keep each visited state's outputs and derivatives (no derivative across a start)."""
         if self.state_outputs is None:
             self.state_outputs = np.full((self.n_contexts, self.m, y.shape[1]), np.nan)
             self.state_derivatives = np.full_like(self.state_outputs, np.nan)
@@ -211,10 +213,16 @@ class HPCROC(Region):
         dy = np.empty_like(y)
         dy[0] = np.nan
         dy[1:] = np.diff(y, axis=0)
-        dy[episode.starts] = np.nan  # no derivative spans a start
+        dy[episode.starts] = np.nan
         self.state_outputs[c, states] = y
         self.state_derivatives[c, states] = dy
-        return _slowness_ordered(self.state_outputs[c], self.state_derivatives[c])
+
+    def ordered(self, context: int) -> bool:
+        """Whether the adaptive module's outputs on ``context``, over the latest visit of each
+        state, are ordered by slowness (``ordered``; needs that option on)."""
+        if self.state_outputs is None:
+            return False
+        return _slowness_ordered(self.state_outputs[context], self.state_derivatives[context])
 
     def _errors(self, bank: ROCBank, idx: np.ndarray, y: np.ndarray):
         """Eq-10 errors of a module's outputs ``y`` per frame, the ``known`` mask, their mean over the

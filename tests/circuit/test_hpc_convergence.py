@@ -94,9 +94,11 @@ def test_the_order_is_the_contexts_over_the_states_latest_visits():
     slow = np.concatenate([SLOW[:100], SLOW[:100] + 5.0])
     fast = np.sin(2 * np.pi * 15 * np.arange(T) / 1000)  # Δ 0.009: above the slow output's, below 4/(T-1)
     episode = Episode(np.zeros((T, 1)), np.arange(T), 0, starts=np.array([0, 100]))
-    assert hpc._ordered(episode, np.column_stack([slow, fast]))
+    hpc._keep_outputs(episode, np.column_stack([slow, fast]))
+    assert hpc.ordered(0)
     joined = Episode(np.zeros((T, 1)), np.arange(T), 0)  # one segment: the step counts and makes it the fastest
-    assert not hpc._ordered(joined, np.column_stack([slow, fast]))
+    hpc._keep_outputs(joined, np.column_stack([slow, fast]))
+    assert not hpc.ordered(0)
     assert hpc.state_outputs.shape == (1, T, 2) and np.isnan(hpc.state_derivatives[0, 0]).all()
 
 
