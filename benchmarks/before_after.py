@@ -31,16 +31,15 @@ from neurocur.analysis import (
 from neurocur.analysis.order import BINARY_METRICS, NUMERIC_METRICS
 
 
-def relabelled(results_dir: str, condition: str, label: str):
-    """The (episodes, modules) of one condition of a folder, its condition renamed ``label``."""
-    episodes, modules = load(results_dir)
-    tables = [t[t["condition"] == condition].assign(condition=label) for t in (episodes, modules)]
-    return tables[0], tables[1]
+def relabelled(tables, condition: str, label: str):
+    """The (episodes, modules) of one condition of a loaded folder, its condition renamed ``label``."""
+    episodes, modules = (t[t["condition"] == condition].assign(condition=label) for t in tables)
+    return episodes, modules
 
 
-def condition_table(before: str, after: str, condition: str) -> pd.DataFrame:
-    """The paired before/after rows of one condition: metric, before, after, difference [CI], p, p (Holm)."""
-    spec = source_specs(after)[condition]
+def condition_table(before, after, condition: str, spec) -> pd.DataFrame:
+    """The paired before/after rows of one condition of the loaded folders ``before`` and
+    ``after`` ((episodes, modules) each): metric, before, after, difference [CI], p, p (Holm)."""
     pairs = [relabelled(before, condition, "before"), relabelled(after, condition, "after")]
     episodes, modules = (pd.concat(t, ignore_index=True) for t in zip(*pairs))
     rows = pd.concat([
@@ -68,12 +67,13 @@ def main(argv=None) -> None:
     parser.add_argument("after", help="results folder of the same experiment and seeds, after the change")
     parser.add_argument("--condition", action="append", help="only this condition (repeatable; default: all shared)")
     args = parser.parse_args(argv)
-    shared = [c for c in source_specs(args.after) if c in source_specs(args.before)]
-    conditions = args.condition or shared
+    specs, before_specs = source_specs(args.after), source_specs(args.before)
+    conditions = args.condition or [c for c in specs if c in before_specs]
+    before, after = load(args.before), load(args.after)
     columns = {"condition": "condition", "metric": "metric", "value_b": "before", "value_a": "after",
                "difference": "after − before", "ci_diff_low": "CI low", "ci_diff_high": "CI high",
                "n_pairs": "pairs", "p_value": "p", "p_adjusted": "p (Holm)"}
-    table = pd.concat([condition_table(args.before, args.after, c) for c in conditions], ignore_index=True)
+    table = pd.concat([condition_table(before, after, c, specs[c]) for c in conditions], ignore_index=True)
     table = table[list(columns)].rename(columns=columns)
     with pd.option_context("display.width", 250, "display.max_columns", None, "display.max_rows", None,
                            "display.float_format", "{:.4g}".format):

@@ -27,6 +27,7 @@ quality for that source had first reached 0.99 and 0.999 (NaN: never before stor
 from __future__ import annotations
 
 import argparse
+import math
 import tomllib
 from pathlib import Path
 
@@ -37,7 +38,8 @@ from neurocur.circuit import Circuit
 from neurocur.contexts.sources import SLOW_DIM
 from neurocur.contexts.synthetic import SyntheticWorld
 from neurocur.experiments.sets import parse_set
-from neurocur.regions._hpc_kernels import store_errors
+from neurocur.learn.correlation import abs_corr
+from neurocur.regions.hpc import extrapolated_drift
 from neurocur.regions.lc import EpsilonGreedyLC
 from neurocur.regions.pfc import ENGAGE
 
@@ -55,12 +57,6 @@ class StayLC(EpsilonGreedyLC):
         return ENGAGE, context, 0.0
 
 
-def remaining_drift(history: np.ndarray) -> float:
-    """The ``converged`` rule's extrapolated drift of one context's stored errors (read only)."""
-    none = np.empty(0, dtype=np.int64)
-    return store_errors(history.copy(), np.zeros(history.shape[1], bool), none, np.empty(0), none.astype(bool))[3]
-
-
 def experiment_params(sets: list[str]) -> tuple[dict, dict]:
     """The synthetic experiment's (world, circuit-param) settings of condition ``curious``, plus ``--set``."""
     spec = tomllib.loads((ROOT / "experiments_data" / "synthetic.toml").read_text())
@@ -75,10 +71,9 @@ def quality(model, world: SyntheticWorld, context: int) -> float:
     """|corr| of the module's slowest output on one epoch of ``context`` with its slow dimension."""
     if not model.__sklearn_is_fitted__() or model.n_active_ == 0:
         return 0.0
-    source = world.source_of(context)
     y = model.transform(world.context_frames(context))[:, 0]
-    s = world.source_signal(source)[:, SLOW_DIM]
-    return float(abs(np.corrcoef(y, s)[0, 1])) if y.std() > 0 else 0.0
+    q = abs_corr(y, world.source_signal(world.source_of(context))[:, SLOW_DIM])
+    return 0.0 if math.isnan(q) else q
 
 
 def first_epoch(frames: np.ndarray, ok: np.ndarray) -> float:
@@ -106,7 +101,7 @@ def single(seeds: int, epochs: int, sets: list[str]) -> pd.DataFrame:
                 row = hpc.stored[0]
                 known = ~np.isnan(row)
                 mean = row[known].mean() if known.all() else np.inf
-                drift = remaining_drift(hpc.history[:, 0]) if known.all() else np.inf
+                drift = extrapolated_drift(hpc.history[:, 0]) if known.all() else np.inf
                 if hpc.params.ordered and not hpc.ordered(0):  # the variant's check vetoes both rules
                     mean = drift = np.inf
                 trace.append((sim.n_frames, quality(ec.adaptive, world, 0), mean, drift))
@@ -132,7 +127,7 @@ def full(seeds: int, steps: int, sets: list[str]) -> pd.DataFrame:
         world = SyntheticWorld(contexts=contexts, **world_kw)
         sim = Circuit.from_toml(ROOT / "circuits" / "cd_misfa.toml", overrides=params).build(world, seed=seed)
         ec, hpc = sim.regions["EC"], sim.regions["HPC"]
-        learnable = {"S-A": 0, "S-B": 2, "S-C": 3}
+        learnable = ("S-A", "S-B", "S-C")
         spent = dict.fromkeys(learnable, 0)
         reached = {}
         while sim.n_frames < steps:

@@ -161,9 +161,9 @@ class HPCROC(Region):
 
     def _new_bank(self) -> None:
         self.bank = None  # created at the first step, when the feature dimension is known
-        # each state's error at its last visit (``stored``), the visit before (``previous``), ...
+        # each state's error at its last visit (``stored``, row 0), at the visit before (row 1), ...
         self.history = np.full((self.params.drift_ratios + 1, self.n_contexts, self.m), np.nan)
-        self.stored, self.previous = self.history[0], self.history[1]
+        self.stored = self.history[0]
         self.state_outputs = self.state_derivatives = None  # (contexts, states, J): each state's last, for ``ordered``
 
     def step(self, episode, features, library_features):
@@ -274,3 +274,11 @@ def _slowness_ordered(y: np.ndarray, dy: np.ndarray) -> bool:
         return False
     delta = (dy[keep] ** 2).mean(axis=0) / var
     return bool((np.diff(delta) >= 0).all())
+
+
+def extrapolated_drift(history: np.ndarray) -> float:
+    """The ``converged`` rule's extrapolated remaining drift of one context's stored errors
+    ``history`` ((n + 1, states), newest first, as ``HPCROC.history[:, c]``); reads, stores nothing."""
+    history = np.array(history, dtype=np.float64)
+    none = np.empty(0, dtype=np.int64)
+    return store_errors(history, np.zeros(history.shape[1], dtype=bool), none, np.empty(0), none.astype(bool))[3]

@@ -10,19 +10,11 @@ import numpy as np
 import pytest
 
 from neurocur.contexts.base import Episode
-from neurocur.regions._hpc_kernels import store_errors
-from neurocur.regions.hpc import HPCROC, HPCParams, _slowness_ordered
+from neurocur.regions.hpc import HPCROC, HPCParams, _slowness_ordered, extrapolated_drift
 
 T = 200
 SLOW = np.sin(2 * np.pi * np.arange(T) / 1000)
 FAST = np.sin(2 * np.pi * 24 * np.arange(T) / 1000)
-
-
-def extrapolated_drift(history):
-    """The ``converged`` rule's drift of a stored-error history (n + 1, states), storing nothing new."""
-    history = np.array(history, dtype=float)
-    none = np.empty(0, dtype=np.int64)
-    return store_errors(history, np.zeros(history.shape[1], dtype=bool), none, np.empty(0), none.astype(bool))[3]
 
 
 @pytest.mark.parametrize("history, expected", [
