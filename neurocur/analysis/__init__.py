@@ -39,6 +39,8 @@ Not re-exported: :mod:`~neurocur.analysis.paper` (the paper's numbers, with thei
 :mod:`~neurocur.analysis.invariance` (Figure 5).
 """
 
+import importlib
+
 from neurocur.analysis import (
     bootstrap,
     comparison,
@@ -46,10 +48,6 @@ from neurocur.analysis import (
     dwell,
     efficiency,
     event_locked,
-    figures,
-    figures_neuro,
-    goldilocks,
-    inverted_u,
     learning_time,
     order,
     report,
@@ -62,23 +60,45 @@ from neurocur.analysis.cycles import *  # noqa: F403
 from neurocur.analysis.dwell import *  # noqa: F403
 from neurocur.analysis.efficiency import *  # noqa: F403
 from neurocur.analysis.event_locked import *  # noqa: F403
-from neurocur.analysis.figures import *  # noqa: F403
-from neurocur.analysis.figures_neuro import *  # noqa: F403
-from neurocur.analysis.goldilocks import *  # noqa: F403
-from neurocur.analysis.inverted_u import *  # noqa: F403
-from neurocur.analysis.io import load, order_tables, run_dirs, source_specs, throughput, write_summary
+from neurocur.analysis.io import load as load
+from neurocur.analysis.io import order_tables as order_tables
+from neurocur.analysis.io import run_dirs as run_dirs
+from neurocur.analysis.io import source_specs as source_specs
+from neurocur.analysis.io import throughput as throughput
+from neurocur.analysis.io import write_summary as write_summary
 from neurocur.analysis.learning_time import *  # noqa: F403
 from neurocur.analysis.order import *  # noqa: F403
 from neurocur.analysis.report import *  # noqa: F403
 from neurocur.analysis.significance import *  # noqa: F403
 from neurocur.analysis.sweeps import *  # noqa: F403
-from neurocur.analysis.write import pfc_alphas, write_all
-from neurocur.contexts.base import SourceSpec
-from neurocur.contexts.synthetic import SYNTHETIC
+from neurocur.contexts.base import SourceSpec as SourceSpec
+from neurocur.contexts.synthetic import SYNTHETIC as SYNTHETIC
 
-__all__ = ["load", "order_tables", "run_dirs", "source_specs", "throughput", "write_summary", "SourceSpec", "SYNTHETIC",
-           *order.__all__, *learning_time.__all__, *comparison.__all__, *significance.__all__, *bootstrap.__all__,
-           *sweeps.__all__, *report.__all__, *figures.__all__, *dwell.__all__,
-           *efficiency.__all__, *inverted_u.__all__,
-           *event_locked.__all__, *cycles.__all__, *figures_neuro.__all__,
-           *goldilocks.__all__, "pfc_alphas", "write_all"]
+_EAGER = ["load", "order_tables", "run_dirs", "source_specs", "throughput", "write_summary", "SourceSpec", "SYNTHETIC",
+          *order.__all__, *learning_time.__all__, *comparison.__all__, *significance.__all__, *bootstrap.__all__,
+          *sweeps.__all__, *report.__all__, *dwell.__all__, *efficiency.__all__, *event_locked.__all__,
+          *cycles.__all__]
+
+#: Re-exported, but imported on first use (PEP 562): they import matplotlib, seaborn or
+#: statsmodels' full API (about 1.5 s), which loading results and writing a summary do not need.
+_DEFERRED = ("figures", "figures_neuro", "goldilocks", "inverted_u", "write")
+
+
+def _deferred(name: str):
+    return importlib.import_module(f"{__name__}.{name}")
+
+
+def __getattr__(name: str):
+    if name == "__all__":  # a star import asks for it: every deferred module is imported then
+        return [*_EAGER, *(n for sub in _DEFERRED for n in _deferred(sub).__all__)]
+    if name in _DEFERRED:
+        return _deferred(name)
+    for sub in _DEFERRED:
+        module = _deferred(sub)
+        if name in module.__all__:
+            return getattr(module, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted({*globals(), *__getattr__("__all__"), *_DEFERRED})

@@ -87,6 +87,8 @@ class ICubWorld(World):
     context_names = OBJECTS
     source_names = OBJECTS
     frame_shape = FRAME_SHAPE
+    #: Frames are the cached 8-bit gray values divided by 255: float64 in [0, 1] by construction.
+    frames_conform = True
 
     def __init__(
         self,
@@ -141,7 +143,9 @@ class ICubWorld(World):
         self._order = [np.empty(0, dtype=np.int64) for _ in OBJECTS]
         self._cursor = [0] * len(OBJECTS)
 
-    def _visit(self, context: int) -> Episode:
+    def _next_index(self, context: int) -> int:
+        """The pool index of the next visit of ``context`` (a fresh random order of the pool each
+        time it is used up); :attr:`last_info` describes that visit."""
         if self._cursor[context] >= len(self._order[context]):
             self._order[context] = self.np_random.permutation(self.n_episodes)
             self._cursor[context] = 0
@@ -152,7 +156,24 @@ class ICubWorld(World):
             "episode_index": index,
             "contact_frame": self.contact_frame(context, index),
         }
-        return self.episode(context, index)
+        return index
+
+    def _visit(self, context: int) -> Episode:
+        return self.episode(context, self._next_index(context))
+
+    def _visits(self, context: int, n: int) -> Episode:
+        """``n`` visits as one block: the episodes' 8-bit rows joined, then scaled to float64 once (the
+        values of joining ``n`` :meth:`episode` blocks, with one pass over float64 frames instead of two)."""
+        pool = self.pools[OBJECTS[context]]
+        rows = [pool.rows(self._next_index(context)) for _ in range(n)]
+        lengths = [r.stop - r.start for r in rows]
+        return Episode(
+            frames=np.concatenate([pool.frames[r] for r in rows]).reshape(-1, self.n_pixels) / 255.0,
+            states=np.concatenate([pool.states[r] for r in rows]),
+            context=int(context),
+            starts=np.cumsum([0] + lengths[:-1]).astype(np.int64),
+            reward=self._reward_of_visits(context, n),
+        )
 
     def _pool(self, context, index) -> tuple[EpisodePool, slice]:
         context = self._check_context(context)

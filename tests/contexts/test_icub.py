@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from neurocur.contexts import icub, icub_data
+from neurocur.contexts.base import concatenate_episodes
 from neurocur.contexts.icub import EpisodeParams, ICubWorld, omega_episodes
 from neurocur.learn.omega import omega, omega_from_eigenvalues
 from neurocur.learn.sfa_batch import whiten_batch
@@ -140,6 +141,27 @@ def test_reset_and_step_cycle_through_the_pool(world):
     topple = [i for c, i in order if c == 0]
     assert sorted(topple[:N_EPISODES]) == sorted(topple[N_EPISODES:]) == list(range(N_EPISODES))
     assert sorted(i for c, i in order if c == 1) == list(range(N_EPISODES))
+
+
+@needs_gl
+def test_visits_equal_steps_joined(world):
+    """A stay's block (8-bit rows joined, then scaled once) is bit for bit the visits stepped one by
+    one and joined: frames, states, starts, the pool order, ``last_info`` and the summed reward."""
+    blocks, steps = (ICubWorld(n_episodes=N_EPISODES, seed=0, cache_dir=world.cache_path.parent,
+                               rewards=[[1.0, 0.25, 2.0], 0.5]) for _ in range(2))
+    blocks.reset(seed=5)
+    steps.reset(seed=5)
+    rng = np.random.default_rng(0)
+    for _ in range(12):  # 1-4 visits, so the pool's order is used up and redrawn inside a block
+        c, n = int(rng.integers(2)), int(rng.integers(1, 5))
+        block = blocks.visits(c, n)
+        joined = concatenate_episodes([steps.step(c)[0] for _ in range(n)])
+        assert block.frames.dtype == np.float64 and block.frames.flags.c_contiguous
+        np.testing.assert_array_equal(block.frames, joined.frames)
+        np.testing.assert_array_equal(block.states, joined.states)
+        np.testing.assert_array_equal(block.starts, joined.starts)
+        assert (block.context, block.reward) == (joined.context, joined.reward)
+        assert blocks.last_info == steps.last_info
 
 
 @needs_gl

@@ -9,7 +9,7 @@ from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from neurocur.learn import CCIPCA, MCA, IncSFA
-from neurocur.learn._validation import MAX_SCALE, MIN_SCALE
+from neurocur.learn._validation import MAX_SCALE, MIN_SCALE, _largest_abs
 
 T = 600
 _t = np.arange(T)
@@ -121,3 +121,17 @@ def test_at_the_limits():
     for scale in (top, bottom):
         assert up_to_sign(slow_features(X * scale), BASE_Y) < 1e-4
         assert up_to_sign(whitened(X * scale), BASE_Z) < 1e-4
+
+
+@settings(max_examples=40, deadline=None)
+@given(n=st.integers(1, 5000), at=st.floats(0, 1), bad=st.sampled_from([None, np.nan, np.inf, -np.inf]))
+def test_largest_abs_is_numpys_max_abs_in_one_pass(n, at, bad):
+    """The scale check's one compiled pass: max |x|, NaN when any value is NaN, inf when infinite."""
+    x = np.random.default_rng(n).standard_normal(n) * 10.0 ** np.random.default_rng(n + 1).integers(-50, 50)
+    if bad is not None:
+        x[min(int(at * n), n - 1)] = bad
+    expected = np.abs(x).max()
+    if np.isnan(expected):
+        assert np.isnan(_largest_abs(x))
+    else:
+        assert _largest_abs(x) == expected

@@ -1,0 +1,23 @@
+"""The analysis package: every re-exported name resolves, and loading results or writing a summary
+does not import the plotting stack."""
+
+import subprocess
+import sys
+
+import neurocur.analysis as analysis
+
+
+def test_every_name_in_all_resolves_once():
+    names = analysis.__all__
+    assert len(names) == len(set(names))
+    missing = [n for n in names if getattr(analysis, n, None) is None]
+    assert not missing
+    assert {"write_all", "fig_efficiency", "two_lines", "write_summary"} <= set(names)
+    assert analysis.figures.__name__ == "neurocur.analysis.figures"
+
+
+def test_importing_analysis_does_not_import_matplotlib():
+    code = ("import sys, neurocur.analysis as a; "
+            "print(sorted(m for m in ('matplotlib', 'seaborn', 'statsmodels.api') if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "[]"
