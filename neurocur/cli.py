@@ -160,6 +160,10 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _cmd_run(args) -> int:
+    if args.scheduler is None:  # the local workers' fork server imports the model while this process does too
+        from neurocur.experiments.processes import start_fork_server
+
+        start_fork_server()
     import pandas as pd
 
     from neurocur.experiments import load_experiment, run_experiment

@@ -32,7 +32,6 @@ import sys
 import threading
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
-from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
@@ -42,7 +41,7 @@ from neurocur.results import ResultsStore
 from neurocur.results.lock import describe_holder
 
 from .cluster import compute_on_dask
-from .processes import note, single_threaded_children
+from .processes import ctrl_c_held, fork_context, note, single_threaded_children, start_fork_server
 from .run import dry_run, run_one
 from .spec import Condition, Experiment
 
@@ -75,21 +74,6 @@ def _exit_with(parent) -> None:
     os._exit(1)
 
 
-@contextmanager
-def _ctrl_c_held():
-    """SIGINT blocked in this thread for the ``with`` block: the processes started meanwhile (the
-    workers, the fork server) inherit the block and so never see Ctrl-C, and a Ctrl-C pressed
-    meanwhile reaches this process when the block ends."""
-    if not hasattr(signal, "pthread_sigmask"):
-        yield
-        return
-    previous = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
-    try:
-        yield
-    finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
-
-
 class _CtrlC:
     """Counts Ctrl-C (SIGINT) during the ``with`` block instead of raising KeyboardInterrupt.
 
@@ -108,22 +92,6 @@ class _CtrlC:
     def __exit__(self, *exc) -> None:
         if self._previous is not None:
             signal.signal(signal.SIGINT, self._previous)
-
-
-def _start_fork_server() -> None:
-    """Start the fork server now (with the workers' settings), so that it imports the runner while
-    this process runs the pre-flight checks; the pool's first worker would otherwise wait for it."""
-    if isinstance(_mp_context(), multiprocessing.context.ForkServerContext):
-        with single_threaded_children(), _ctrl_c_held():
-            multiprocessing.forkserver.ensure_running()
-
-
-def _mp_context():
-    if "forkserver" not in multiprocessing.get_all_start_methods():
-        return multiprocessing.get_context("spawn")
-    context = multiprocessing.get_context("forkserver")
-    context.set_forkserver_preload([__name__])  # the server imports the runner once; workers fork from it
-    return context
 
 
 def _progress_bar(total: int, initial: int, enabled: bool | None):
@@ -170,7 +138,7 @@ def run_experiment(exp: Experiment, out, *, jobs: int | None = None, conditions=
         todo = [(c, i) for c in selected for i in range(exp.runs) if (c.name, i) not in done]
         jobs = max(1, min(jobs or os.cpu_count() or 1, len(todo) or 1))
         if todo and scheduler is None:
-            _start_fork_server()  # its imports overlap the pre-flight checks
+            start_fork_server()  # its imports overlap the pre-flight checks
         if todo:
             _preflight(exp, todo, jobs, max_memory)
         store.save_config(grown)
@@ -218,7 +186,7 @@ def _compute(exp: Experiment, todo, jobs: int, out: str, bar, ctrl_c: _CtrlC) ->
     error: Exception | None = None
     announced = False
     with single_threaded_children():
-        pool = ProcessPoolExecutor(max_workers=jobs, mp_context=_mp_context(), initializer=_init_worker)
+        pool = ProcessPoolExecutor(max_workers=jobs, mp_context=fork_context(), initializer=_init_worker)
         try:
             while True:
                 while not ctrl_c.count and error is None and len(running) < jobs:
@@ -226,7 +194,7 @@ def _compute(exp: Experiment, todo, jobs: int, out: str, bar, ctrl_c: _CtrlC) ->
                     if item is None:
                         break
                     c, i = item
-                    with _ctrl_c_held():  # submit() starts the worker processes
+                    with ctrl_c_held():  # submit() starts the worker processes
                         running[pool.submit(_worker, c, i, exp.steps, exp.run_seed(i), out)] = item
                 if ctrl_c.count and not announced:
                     announced = True

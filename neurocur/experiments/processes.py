@@ -1,12 +1,20 @@
-"""What the runners share about processes: the workers' environment, and lines to the user."""
+"""What the runners share about processes: the workers' environment, the fork server, and lines
+to the user. Light to import (no numpy, no neurocur model code), so that the command line can
+start the fork server before it imports the model itself."""
 
 from __future__ import annotations
 
+import multiprocessing
+import multiprocessing.forkserver
 import os
+import signal
 import sys
 from contextlib import contextmanager
 
-__all__ = ["note", "single_threaded_children"]
+__all__ = ["ctrl_c_held", "fork_context", "note", "single_threaded_children", "start_fork_server"]
+
+#: the module the fork server imports once, so that every worker forks with the runner imported
+WORKER_MODULE = "neurocur.experiments.pool"
 
 _THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS")
 
@@ -32,3 +40,37 @@ def note(text: str) -> None:
     from tqdm import tqdm
 
     tqdm.write(f"neurocur: {text}", file=sys.stderr)
+
+
+@contextmanager
+def ctrl_c_held():
+    """SIGINT blocked in this thread for the ``with`` block: the processes started meanwhile (the
+    workers, the fork server) inherit the block and so never see Ctrl-C, and a Ctrl-C pressed
+    meanwhile reaches this process when the block ends."""
+    if not hasattr(signal, "pthread_sigmask"):
+        yield
+        return
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+
+
+def fork_context():
+    """The workers' start method: ``forkserver``, whose server imports :data:`WORKER_MODULE` once
+    (workers fork from it), else ``spawn``."""
+    if "forkserver" not in multiprocessing.get_all_start_methods():
+        return multiprocessing.get_context("spawn")
+    context = multiprocessing.get_context("forkserver")
+    context.set_forkserver_preload([WORKER_MODULE])
+    return context
+
+
+def start_fork_server() -> None:
+    """Start the fork server now (with the workers' settings), so that its imports overlap what this
+    process does meanwhile; the pool's first worker would otherwise wait for them. A no-op when it
+    runs already or the platform has no fork server."""
+    if isinstance(fork_context(), multiprocessing.context.ForkServerContext):
+        with single_threaded_children(), ctrl_c_held():
+            multiprocessing.forkserver.ensure_running()

@@ -126,7 +126,7 @@ def test_ctrl_c_twice_abandons_the_runs_at_once(tmp_path, clean):
 
 def test_ctrl_c_once_finishes_the_runs_in_progress_and_starts_no_other(tmp_path):
     out = tmp_path / "out"
-    proc = start(out, runs=3, jobs=1)
+    proc = start(out, runs=3, steps=4 * STEPS, jobs=1)  # a run takes about 1 s
     first = out / "runs" / "curious" / "run-000" / "run.json"
     wait_until(lambda: first.is_file() or proc.poll() is not None, 60, "the first run")
     time.sleep(0.3)  # run 1 is submitted as soon as run 0 is done, and takes longer than this
