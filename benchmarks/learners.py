@@ -10,7 +10,7 @@ compilation is not timed; the figure is the best of a few repeats.
 
 The iCub-size case streams 7500-pixel frames through IncSFA with the iCub experiment's
 settings (K = 15, J = 2, amnesic 0.4, var_fraction 0.98, MCA η = 0.01, equal rates),
-episode by episode, in the default float64 and the opt-in float32 path, and prints
+episode by episode, in the exact float64 path and the float32 path (the iCub experiment's), and prints
 frames per second too. The frames are the cached iCub data set's (both contexts'
 episodes, interleaved at random) if it is cached, else a synthetic stream of rank 60
 (smooth random sources mixed into 7500 pixels, episodes of 80 frames); the data set is

@@ -12,8 +12,9 @@
    their usage reaches RUSAGE_CHILDREN only through the forkserver, which is why the
    /proc sampling is the figure to read. A worker's resident size counts the pages of the
    modules the forkserver imported before forking (numpy, pandas, numba, scikit-learn:
-   about 245 MB), which every worker shares; its proportional set size (PSS) counts a
-   shared page in proportion to the processes sharing it.
+   about 230 MB), which every worker shares; its proportional set size (PSS) counts a
+   shared page in proportion to the processes sharing it, and its unique set size (USS)
+   only its private pages, the memory one more worker adds.
    From the wall time: seconds per run per core (wall x jobs / runs) and runs per
    core-hour (3600 / that), the figure a sweep of many runs is paid in.
 2. IncSFA alone: ``IncSFA.partial_fit`` on the same number of frames, in visits of 100
@@ -68,6 +69,7 @@ class MemorySampler(threading.Thread):
         self.root, self.interval = root_pid, interval
         self.hwm: dict[int, int] = {}
         self.pss: dict[int, int] = {}
+        self.uss: dict[int, int] = {}
         self.peak_total = 0
         self._halt = threading.Event()
 
@@ -100,17 +102,21 @@ class MemorySampler(threading.Thread):
             if "VmHWM" in fields:
                 self.hwm[pid] = max(self.hwm.get(pid, 0), int(fields["VmHWM"].split()[0]))
                 total += int(fields["VmRSS"].split()[0])
-                self.pss[pid] = max(self.pss.get(pid, 0), _pss(pid))
+                pss, uss = _proportional_and_unique(pid)
+                self.pss[pid] = max(self.pss.get(pid, 0), pss)
+                self.uss[pid] = max(self.uss.get(pid, 0), uss)
         self.peak_total = max(self.peak_total, total)
 
 
-def _pss(pid: int) -> int:
-    """Proportional set size (kB): the process's private pages plus its share of the pages it shares."""
+def _proportional_and_unique(pid: int) -> tuple[int, int]:
+    """Proportional set size (kB: the process's private pages plus its share of the pages it shares)
+    and unique set size (kB: its private pages only, what ending it would free)."""
     try:
         text = Path(f"/proc/{pid}/smaps_rollup").read_text()
     except OSError:
-        return 0
-    return next((int(line.split()[1]) for line in text.splitlines() if line.startswith("Pss:")), 0)
+        return 0, 0
+    kb = {line.split(":")[0]: int(line.split()[1]) for line in text.splitlines()[1:] if line.endswith("kB")}
+    return kb.get("Pss", 0), kb.get("Private_Clean", 0) + kb.get("Private_Dirty", 0)
 
 
 def sweep(runs: int, steps: int, condition: str, jobs: int) -> dict:
@@ -128,8 +134,10 @@ def sweep(runs: int, steps: int, condition: str, jobs: int) -> dict:
             raise SystemExit(f"neurocur run failed (exit {child.returncode}):\n{output}")
     command = sampler.hwm.pop(child.pid, 0)
     sampler.pss.pop(child.pid, 0)
+    sampler.uss.pop(child.pid, 0)
     return {
         "worker_pss_kb": max(sampler.pss.values(), default=0),
+        "worker_uss_kb": max(sampler.uss.values(), default=0),
         "wall": wall,
         "command_kb": command,
         "worker_kb": max(sampler.hwm.values(), default=0),
@@ -207,6 +215,8 @@ def main(argv=None) -> int:
     print(f"  peak RSS, largest worker {s['worker_kb'] / 1024:6.1f} MB   ({s['processes']} processes)")
     print(f"  peak PSS, largest worker {s['worker_pss_kb'] / 1024:6.1f} MB   (pages shared with the forkserver "
           f"counted in proportion)")
+    print(f"  peak USS, largest worker {s['worker_uss_kb'] / 1024:6.1f} MB   (its private pages only: what each "
+          f"further worker adds)")
     print(f"  peak RSS, all at once  {s['total_kb'] / 1024:8.1f} MB")
     print(f"  getrusage children     {s['rusage_children_kb'] / 1024:8.1f} MB   (largest reaped descendant)")
     print("  " + "\n  ".join(line for line in s["output"].splitlines() if line.strip()))
