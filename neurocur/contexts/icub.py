@@ -37,7 +37,17 @@ from ..learn._validation import check_fraction
 from ..learn.correlation import abs_corr
 from ..learn.omega import omega
 from .base import Episode, SourceSpec, World, register_world
-from .icub_data import FRAME_SHAPE, EpisodeParams, EpisodePool, _generate, _load, _save, cache_key, default_cache_dir
+from .icub_data import (
+    FRAME_SHAPE,
+    EpisodeParams,
+    EpisodePool,
+    _generate,
+    _load,
+    _save,
+    blurred,
+    cache_key,
+    default_cache_dir,
+)
 from .icub_scene import OBJECTS, SceneParams
 from .rewards import Rewards, check_rewards, rewards_param
 
@@ -60,6 +70,8 @@ class ICubParams:
     scene: SceneParams = spec_param(SceneParams(), ParamSpec.nested(SceneParams), doc="geometry and physics")
     protocol: EpisodeParams = spec_param(EpisodeParams(), ParamSpec.nested(EpisodeParams), doc="episode protocol")
     rewards: tuple | None = rewards_param()
+    blur: float = param(0.0, float, low=0.0, doc="standard deviation (pixels) of a Gaussian blur of every frame, "
+                        "as by a camera's optics; 0 = none (the blurred data set is cached beside the sharp one)")
 
     def __post_init__(self):
         check_params(self)
@@ -114,13 +126,26 @@ class ICubWorld(World):
         self.max_frames = self.protocol.max_frames
         key = cache_key(self.scene, self.protocol, self.n_episodes, self.seed)
         self.cache_path = Path(params.cache_dir or default_cache_dir()).expanduser() / f"icub-{key}.npz"
+        if params.blur > 0:
+            self.cache_path = self.cache_path.with_name(f"icub-{key}-blur{params.blur:g}.npz")
         if self.cache_path.exists():
             self.pools = _load(self.cache_path)
         else:
-            self.pools = _generate(self.scene, self.protocol, self.n_episodes, self.seed, params.n_jobs)
+            self.pools = self._sharp_pools(key)
+            if params.blur > 0:
+                self.pools = blurred(self.pools, params.blur)
             _save(self.cache_path, self.pools)
         self.last_info: dict = {}
         self._reset()
+
+    def _sharp_pools(self, key: str) -> dict:
+        """The simulated data set: read from its cache, else simulated and cached."""
+        path = self.cache_path.with_name(f"icub-{key}.npz")
+        if path.exists():
+            return _load(path)
+        pools = _generate(self.scene, self.protocol, self.n_episodes, self.seed, self.params.n_jobs)
+        _save(path, pools)
+        return pools
 
     @classmethod
     def from_params(cls, params: ICubParams) -> ICubWorld:

@@ -270,3 +270,19 @@ def _save(path: Path, pools: dict) -> None:
 def _load(path: Path) -> dict:
     with np.load(path) as z:
         return {obj: EpisodePool(**{f: z[f"{obj}_{f}"] for f in _POOL_FIELDS}) for obj in OBJECTS}
+
+
+def blurred(pools: dict, sigma: float, chunk: int = 512) -> dict:
+    """The pools with every frame blurred by a Gaussian of standard deviation ``sigma`` pixels (as
+    a camera's optics would; edges repeat the border pixel), rounded back to 8-bit gray. The
+    frames are filtered ``chunk`` at a time, so the float copy stays small."""
+    from scipy.ndimage import gaussian_filter  # here: only a blurred world needs it
+
+    out = {}
+    for obj, pool in pools.items():
+        frames = np.empty_like(pool.frames)
+        for a in range(0, len(frames), chunk):
+            block = gaussian_filter(pool.frames[a:a + chunk].astype(np.float32), sigma=(0.0, sigma, sigma), mode="nearest")
+            frames[a:a + chunk] = np.clip(np.rint(block), 0, 255)
+        out[obj] = EpisodePool(frames, pool.states, pool.positions, pool.offsets, pool.contact)
+    return out

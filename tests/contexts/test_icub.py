@@ -188,6 +188,35 @@ def test_bad_arguments_raise(world, tmp_path):
         ICubWorld(n_episodes=2, seed=-1, cache_dir=tmp_path)
 
 
+def test_blurred_pools_are_the_gaussian_filter_rounded_to_8_bits():
+    rng = np.random.default_rng(0)
+    frames = np.zeros((3, 75, 100), np.uint8)
+    frames[0, 30, 40] = 255  # a point: its blur is the kernel, symmetric, summing to the point
+    frames[1] = 90  # flat: unchanged at every pixel (the border repeats)
+    frames[2] = rng.integers(0, 256, (75, 100))
+    pool = icub_data.EpisodePool(frames, np.arange(3), np.zeros((3, 3)), np.array([0, 3]), np.array([-1]))
+    out = icub_data.blurred({"topple": pool}, 2.0, chunk=2)["topple"]
+    assert out.frames.dtype == np.uint8 and out.states is pool.states
+    point = out.frames[0].astype(float)
+    assert point.argmax() == 30 * 100 + 40 and abs(point.sum() - 255) < 60  # each pixel rounded
+    np.testing.assert_array_equal(point[30, 40 - 3], point[30, 40 + 3])
+    assert point[30, 40 + 3] > point[30, 40 + 6] == 0
+    assert (out.frames[1] == 90).all()
+    assert out.frames[2].std() < 0.3 * frames[2].std()  # white noise loses most of its variance
+
+
+@needs_gl
+def test_a_blurred_world_caches_its_own_data_set(world):
+    blurred = ICubWorld(params=icub.ICubParams(n_episodes=N_EPISODES, dataset_seed=0,
+                                               cache_dir=world.cache_path.parent, blur=1.5))
+    assert blurred.cache_path.name == world.cache_path.name.replace(".npz", "-blur1.5.npz")
+    assert blurred.cache_path.exists()
+    sharp, soft = world.episode(0, 1).frames, blurred.episode(0, 1).frames
+    assert sharp.shape == soft.shape and soft.std(axis=0).mean() < sharp.std(axis=0).mean()
+    with pytest.raises(ValueError, match="blur"):
+        icub.ICubParams(blur=-1.0)
+
+
 def _sources(T, rng, D=6):
     t = np.arange(T)
     S = np.column_stack([np.sin(2 * np.pi * t / T), np.sin(2 * np.pi * 9 * t / T), rng.standard_normal((T, 2))])
