@@ -267,29 +267,27 @@ class World(ABC):
         """
         if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
             raise ValueError(f"n must be a positive integer (visits); got {n!r}")
-        return self._conformed(self._visits(self._check_context(context), int(n)))
+        return self._paid(self._conformed(self._visits(self._check_context(context), int(n))), int(n))
 
     def _visits(self, context: int, n: int) -> Episode:
-        """The block of :meth:`visits`, frames not yet conformed. Default: ``n`` paid :meth:`_visit`
+        """The block of :meth:`visits`, unpaid, frames not yet conformed. Default: ``n`` :meth:`_visit`
         episodes joined; a world that can cut the block from its frames at once overrides it."""
-        return concatenate_episodes([self._paid(self._visit(context)) for _ in range(n)])
+        return concatenate_episodes([self._visit(context) for _ in range(n)])
 
     def _conformed(self, episode: Episode) -> Episode:
         """``episode`` with frames that keep the contract (:func:`conform_frames`; as it is when
         :attr:`frames_conform`)."""
         return episode if self.frames_conform else conform_frames(episode, self)
 
-    def _paid(self, episode: Episode) -> Episode:
-        """``episode`` with this visit's extrinsic reward (unchanged when the world pays none)."""
+    def _paid(self, episode: Episode, n: int = 1) -> Episode:
+        """``episode`` with the extrinsic reward of the ``n`` visits it holds, their sum (unchanged when
+        the world pays none)."""
         if self.rewards is None:
             return episode
-        return dataclasses.replace(episode, reward=self.rewards.pay(episode.context))
-
-    def _reward_of_visits(self, context: int, n: int) -> float:
-        """The summed reward of ``n`` visits of ``context`` (each counted, as :meth:`_paid` does)."""
-        if self.rewards is None:
-            return 0.0
-        return float(sum(self.rewards.pay(context) for _ in range(n)))
+        reward = self.rewards.pay(episode.context)
+        for _ in range(n - 1):
+            reward += self.rewards.pay(episode.context)
+        return dataclasses.replace(episode, reward=float(reward))
 
     #: The parameter dataclass (fields made with :func:`neurocur.config.param`) that an
     #: experiment file's ``[world]`` table becomes; None for a world built only from Python.

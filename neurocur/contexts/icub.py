@@ -42,10 +42,9 @@ from .icub_data import (
     EpisodeParams,
     EpisodePool,
     _generate,
-    _load,
-    _save,
     blurred,
     cache_key,
+    cached,
     default_cache_dir,
 )
 from .icub_scene import OBJECTS, SceneParams
@@ -125,27 +124,18 @@ class ICubWorld(World):
         self.n_states = self.scene.n_states
         self.max_frames = self.protocol.max_frames
         key = cache_key(self.scene, self.protocol, self.n_episodes, self.seed)
-        self.cache_path = Path(params.cache_dir or default_cache_dir()).expanduser() / f"icub-{key}.npz"
+        sharp = Path(params.cache_dir or default_cache_dir()).expanduser() / f"icub-{key}.npz"
+
+        def simulated():
+            return cached(sharp, lambda: _generate(self.scene, self.protocol, self.n_episodes, self.seed, params.n_jobs))
+
         if params.blur > 0:
-            self.cache_path = self.cache_path.with_name(f"icub-{key}-blur{params.blur:g}.npz")
-        if self.cache_path.exists():
-            self.pools = _load(self.cache_path)
+            self.cache_path = sharp.with_name(f"icub-{key}-blur{params.blur:g}.npz")
+            self.pools = cached(self.cache_path, lambda: blurred(simulated(), params.blur))
         else:
-            self.pools = self._sharp_pools(key)
-            if params.blur > 0:
-                self.pools = blurred(self.pools, params.blur)
-            _save(self.cache_path, self.pools)
+            self.cache_path, self.pools = sharp, simulated()
         self.last_info: dict = {}
         self._reset()
-
-    def _sharp_pools(self, key: str) -> dict:
-        """The simulated data set: read from its cache, else simulated and cached."""
-        path = self.cache_path.with_name(f"icub-{key}.npz")
-        if path.exists():
-            return _load(path)
-        pools = _generate(self.scene, self.protocol, self.n_episodes, self.seed, self.params.n_jobs)
-        _save(path, pools)
-        return pools
 
     @classmethod
     def from_params(cls, params: ICubParams) -> ICubWorld:
@@ -184,20 +174,22 @@ class ICubWorld(World):
         return index
 
     def _visit(self, context: int) -> Episode:
-        return self.episode(context, self._next_index(context))
+        return self._cut(context, [self._next_index(context)])
 
     def _visits(self, context: int, n: int) -> Episode:
-        """``n`` visits as one block: the episodes' 8-bit rows joined, then scaled to float64 once (the
-        values of joining ``n`` :meth:`episode` blocks, with one pass over float64 frames instead of two)."""
+        return self._cut(context, [self._next_index(context) for _ in range(n)])
+
+    def _cut(self, context: int, indices) -> Episode:
+        """The pool episodes ``indices`` of ``context`` as one unpaid block: their 8-bit rows joined,
+        then scaled to float64 once (one pass over float64 frames, not one per episode and a join)."""
         pool = self.pools[OBJECTS[context]]
-        rows = [pool.rows(self._next_index(context)) for _ in range(n)]
+        rows = [pool.rows(i) for i in indices]
         lengths = [r.stop - r.start for r in rows]
         return Episode(
             frames=np.concatenate([pool.frames[r] for r in rows]).reshape(-1, self.n_pixels) / 255.0,
             states=np.concatenate([pool.states[r] for r in rows]),
             context=int(context),
             starts=np.cumsum([0] + lengths[:-1]).astype(np.int64),
-            reward=self._reward_of_visits(context, n),
         )
 
     def _pool(self, context, index) -> tuple[EpisodePool, slice]:
@@ -209,9 +201,8 @@ class ICubWorld(World):
 
     def episode(self, context: int, episode_index: int) -> Episode:
         """Episode ``episode_index`` of the cached pool of ``context`` (frames as float64 in [0, 1])."""
-        pool, rows = self._pool(context, episode_index)
-        frames = pool.frames[rows].reshape(-1, self.n_pixels) / 255.0
-        return Episode(frames=frames, states=pool.states[rows].copy(), context=int(context))
+        self._pool(context, episode_index)  # a ValueError for a bad context or index
+        return self._cut(int(context), [int(episode_index)])
 
     def object_positions(self, context: int, episode_index: int) -> np.ndarray:
         """Ground truth: the object's centre (x, y, z) in metres at each frame, (T, 3)."""

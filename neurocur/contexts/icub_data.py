@@ -272,6 +272,15 @@ def _load(path: Path) -> dict:
         return {obj: EpisodePool(**{f: z[f"{obj}_{f}"] for f in _POOL_FIELDS}) for obj in OBJECTS}
 
 
+def cached(path: Path, make) -> dict:
+    """The pools cached at ``path``, else ``make()``'s, written there first."""
+    if path.exists():
+        return _load(path)
+    pools = make()
+    _save(path, pools)
+    return pools
+
+
 def blurred(pools: dict, sigma: float, chunk: int = 512) -> dict:
     """The pools with every frame blurred by a Gaussian of standard deviation ``sigma`` pixels (as
     a camera's optics would; edges repeat the border pixel), rounded back to 8-bit gray. The

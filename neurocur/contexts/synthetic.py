@@ -50,7 +50,6 @@ redrawn draws again from the same generator at each wrap of a clock showing it.
 
 from __future__ import annotations
 
-import dataclasses
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
@@ -262,12 +261,9 @@ class SyntheticWorld(World):
             self._clocks = np.array(self.clock_offsets, dtype=np.int64)
 
     def _visit(self, context: int) -> Episode:
-        return self._block(context, 1)
+        return self._visits(context, 1)
 
     def _visits(self, context: int, n: int) -> Episode:
-        return dataclasses.replace(self._block(context, n), reward=self._reward_of_visits(context, n))
-
-    def _block(self, context: int, n: int) -> Episode:
         """The next ``n`` visits of ``context`` (the next ``n * visit_length`` steps of its clock),
         unpaid. Read-only frames: a view of the rendered frames when the clock does not wrap."""
         shown, source = self._require(self.source_names[context]), self._sources[self.source_names[context]]
