@@ -25,8 +25,8 @@ Choices the paper leaves open (see also ``ccipca`` and ``mca``):
 The whole per-episode loop (mean, CCIPCA, whitening, derivative, CIMCA) is one
 compiled call (``_kernels.incsfa_fit``). ``dtype="float32"`` opts into a faster one
 (``_kernels_fast.incsfa_fit_fast``): the CCIPCA directions and the per-sample work vectors
-are stored in float32, the sums accumulate in float64, and the loops are compiled with
-fast-math, so they vectorise. The mean, the eigenvalues and CIMCA stay in float64. Its
+are stored in float32, the D-length passes compute and accumulate in float32, and the loops
+are compiled with fast-math, so they vectorise. The mean, the eigenvalues and CIMCA stay in float64. Its
 results are not bit-identical to the default's (tests/learn/test_incsfa_float32.py
 states the agreement).
 """
