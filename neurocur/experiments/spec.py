@@ -32,6 +32,9 @@ The world table's keys are the parameters of its type (``world.type``, default
 an existing path, ends with ``.toml`` or contains a path separator, and otherwise the name
 of a circuit shipped in ``neurocur/circuits/`` (:func:`neurocur.tables.resolve_file`).
 
+A file may extend another, ``extends = "synthetic"``, and state only what differs
+(:mod:`neurocur.experiments.files`: what is inherited, merged or replaced).
+
 Without a ``[conditions]`` table there is one condition, ``default``. Command-line
 ``--set KEY=VALUE`` settings (values are TOML literals; a bare word is a string) win
 over the file and over every condition: ``runs``, ``steps``, ``seed``, ``circuit``,
@@ -61,17 +64,17 @@ import numpy as np
 
 import neurocur
 from neurocur.circuit import Circuit
-from neurocur.config import ConfigError, check_table, describe, make_params, resolve_paths
+from neurocur.config import ConfigError, describe
 from neurocur.contexts import WORLDS, World
-from neurocur.registry import UnknownType
-from neurocur.tables import check_keys, deep_merge, load_toml, require, resolve_file, shipped_files
+from neurocur.tables import check_keys, require, resolve_file, shipped_files
 
+from .conditions import Overrides, condition_world, lesioned, load_circuit
+from .files import last_with, read_layers
 from .sets import SCALAR_KEYS, classify_sets, parse_set
 from .sweep import grid, point_label, sweep_table, world_layer
 
 __all__ = ["Condition", "Experiment", "load_experiment", "parse_set", "resolve_experiment", "shipped_experiments"]
 
-TOP_KEYS = ("name", "description", "circuit", "runs", "steps", "seed", "world", "params", "sweep", "conditions")
 CONDITION_KEYS = ("description", "circuit", "params", "world", "lesion")
 DEFAULT_CONDITION = "default"
 
@@ -170,11 +173,11 @@ def load_experiment(path, *, sets: Sequence[str] = (), runs: int | None = None, 
     """Read and validate an experiment file (a path or a shipped experiment's name, e.g. ``"synthetic"``),
     applying ``--set`` items and ``--runs``/``--steps``/``--seed``."""
     path = resolve_experiment(path).resolve()
-    raw = load_toml(path)
-    check_keys(raw, TOP_KEYS, source=path)
-    here, cwd = path.parent, Path.cwd()
+    layers = read_layers(path)
+    cwd = Path.cwd()
     top_sets, world_sets, param_sets, sweep_sets = classify_sets(sets)
-    sweep = {**sweep_table(raw.get("sweep"), path), **sweep_sets}
+    swept = last_with(layers, "sweep")
+    sweep = {**(sweep_table(swept.raw["sweep"], swept.path) if swept else {}), **sweep_sets}
     for key in [k for k in param_sets if k in sweep]:  # one value restricts a swept key
         sweep[key] = [param_sets.pop(key)]
     for key in [k for k in sweep if k.startswith("world.")]:
@@ -186,8 +189,8 @@ def load_experiment(path, *, sets: Sequence[str] = (), runs: int | None = None, 
     for key in SCALAR_KEYS:
         if key in top_sets:
             scalars[key] = _check_scalar(key, top_sets[key], f"--set {key}", None, cwd)
-        elif key in raw:
-            scalars[key] = _check_scalar(key, raw[key], path, key, here)
+        elif layer := last_with(layers, key):
+            scalars[key] = _check_scalar(key, layer.raw[key], layer.path, key, layer.here)
     for key, value in (("runs", runs), ("steps", steps), ("seed", seed)):
         if value is not None:
             scalars[key] = _check_scalar(key, value, f"--{key}", None, cwd)
@@ -195,38 +198,48 @@ def load_experiment(path, *, sets: Sequence[str] = (), runs: int | None = None, 
         if key not in scalars:
             raise ConfigError(path, key, "a positive integer", "nothing (the key is missing)")
 
-    base_world = require(raw, "world", dict, source=path, expected="a table", default={})
-    base_params = _flatten_params(require(raw, "params", dict, source=path, expected="a table", default={}), path, "params")
+    base_world = [(require(layer.raw, "world", dict, source=layer.path, expected="a table", default={}),
+                   layer.path, "world", layer.here) for layer in layers]
+    base_params, param_origin = {}, {}
+    for layer in layers:
+        flat = _flatten_params(require(layer.raw, "params", dict, source=layer.path, expected="a table", default={}),
+                               layer.path, "params")
+        base_params.update(flat)
+        param_origin.update(dict.fromkeys(flat, layer.path))
 
-    raw_conditions = require(raw, "conditions", dict, source=path, expected="a table of condition tables", default={})
+    conditions_layer = last_with(layers, "conditions") or layers[-1]
+    source, here = conditions_layer.path, conditions_layer.here
+    raw_conditions = require(conditions_layer.raw, "conditions", dict, source=source,
+                             expected="a table of condition tables", default={})
     if not raw_conditions:
         raw_conditions = {DEFAULT_CONDITION: {}}
     conditions = {}
     for name, table in raw_conditions.items():
         prefix = f"conditions.{name}"
         if not isinstance(table, dict):
-            raise ConfigError(path, prefix, "a table (circuit, params, world, description)", describe(table))
-        check_keys(table, CONDITION_KEYS, source=path, prefix=prefix)
+            raise ConfigError(source, prefix, "a table (circuit, params, world, description)", describe(table))
+        check_keys(table, CONDITION_KEYS, source=source, prefix=prefix)
         if "circuit" in top_sets:
             circuit = scalars["circuit"]
         elif "circuit" in table:
-            circuit = _check_scalar("circuit", table["circuit"], path, f"{prefix}.circuit", here)
+            circuit = _check_scalar("circuit", table["circuit"], source, f"{prefix}.circuit", here)
         elif "circuit" in scalars:
             circuit = scalars["circuit"]
         else:
             raise ConfigError(path, "circuit", "a circuit file path (here or in every condition)", "nothing")
-        cond_world = require(table, "world", dict, source=path, prefix=prefix, expected="a table", default={})
+        cond_world = require(table, "world", dict, source=source, prefix=prefix, expected="a table", default={})
         cond_params = _flatten_params(
-            require(table, "params", dict, source=path, prefix=prefix, expected="a table", default={}),
-            path, f"{prefix}.params")
-        description = require(table, "description", str, source=path, prefix=prefix, expected="a string", default="")
+            require(table, "params", dict, source=source, prefix=prefix, expected="a table", default={}),
+            source, f"{prefix}.params")
+        description = require(table, "description", str, source=source, prefix=prefix, expected="a string", default="")
         for point in grid(sweep):
             point_params = {k: v for k, v in point.items() if not k.startswith("world.")}
-            world, world_params = _world([(base_world, path, "world", here), (cond_world, path, f"{prefix}.world", here),
-                                          (world_layer(point), path, "sweep.world", here),
+            world, world_params = condition_world([*base_world, (cond_world, source, f"{prefix}.world", here),
+                                          (world_layer(point), swept.path if swept else "--set", "sweep.world", here),
                                           (world_sets, "--set", "world", cwd)], path)
-            built = _lesion(_load_circuit(circuit, base_params, {**cond_params, **point_params}, param_sets, path, name),
-                            table.get("lesion", []), path, f"{prefix}.lesion")
+            overrides = Overrides(base_params, param_origin, {**cond_params, **point_params}, source, name)
+            built = lesioned(load_circuit(circuit, overrides, param_sets), table.get("lesion", []), source,
+                            f"{prefix}.lesion")
             params = {**base_params, **cond_params, **point_params, **param_sets}
             label = f"{name}@{point_label(point)}" if point else name
             conditions[label] = Condition(label, circuit, params, world, built, world_params, description, point)
@@ -301,67 +314,3 @@ def _flatten_params(table: Mapping, source, prefix: str) -> dict:
         else:
             flat[key] = value
     return flat
-
-
-def _world(layers, source):
-    """The merged world table and its parameters, from ``(table, source, prefix, base_dir)`` layers
-    (the file's ``[world]``, the condition's ``world``, ``--set world.KEY``), later layers winning.
-
-    The type comes from the last layer that names one. Each layer's keys are checked on
-    their own (so an error names that layer's key) and its paths made absolute against
-    its ``base_dir``; the merged table is then checked as a whole (``world.KEY`` errors).
-    """
-    typed = [(t["type"], s, p) for t, s, p, _ in layers if "type" in t]
-    kind, type_source, type_prefix = typed[-1] if typed else ("synthetic", source, "world")
-    try:
-        cls = WORLDS.get(kind) if isinstance(kind, str) else None
-    except UnknownType:
-        cls = None
-    if cls is None or cls.Params is None:
-        raise ConfigError(type_source, f"{type_prefix}.type", f"a world type with parameters ({', '.join(WORLDS.names())})",
-                          describe(kind))
-    merged: dict = {}
-    for table, layer_source, prefix, base_dir in layers:
-        body = resolve_paths(cls.Params, {k: v for k, v in table.items() if k != "type"}, base_dir)
-        check_table(cls.Params, body, source=layer_source, prefix=prefix)
-        merged = deep_merge(merged, body)
-    params = make_params(cls.Params, merged, source=source, prefix="world")
-    return {"type": kind, **merged} if typed else merged, params
-
-
-def _lesion(circuit: Circuit, tables, source, prefix: str) -> Circuit:
-    """``circuit`` with a condition's lesions, each a table like a circuit file's ``[[lesion]]``
-    (``region``, ``how``, and a drug's parameters)."""
-    if not isinstance(tables, list):
-        raise ConfigError(source, prefix, "an array of lesion tables (region, how, ...)", describe(tables))
-    for i, table in enumerate(tables):
-        key = f"{prefix}[{i}]"
-        if not isinstance(table, dict):
-            raise ConfigError(source, key, "a lesion table (region, how, ...)", describe(table))
-        region = require(table, "region", str, source=source, prefix=key, expected="a region name (string)")
-        how = require(table, "how", str, source=source, prefix=key, expected="a lesion name (string)")
-        if region not in circuit.specs:
-            raise ConfigError(source, f"{key}.region", f"a region of the circuit ({', '.join(circuit.specs)})",
-                              describe(region))
-        drug = {k: v for k, v in table.items() if k not in ("region", "how")}
-        try:
-            circuit = circuit.lesion(region, how, **drug)
-        except ConfigError as exc:
-            raise ConfigError(source, f"{key}{exc.key.removeprefix(f'lesion.{region}')}", exc.expected, exc.got) from None
-    return circuit
-
-
-def _load_circuit(circuit: Path, base_params: dict, cond_params: dict, set_params: dict, source,
-                  condition: str) -> Circuit:
-    """The condition's circuit with its overrides; errors name the file (or --set) and key."""
-    try:
-        loaded = Circuit.from_toml(circuit, overrides={**base_params, **cond_params}, overrides_source=source)
-    except ConfigError as exc:
-        if exc.source == str(source) and exc.key is not None:
-            where = f"conditions.{condition}.params" if exc.key in cond_params else "params"
-            raise ConfigError(source, f"{where}.{exc.key}", exc.expected, exc.got) from None
-        raise
-    try:
-        return loaded.with_params(set_params, source="--set")
-    except ConfigError as exc:
-        raise ConfigError(f"--set {exc.key}", None, exc.expected, exc.got) from None

@@ -30,14 +30,15 @@ def test_synthetic_experiment_has_the_papers_parameters():
     assert list(exp.conditions) == ["curious", "random_switching", "literal"]
     cur, rnd, lit = (exp.conditions[c] for c in ("curious", "random_switching", "literal"))
     assert cur.circuit_path == lit.circuit_path == CIRCUIT and rnd.circuit_path == ROOT / "neurocur" / "circuits" / "lesion_lc_random.toml"
-    paper = {"HPC.threshold": 0.3, "HPC.n_states": 1000, "HPC.max_clusters": 2, "LC.epsilon0": 0.6,
-             "LC.decay": 0.995, "EC.amnesic": 2.0, "EC.mca_rate": 0.05}
+    paper = {"HPC.threshold": 0.3, "HPC.n_states": 1000, "HPC.max_clusters": 2, "EC.amnesic": 2.0, "EC.mca_rate": 0.05}
     chosen = {"HPC.clusterers": "state", "HPC.freeze": "converged", "HPC.drift_ratios": 2, "HPC.ordered": True,
               "HPC.reward_error": "episode", "HPC.min_spread": 0.2, "sensory.episodes_on_engage": 2, "EC.n_pca": 3}
     assert cur.params == rnd.params == paper | chosen
     assert lit.params == paper | chosen | {"HPC.freeze": "episode_mean", "HPC.reward_error": "episode", "HPC.ordered": False,
                                             "HPC.min_spread": 0.0, "sensory.episodes_on_engage": 1,
                                             "EC.orthonormalize": 0}
+    lc = cur.circuit.specs["LC"].params  # the circuit's defaults are the paper's epsilon-greedy
+    assert (cur.circuit.specs["LC"].type_name, lc.epsilon0, lc.decay) == ("lc.epsilon_greedy", 0.6, 0.995)
     assert (lit.world["normalise"], lit.world["clock_offsets"]) == ("image", "zero")
     assert cur.world["contexts"] == ["S-A", "S-A", "S-B", "S-C", "S-D"]
     world = cur.make_world()
