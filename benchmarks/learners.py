@@ -68,13 +68,11 @@ def bench_episodes(model: IncSFA, episodes: list[np.ndarray], repeats: int) -> f
 
 def icub_episodes(n_frames: int, seed: int = 0) -> tuple[list[np.ndarray], str]:
     """About ``n_frames`` 7500-pixel frames in episodes, and where they come from."""
-    from neurocur.contexts.icub import ICubWorld
-    from neurocur.contexts.icub_data import EpisodeParams, cache_key, default_cache_dir
-    from neurocur.contexts.icub_scene import SceneParams
+    from neurocur.contexts.icub import ICubParams, ICubWorld, cache_file
 
     rng = np.random.default_rng(seed)
-    if (default_cache_dir() / f"icub-{cache_key(SceneParams(), EpisodeParams(), 70, 0)}.npz").exists():
-        world = ICubWorld(n_episodes=70, seed=0)
+    if cache_file(ICubParams()).exists():
+        world = ICubWorld.from_params(ICubParams())
         pool = [np.ascontiguousarray(e.frames) for c in range(2) for e in world.episodes(c)]
         episodes, total = [], 0
         while total < n_frames:

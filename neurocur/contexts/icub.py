@@ -123,17 +123,16 @@ class ICubWorld(World):
         self.scene, self.protocol = params.scene, params.protocol
         self.n_states = self.scene.n_states
         self.max_frames = self.protocol.max_frames
-        key = cache_key(self.scene, self.protocol, self.n_episodes, self.seed)
-        sharp = Path(params.cache_dir or default_cache_dir()).expanduser() / f"icub-{key}.npz"
+        sharp = cache_file(params, blurred=False)
 
         def simulated():
             return cached(sharp, lambda: _generate(self.scene, self.protocol, self.n_episodes, self.seed, params.n_jobs))
 
+        self.cache_path = cache_file(params)
         if params.blur > 0:
-            self.cache_path = sharp.with_name(f"icub-{key}-blur{params.blur:g}.npz")
             self.pools = cached(self.cache_path, lambda: blurred(simulated(), params.blur))
         else:
-            self.cache_path, self.pools = sharp, simulated()
+            self.pools = simulated()
         self.last_info: dict = {}
         self._reset()
 
@@ -280,6 +279,16 @@ class ICubWorld(World):
             extra["other_quality"].append(abs_corr(y0[other, m], displacement[other]))
             extra["context_corr"].append(abs_corr(y0[:, m], context_of.astype(np.float64)))
         return sources, quality, extra, {"features": features}
+
+
+def cache_file(params: ICubParams, *, blurred: bool = True) -> Path:
+    """The file that caches the episode data set of ``params``: ``icub-<key>.npz`` in
+    ``params.cache_dir`` (default :func:`~neurocur.contexts.icub_data.default_cache_dir`), the key
+    hashing the scene, the protocol, the number of episodes and the seed; with a blur (and
+    ``blurred``), its blurred copy ``icub-<key>-blur<sigma>.npz`` beside it."""
+    key = cache_key(params.scene, params.protocol, params.n_episodes, params.dataset_seed)
+    folder = Path(params.cache_dir or default_cache_dir()).expanduser()
+    return folder / (f"icub-{key}-blur{params.blur:g}.npz" if blurred and params.blur > 0 else f"icub-{key}.npz")
 
 
 def _principal_basis(U: np.ndarray, var_fraction: float, rng: np.random.Generator) -> np.ndarray:

@@ -1,7 +1,7 @@
 """Command-line ``--set KEY=VALUE`` items: parsed as TOML literals and sorted by what they set.
 
 ``KEY`` is ``runs``, ``steps``, ``seed``, ``circuit``, ``name``, ``description``,
-``world.KEY`` (``world.sources.NAME``) or ``REGION.param``; ``KEY=V1,V2`` sweeps the key
+``world.KEY`` (nested tables by more dots: ``world.sources.NAME.KEY``) or ``REGION.param``; ``KEY=V1,V2`` sweeps the key
 (:class:`Values`). :func:`neurocur.experiments.spec.load_experiment` applies them.
 """
 
@@ -10,6 +10,9 @@ from __future__ import annotations
 import tomllib
 
 from neurocur.config import ConfigError, describe
+from neurocur.tables import deep_merge
+
+from .sweep import world_layer
 
 __all__ = ["Values", "parse_set", "classify_sets"]
 
@@ -60,11 +63,7 @@ def classify_sets(sets):
         elif head == "world":
             if not rest:
                 raise ConfigError(f"--set {key}", None, "world.KEY (a parameter of the world type)", "'world'")
-            first, _, sub = rest.partition(".")
-            if sub:  # world.sources.NAME
-                world.setdefault(first, {})[sub] = value
-            else:
-                world[first] = value
+            world = deep_merge(world, world_layer({key: value}))  # world.sources.NAME.KEY nests
         elif head == "params" and rest:
             params[rest] = value
         elif rest and head not in ("conditions",):

@@ -8,9 +8,8 @@ import pytest
 from neurocur.config import ConfigError
 from neurocur.contexts import build_world
 from neurocur.contexts.gym import GymWorld
-from neurocur.contexts.icub import ICubWorld
-from neurocur.contexts.icub_data import FRAME_SHAPE, EpisodeParams, EpisodePool, _save, cache_key
-from neurocur.contexts.icub_scene import SceneParams
+from neurocur.contexts.icub import ICubParams, ICubWorld, cache_file
+from neurocur.contexts.icub_data import FRAME_SHAPE, EpisodePool, _save
 from neurocur.contexts.rewards import Rewards
 from neurocur.contexts.synthetic import SyntheticWorld
 
@@ -88,7 +87,7 @@ def icub_cache(tmp_path):
                               offsets=np.arange(0, n * length + 1, length, dtype=np.int64),
                               contact=np.full(n, 2, dtype=np.int64))
              for obj in ("topple", "roll")}
-    _save(tmp_path / f"icub-{cache_key(SceneParams(), EpisodeParams(), n, 0)}.npz", pools)
+    _save(cache_file(ICubParams(n_episodes=n, dataset_seed=0, cache_dir=str(tmp_path))), pools)
     return tmp_path
 
 

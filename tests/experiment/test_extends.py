@@ -111,3 +111,12 @@ def test_errors_name_the_file_that_wrote_the_key(tmp_path, files, source, key, e
         load_experiment(tmp_path / "a.toml")
     assert (info.value.source, info.value.key) == (str((tmp_path / source).resolve()), key)
     assert expected in info.value.expected
+
+
+def test_set_reaches_into_nested_world_tables():
+    """``--set world.sources.TV.dims=5`` changes one key of a declared source and keeps the others."""
+    exp = load_experiment("noisy_tv", sets=["world.sources.TV.dims=5", "world.visit_length=50"])
+    world = exp.conditions["learning_progress"].world
+    assert world["sources"]["TV"] == {"noise": "white", "dims": 5} and world["visit_length"] == 50
+    swept = load_experiment("noisy_tv", sets=["world.sources.TV.dims=2,10"], runs=1)
+    assert [c.world["sources"]["TV"]["dims"] for c in swept.select(["learning_progress"])] == [2, 10]
