@@ -1,4 +1,5 @@
-"""The estimation error within each learning cycle, aligned to module storage (paper Figure 4D).
+"""Learning cycles: the estimation error within each, aligned to module storage (paper Figure 4D),
+and how the agent behaved in each (section 4.1.4's exploration and exploitation).
 
 Section 4.1.4: "In each cycle, the error starts high, then trends down as representations
 are learned; finally a module is created." Averaged over runs against the global step, the
@@ -11,6 +12,12 @@ last storage form no cycle (nothing ends them). **Frames before storage** of an 
 frames from the end of the episode to the end of the cycle's storing episode (0 for the
 storing episode itself). The error is the HPC's context error of the visited context (eq 11
 divided by M, column ``error``; any column may be given).
+
+**Behaviour in a cycle** (:func:`cycle_behaviour`). Section 4.1.4: each cycle alternates "mostly
+exploration among all contexts, and exploitation once it settles on a context". The adaptive
+module learns from the cycle's unfamiliar episodes, whatever their context, so how much of
+that input came from the source it ends up storing, and how long the agent stayed with it,
+say whether the module was learned while exploring or while engaged.
 """
 
 from __future__ import annotations
@@ -18,11 +25,13 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from neurocur.contexts.base import SourceSpec
+from neurocur.contexts.synthetic import SYNTHETIC
 from neurocur.contract import require_columns
 
-from .dwell import run_keys
+from .dwell import Spec, run_keys, spec_of
 
-__all__ = ["error_cycles"]
+__all__ = ["error_cycles", "cycle_behaviour"]
 
 
 def error_cycles(episodes: pd.DataFrame, column: str = "error", bin_frames: int = 1000) -> pd.DataFrame:
@@ -61,3 +70,53 @@ def error_cycles(episodes: pd.DataFrame, column: str = "error", bin_frames: int 
     out = out.rename(columns={"size": "n_episodes", "mean": column})
     out["frames_before"] = (out["bin"] + 0.5) * bin_frames
     return out[columns]
+
+
+def cycle_behaviour(episodes: pd.DataFrame, modules: pd.DataFrame, spec: Spec = SYNTHETIC) -> pd.DataFrame:
+    """How the agent behaved in each learning cycle, one row per stored module.
+
+    Over the cycle's unfamiliar episodes (those the adaptive module learned from): the frames
+    (``learning_frames``), the frames in contexts of the stored module's source
+    (``source_frames``; ``/ 1000`` is its learning time in epochs, as
+    :func:`~neurocur.analysis.learning_time.learning_times`), their share (``source_share``), the
+    frames of the uninterrupted run of such episodes that ends the cycle (``final_stay``), the
+    changes of source between consecutive ones (``source_switches``) and
+    ``frames_per_switch`` = learning_frames / (source_switches + 1). Over all the cycle's
+    decisions: the share that disengaged (``p_disengage``). ``spec``: a
+    :class:`~neurocur.contexts.base.SourceSpec` or one per condition.
+
+    Columns: condition, run, the swept keys, cycle (1 = ended by the first module), module,
+    source, then the numbers above.
+    """
+    require_columns(episodes, ["condition", "run", "episode", "context", "n_frames", "familiar", "action"],
+                    needed_by="cycle_behaviour")
+    require_columns(modules, ["condition", "run", "module", "episode", "source"], needed_by="cycle_behaviour")
+    table = episodes.sort_values(["condition", "run", "episode"], kind="stable")
+    keys = run_keys(table)
+    stored = modules.sort_values(["condition", "run", "module"], kind="stable").groupby(["condition", "run"])
+    rows = []
+    for (condition, run), eps in table.groupby(["condition", "run"], sort=True):
+        if (condition, run) not in stored.groups:
+            continue
+        source_of: SourceSpec = spec_of(spec, condition)
+        sources = np.asarray(source_of.context_sources, dtype=object)[eps["context"].to_numpy()]
+        first = eps[keys].iloc[0].to_dict()
+        previous = -1
+        for k, module in enumerate(stored.get_group((condition, run)).itertuples(index=False)):
+            in_cycle = ((eps["episode"] > previous) & (eps["episode"] <= module.episode)).to_numpy()
+            learning = in_cycle & ~eps["familiar"].astype(bool).to_numpy()
+            frames = eps["n_frames"].to_numpy()[learning]
+            mine = sources[learning] == module.source
+            switches = int(np.count_nonzero(sources[learning][1:] != sources[learning][:-1]))
+            others = np.flatnonzero(~mine)
+            stay_start = others[-1] + 1 if len(others) else 0  # the final uninterrupted run of the source
+            rows.append({**first, "cycle": k + 1, "module": module.module, "source": module.source,
+                         "learning_frames": int(frames.sum()), "source_frames": int(frames[mine].sum()),
+                         "source_share": frames[mine].sum() / frames.sum() if frames.sum() else np.nan,
+                         "final_stay": int(frames[stay_start:].sum()), "source_switches": switches,
+                         "frames_per_switch": frames.sum() / (switches + 1),
+                         "p_disengage": float(np.mean(eps["action"].to_numpy()[in_cycle] == "disengage"))})
+            previous = module.episode
+    columns = [*keys, "cycle", "module", "source", "learning_frames", "source_frames", "source_share", "final_stay",
+               "source_switches", "frames_per_switch", "p_disengage"]
+    return pd.DataFrame(rows, columns=columns)

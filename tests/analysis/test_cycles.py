@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 import pytest
-from neuro_tables import episodes_of
+from neuro_tables import episodes_of, modules_of
 
-from neurocur.analysis.cycles import error_cycles
+from neurocur.analysis.cycles import cycle_behaviour, error_cycles
 
 # 10 episodes of 100 frames, modules stored at episodes 3 and 7, error = the episode's index
 RUN = episodes_of([0, 1] * 5, module_learned=np.isin(np.arange(10), [3, 7]), error=np.arange(10.0))
@@ -37,3 +37,29 @@ def test_bad_input_is_named():
         error_cycles(RUN, bin_frames=0)
     with pytest.raises(ValueError, match="'module_learned'"):
         error_cycles(RUN.drop(columns="module_learned"))
+
+
+def test_cycle_behaviour_by_hand():
+    """Two cycles of a five-context run (C1, C2 show S-A; C3 S-B; ...), counted by hand."""
+    contexts = [0, 2, 1, 3, 0, 1, 1, 2, 4, 2, 2]
+    actions = ["disengage"] * 5 + ["engage", "disengage", "disengage", "disengage", "engage", "engage"]
+    familiar = [False] * 8 + [True, False, False]
+    episodes = episodes_of(contexts, [100, 100, 100, 100, 100, 200, 100, 100, 100, 200, 100],
+                           familiar=familiar, action=actions)
+    modules = modules_of([(6, "S-A"), (10, "S-B")])
+    table = cycle_behaviour(episodes, modules)
+    first, second = table.to_dict("records")
+    # cycle 1, episodes 0-6: sources A B A C A A A; S-A frames 100+100+100+200+100, switches A|B|A|C|A
+    assert (first["cycle"], first["source"], first["learning_frames"], first["source_frames"]) == (1, "S-A", 800, 600)
+    assert first["source_share"] == 0.75 and first["final_stay"] == 400 and first["source_switches"] == 4
+    assert first["frames_per_switch"] == 160 and first["p_disengage"] == 6 / 7
+    # cycle 2, episodes 7-10: episode 8 is familiar (gated), so the learning episodes are B, B, B
+    assert (second["learning_frames"], second["source_frames"], second["final_stay"]) == (400, 400, 400)
+    assert second["source_switches"] == 0 and second["p_disengage"] == 0.5
+
+
+def test_cycle_behaviour_skips_runs_without_modules_and_names_missing_columns():
+    episodes = episodes_of([0, 1], familiar=False, action="engage")
+    assert cycle_behaviour(episodes, modules_of([]).iloc[:0]).empty
+    with pytest.raises(ValueError, match="'familiar'"):
+        cycle_behaviour(episodes.drop(columns="familiar"), modules_of([(1, "S-A")]))
