@@ -1,18 +1,5 @@
-"""Configuration: errors that name the file and key, and the one parameter system.
-
-Every configuration problem raises :class:`ConfigError`, a ``ValueError`` whose message
-reads ``"<file>: key '<dotted.key>': expected <...>, got <...>"``, so a user can go
-straight to the offending line. Reading the files themselves is :mod:`neurocur.tables`.
-
-Parameters of regions (and of anything else configured from a file) are frozen
-dataclasses whose fields are declared with :func:`param` (or :func:`spec_param` for a
-ready :class:`ParamSpec`, e.g. a list, a table or nested parameters);
-:func:`check_params` validates type and range, and :func:`make_params` builds an
-instance from a TOML table. The learners of :mod:`neurocur.learn` declare a
-:class:`ParamSpec` per parameter (``param_specs``), checked by :func:`coerce_params`;
-a region parameter passed on to a learner is declared with :func:`learner_param`, so
-it takes the learner's spec. Loading a configuration never executes code.
-"""
+"""The one parameter system: :class:`ParamSpec` (a parameter's type and range), dataclass fields
+that carry one, and checking, building and reading parameter dataclasses from TOML tables."""
 
 from __future__ import annotations
 
@@ -25,65 +12,10 @@ from typing import Any
 
 import numpy as np
 
-__all__ = [
-    "ConfigError",
-    "ParamSpec",
-    "param",
-    "spec_param",
-    "learner_param",
-    "coerce_params",
-    "check_params",
-    "check_table",
-    "make_params",
-    "resolve_paths",
-    "params_to_dict",
-    "path_values",
-    "describe",
-    "join_key",
-]
+from .errors import ConfigError, describe, join_key
 
-
-def describe(value) -> str:
-    """Short description of a configuration value for error messages: ``-1 (int)``."""
-    text = repr(value)
-    if len(text) > 60:
-        text = text[:57] + "..."
-    return f"{text} ({type(value).__name__})"
-
-
-class ConfigError(ValueError):
-    """A configuration error that names the file, the dotted key and what was expected.
-
-    ``source`` is the file (or a label such as ``"<python>"``), ``key`` the dotted key
-    (``None`` for the whole file), ``expected`` what would have been valid, ``got`` what
-    was found (already described as text).
-    """
-
-    def __init__(self, source, key: str | None, expected: str, got: str):
-        self.source = str(source)
-        self.key = key
-        self.expected = expected
-        self.got = got
-        where = f"{self.source}: key '{key}'" if key else self.source
-        super().__init__(f"{where}: expected {expected}, got {got}")
-
-    def relocated(self, source=None, prefix: str | None = None) -> ConfigError:
-        """The same error reported from another file and/or under a key prefix."""
-        key = join_key(prefix, self.key) if prefix else self.key
-        return ConfigError(self.source if source is None else source, key, self.expected, self.got)
-
-
-# --------------------------------------------------------------------------- files
-
-
-def join_key(prefix: str, key: str | None) -> str:
-    """``prefix.key``; an index key (``[2]``) attaches without a dot; either part may be empty."""
-    if not prefix or not key:
-        return key or prefix
-    return f"{prefix}{key}" if key.startswith("[") else f"{prefix}.{key}"
-
-
-# --------------------------------------------------------------------------- parameters
+__all__ = ["ParamSpec", "param", "spec_param", "learner_param", "coerce_params", "check_params", "check_table",
+           "make_params", "resolve_paths", "params_to_dict", "path_values"]
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,48 @@
+"""Configuration: errors that name the file and key (:mod:`.errors`), and the one parameter
+system (:mod:`.params`).
+
+Every configuration problem raises :class:`ConfigError`, a ``ValueError`` whose message
+reads ``"<file>: key '<dotted.key>': expected <...>, got <...>"``, so a user can go
+straight to the offending line. Reading the files themselves is :mod:`neurocur.tables`.
+
+Parameters of regions (and of anything else configured from a file) are frozen
+dataclasses whose fields are declared with :func:`param` (or :func:`spec_param` for a
+ready :class:`ParamSpec`, e.g. a list, a table or nested parameters);
+:func:`check_params` validates type and range, and :func:`make_params` builds an
+instance from a TOML table. The learners of :mod:`neurocur.learn` declare a
+:class:`ParamSpec` per parameter (``param_specs``), checked by :func:`coerce_params`;
+a region parameter passed on to a learner is declared with :func:`learner_param`, so
+it takes the learner's spec. Loading a configuration never executes code.
+"""
+
+from .errors import ConfigError, describe, join_key
+from .params import (
+    ParamSpec,
+    check_params,
+    check_table,
+    coerce_params,
+    learner_param,
+    make_params,
+    param,
+    params_to_dict,
+    path_values,
+    resolve_paths,
+    spec_param,
+)
+
+__all__ = [
+    "ConfigError",
+    "ParamSpec",
+    "param",
+    "spec_param",
+    "learner_param",
+    "coerce_params",
+    "check_params",
+    "check_table",
+    "make_params",
+    "resolve_paths",
+    "params_to_dict",
+    "path_values",
+    "describe",
+    "join_key",
+]
