@@ -22,7 +22,7 @@ from neurocur.analysis.style import figure, style
 from neurocur.contexts.base import SourceSpec
 from neurocur.contexts.synthetic import SYNTHETIC
 from neurocur.contract import require_columns
-from neurocur.regions.pfc import PFCParams, reward_update
+from neurocur.regions.pfc import SAMPLE_AVERAGE, PFCParams, eq14_rate, reward_update
 
 __all__ = [
     "fig_cumulative_error",
@@ -219,25 +219,28 @@ def fig_learning_time(
     return fig
 
 
-def reward_estimates(run: pd.DataFrame, n_contexts: int, alpha: float) -> np.ndarray:
+def reward_estimates(run: pd.DataFrame, n_contexts: int, alpha: float | str) -> np.ndarray:
     """(n_episodes, n_contexts): each context's reward estimate R_c after each episode of one run.
 
     ``run`` is one run's episodes in episode order, from its first. R_c starts at 0 (as the
     PFC's reward model) and every episode but the first applies eq 14 to the estimate of
-    its context, ``R_c <- reward_update(R_c, DA, alpha)``
-    (:func:`neurocur.regions.pfc.reward_update`); what R_c is in terms of the PFC's model
-    is said in :func:`fig_reward_function`.
+    its context, ``R_c <- reward_update(R_c, DA, eq14_rate(alpha, n_c))``
+    (:mod:`neurocur.regions.pfc`; ``alpha`` a rate in (0, 1] or ``"sample_average"``, n_c
+    the context's samples so far); what R_c is in terms of the PFC's model is said in
+    :func:`fig_reward_function`.
     """
     require_columns(run, ["context", "da"], needed_by="reward_estimates")
-    if not 0.0 < alpha <= 1.0:
-        raise ValueError(f"alpha must be in (0, 1] (eq 14's learning rate), got {alpha}")
+    if alpha != SAMPLE_AVERAGE and not (isinstance(alpha, (int, float)) and 0.0 < alpha <= 1.0):
+        raise ValueError(f"alpha must be in (0, 1] or {SAMPLE_AVERAGE!r} (eq 14's learning rate), got {alpha!r}")
     da = run["da"].to_numpy(dtype=float)
     contexts = run["context"].to_numpy()
     estimate = np.zeros(n_contexts)
+    samples = np.zeros(n_contexts, dtype=np.int64)
     estimates = np.empty((len(run), n_contexts))
     for t, (c, reward) in enumerate(zip(contexts, da)):
         if t > 0:  # the PFC has no previous context at the first episode and leaves its model as it is
-            estimate[c] = reward_update(estimate[c], reward, alpha)
+            samples[c] += 1
+            estimate[c] = reward_update(estimate[c], reward, eq14_rate(alpha, samples[c]))
         estimates[t] = estimate
     return estimates
 
@@ -247,7 +250,7 @@ def fig_reward_function(
     run: int | None = None,
     condition: str | None = None,
     *,
-    alpha: float = PFCParams().alpha,
+    alpha: float | str = PFCParams().alpha,
     symlog: bool = True,
     spec: SourceSpec = SYNTHETIC,
 ) -> Figure:
@@ -282,7 +285,7 @@ def fig_reward_function(
         for c, (name, source) in enumerate(zip(spec.context_names, spec.context_sources)):
             ax.plot(steps, estimates[:, c], drawstyle="steps-post", color=palette[c], label=f"{name} ({source})")
         ax.set(xlabel="global step (frames)", ylabel="estimated reward R(context)",
-               title=f"Reward function — {condition}, run {run} (eq 14, α={alpha:g})")
+               title=f"Reward function — {condition}, run {run} (eq 14, {'sample average' if alpha == SAMPLE_AVERAGE else f'α={alpha:g}'})")
         if symlog:
             ax.set_yscale("symlog", linthresh=_progress_linthresh(table))
         ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0))

@@ -28,7 +28,7 @@ from neurocur.results import ResultsStore
 __all__ = ["pfc_alphas", "write_all"]
 
 
-def pfc_alphas(results_dir: str | Path) -> dict[str, float]:
+def pfc_alphas(results_dir: str | Path) -> dict[str, float | str]:
     """Eq 14's learning rate of each condition's PFC, read from the results folder's config.toml
     (``conditions.<name>.resolved_circuit.regions.PFC.params.alpha``); a condition whose
     config does not record one is left out."""
@@ -37,7 +37,8 @@ def pfc_alphas(results_dir: str | Path) -> dict[str, float]:
     for name, condition in conditions.items():
         pfc = condition.get("resolved_circuit", {}).get("regions", {}).get("PFC", {})
         if "alpha" in pfc.get("params", {}):
-            alphas[name] = float(pfc["params"]["alpha"])
+            alpha = pfc["params"]["alpha"]
+            alphas[name] = alpha if isinstance(alpha, str) else float(alpha)  # a rate, or "sample_average"
     return alphas
 
 

@@ -35,15 +35,27 @@ def reward_update(r, da, alpha):
     """Eq 14, one update of the reward model: ``R <- (1 - alpha) R + alpha * DA``.
 
     ``r`` is the current estimate, ``da`` the reward (dopamine) of the episode and ``alpha``
-    the learning rate (:class:`PFCParams`). Computed as ``r + alpha * (da - r)``, the same
+    the learning rate (:func:`eq14_rate`). Computed as ``r + alpha * (da - r)``, the same
     value in exact arithmetic; scalars or numpy arrays.
     """
     return r + alpha * (da - r)
 
 
+#: ``PFC.alpha`` for eq 14 as a true sample average (the paper: "updated ... as a sample average")
+SAMPLE_AVERAGE = "sample_average"
+
+
+def eq14_rate(alpha, n):
+    """Eq 14's learning rate for an estimate's ``n``-th sample (n >= 1): ``alpha`` itself (a
+    constant rate, an exponential average of recent rewards), or ``1 / n`` for
+    ``alpha = "sample_average"``, which makes the estimate the mean of all its samples."""
+    return 1.0 / n if alpha == SAMPLE_AVERAGE else alpha
+
+
 @dataclass(frozen=True)
 class PFCParams:
-    alpha: float = param(0.2, float, low=0.0, high=1.0, low_open=True, doc="eq 14 learning rate")
+    alpha: float | str = param(0.2, float, low=0.0, high=1.0, low_open=True, choices=(SAMPLE_AVERAGE,),
+                               doc='eq 14 learning rate, or "sample_average" (1/n for an estimate\'s n-th sample)')
     discount: float = learner_param(LSPI, "discount", 0.9, doc="LSPI discount factor")
 
     def __post_init__(self):
@@ -84,6 +96,7 @@ class PFCLSPI(Region):
         self.P = transition_model(n)
         self.planner = LSPI(self.P, self.params.discount)
         self.R3 = np.zeros((n, 2, n))
+        self.N3 = np.zeros((n, 2, n), dtype=np.int64)  # samples of each estimate (for the sample average)
         self.Q = np.zeros((n, 2))
         self.policy = None
         self.previous_context = None
@@ -93,7 +106,8 @@ class PFCLSPI(Region):
         if self.previous_context is not None and action is not None:
             prev = self.previous_context
             r = self.R3[prev, action, context]
-            new = reward_update(r, da, self.params.alpha)
+            self.N3[prev, action, context] += 1
+            new = reward_update(r, da, eq14_rate(self.params.alpha, self.N3[prev, action, context]))
             if new != r:  # an unchanged model keeps its Q
                 self.R3[prev, action, context] = new
                 R = np.einsum("oas,oas->oa", self.P, self.R3)

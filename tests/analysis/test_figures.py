@@ -193,6 +193,8 @@ def test_reward_estimates_by_hand():
     np.testing.assert_allclose(reward_estimates(run, 2, 0.5), [[0.0, 0.0], [0.0, 0.5], [1.0, 0.5], [2.5, 0.5]])
     with pytest.raises(ValueError, match="alpha must be in"):
         reward_estimates(run, 2, 0.0)
+    # as a sample average: C1 is the mean of 2 and 4, C2 of its one sample
+    np.testing.assert_allclose(reward_estimates(run, 2, "sample_average")[-1], [3.0, 1.0])
 
 
 def test_reward_estimates_are_the_pfc_model_pooled_over_previous_context_and_action():

@@ -12,7 +12,7 @@ from neurocur.config import ConfigError
 from neurocur.contexts.base import Episode
 from neurocur.regions.hpc import HPCROC, HPCParams
 from neurocur.regions.lc import EpsilonGreedyLC
-from neurocur.regions.pfc import PFCLSPI, transition_model
+from neurocur.regions.pfc import PFCLSPI, eq14_rate, transition_model
 from neurocur.regions.sensory import SensoryWorld
 from neurocur.regions.vta import LearningProgressVTA, NoveltyVTA
 
@@ -195,6 +195,27 @@ def test_pfc_eq14_reward_model_and_lspi_values():
         np.testing.assert_allclose(q, q_by_value_iteration(P, R, gamma)[context], atol=1e-9)
     assert R3[1, 0, 1] == pytest.approx(0.3 * 3.0 * 0.7 + 0.3 * -2.0)
     assert R3[0, 1, 2] == pytest.approx(-0.3) and R3[0, 0, 0] == pytest.approx(0.6)
+
+
+def test_pfc_eq14_as_a_sample_average():
+    """``alpha = "sample_average"``: each entry R[o, a, o'] is the plain mean of the rewards it was given."""
+    pfc = make(PFCLSPI, small_world(3), alpha="sample_average", discount=0.5)
+    given: dict = {}
+    prev = None
+    rng = np.random.default_rng(3)
+    for _ in range(60):
+        context, action, da = int(rng.integers(3)), int(rng.integers(2)), float(rng.normal())
+        pfc.step(context, da, action if prev is not None else None)
+        if prev is not None:
+            given.setdefault((prev, action, context), []).append(da)
+        prev = context
+    assert len(given) > 6
+    for (o, a, o2), rewards in given.items():
+        assert pfc.R3[o, a, o2] == pytest.approx(np.mean(rewards), abs=1e-12)
+        assert pfc.N3[o, a, o2] == len(rewards)
+    assert eq14_rate(0.2, 7) == 0.2 and eq14_rate("sample_average", 4) == 0.25
+    with pytest.raises(ConfigError, match="'sample_average'"):
+        make(PFCLSPI, small_world(3), alpha="mean")
 
 
 # ------------------------------------------------------------------ LC
