@@ -26,7 +26,7 @@ One module per question, all re-exported here:
 - :mod:`~neurocur.analysis.event_locked` — DA and NE averaged around events (module storage,
   context switches, familiarity onset) with intervals across runs; tonic against phasic NE;
 - :mod:`~neurocur.analysis.cycles` — the estimation error per learning cycle, aligned to module
-  storage (Figure 4D);
+  storage (Figure 4D), and the agent's behaviour in each cycle;
 - :mod:`~neurocur.analysis.figures` — matplotlib Figures (paper Figures 4D–G);
 - :mod:`~neurocur.analysis.write` — every figure of a results folder as PNG files (``write_all``);
 - :mod:`~neurocur.analysis.figures_neuro` — the figures of the neuromodulator and behaviour
@@ -35,8 +35,9 @@ One module per question, all re-exported here:
 Not re-exported: :mod:`~neurocur.analysis.paper` (the paper's numbers, with their sections),
 :mod:`~neurocur.analysis.style` (the figure style and saving),
 :mod:`~neurocur.analysis.reproduction` (the reproduction study's table),
-:mod:`~neurocur.analysis.icub` (the iCub experiment, Figures 6B–D and 7) and
-:mod:`~neurocur.analysis.invariance` (Figure 5).
+:mod:`~neurocur.analysis.icub` (the iCub experiment, Figures 6B–D and 7),
+:mod:`~neurocur.analysis.invariance` (Figure 5) and :mod:`~neurocur.analysis.reward_model` (the
+PFC's eq-14 model replayed from a run's recorded DA and decisions).
 """
 
 import importlib
