@@ -83,7 +83,7 @@ class Overrides:
         """``exc``, raised for one override, reported from the file and key that set it."""
         if exc.key in self.condition:
             return ConfigError(self.source, f"conditions.{self.name}.params.{exc.key}", exc.expected, exc.got)
-        return ConfigError(self.origin[exc.key], f"params.{exc.key}", exc.expected, exc.got)
+        return ConfigError(self.origin.get(exc.key, self.source), f"params.{exc.key}", exc.expected, exc.got)
 
 
 _OVERRIDES = "<experiment overrides>"

@@ -234,12 +234,14 @@ def load_experiment(path, *, sets: Sequence[str] = (), runs: int | None = None, 
         description = require(table, "description", str, source=source, prefix=prefix, expected="a string", default="")
         for point in grid(sweep):
             point_params = {k: v for k, v in point.items() if not k.startswith("world.")}
-            world, world_params = condition_world([*base_world, (cond_world, source, f"{prefix}.world", here),
-                                          (world_layer(point), swept.path if swept else "--set", "sweep.world", here),
-                                          (world_sets, "--set", "world", cwd)], path)
+            swept_world = (world_layer(point), *((swept.path, "sweep.world", swept.here) if swept
+                                                 else ("--set", "world", cwd)))
+            world, world_params = condition_world(
+                [*base_world, (cond_world, source, f"{prefix}.world", here), swept_world,
+                 (world_sets, "--set", "world", cwd)], path)
             overrides = Overrides(base_params, param_origin, {**cond_params, **point_params}, source, name)
             built = lesioned(load_circuit(circuit, overrides, param_sets), table.get("lesion", []), source,
-                            f"{prefix}.lesion")
+                             f"{prefix}.lesion")
             params = {**base_params, **cond_params, **point_params, **param_sets}
             label = f"{name}@{point_label(point)}" if point else name
             conditions[label] = Condition(label, circuit, params, world, built, world_params, description, point)
