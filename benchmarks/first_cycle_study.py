@@ -38,9 +38,10 @@ def study(folders: list[str]) -> tuple[pd.DataFrame, pd.DataFrame]:
     cycles, rewards = [], []
     for k, folder in enumerate(folders):
         episodes, modules = load(folder)
-        table = cycle_behaviour(episodes, modules, source_specs(folder)).assign(folder=folder)
+        specs = source_specs(folder)
+        table = cycle_behaviour(episodes, modules, specs).assign(folder=folder)
         first = modules.groupby(["condition", "run"])["episode"].min()
-        found = decision_rewards(episodes, pfc_alphas(folder), last_episode=first).assign(folder=folder)
+        found = decision_rewards(episodes, pfc_alphas(folder), specs, last_episode=first).assign(folder=folder)
         for t in (table, found):
             t["run"] += 1000 * k  # runs of different folders stay apart when pooled
         cycles.append(table)

@@ -100,14 +100,17 @@ def cycle_behaviour(episodes: pd.DataFrame, modules: pd.DataFrame, spec: Spec = 
             continue
         source_of: SourceSpec = spec_of(spec, condition)
         sources = np.asarray(source_of.context_sources, dtype=object)[eps["context"].to_numpy()]
+        episode, n_frames = eps["episode"].to_numpy(), eps["n_frames"].to_numpy()
+        unfamiliar = ~eps["familiar"].astype(bool).to_numpy()
+        disengaged = eps["action"].to_numpy() == "disengage"
         first = eps[keys].iloc[0].to_dict()
         previous = -1
         for k, module in enumerate(stored.get_group((condition, run)).itertuples(index=False)):
-            in_cycle = ((eps["episode"] > previous) & (eps["episode"] <= module.episode)).to_numpy()
-            learning = in_cycle & ~eps["familiar"].astype(bool).to_numpy()
-            frames = eps["n_frames"].to_numpy()[learning]
-            mine = sources[learning] == module.source
-            switches = int(np.count_nonzero(sources[learning][1:] != sources[learning][:-1]))
+            in_cycle = (episode > previous) & (episode <= module.episode)
+            learning = in_cycle & unfamiliar
+            frames, learned = n_frames[learning], sources[learning]
+            mine = learned == module.source
+            switches = int(np.count_nonzero(learned[1:] != learned[:-1]))
             others = np.flatnonzero(~mine)
             stay_start = others[-1] + 1 if len(others) else 0  # the final uninterrupted run of the source
             rows.append({**first, "cycle": k + 1, "module": module.module, "source": module.source,
@@ -115,7 +118,7 @@ def cycle_behaviour(episodes: pd.DataFrame, modules: pd.DataFrame, spec: Spec = 
                          "source_share": frames[mine].sum() / frames.sum() if frames.sum() else np.nan,
                          "final_stay": int(frames[stay_start:].sum()), "source_switches": switches,
                          "frames_per_switch": frames.sum() / (switches + 1),
-                         "p_disengage": float(np.mean(eps["action"].to_numpy()[in_cycle] == "disengage"))})
+                         "p_disengage": float(disengaged[in_cycle].mean())})
             previous = module.episode
     columns = [*keys, "cycle", "module", "source", "learning_frames", "source_frames", "source_share", "final_stay",
                "source_switches", "frames_per_switch", "p_disengage"]

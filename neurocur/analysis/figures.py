@@ -19,6 +19,7 @@ from neurocur.analysis.cycles import error_cycles
 from neurocur.analysis.learning_time import learning_times, require_learning_columns
 from neurocur.analysis.order import position_counts, require_order_columns
 from neurocur.analysis.style import figure, style
+from neurocur.config import ConfigError
 from neurocur.contexts.base import SourceSpec
 from neurocur.contexts.synthetic import SYNTHETIC
 from neurocur.contract import require_columns
@@ -230,8 +231,10 @@ def reward_estimates(run: pd.DataFrame, n_contexts: int, alpha: float | str) -> 
     :func:`fig_reward_function`.
     """
     require_columns(run, ["context", "da"], needed_by="reward_estimates")
-    if alpha != SAMPLE_AVERAGE and not (isinstance(alpha, (int, float)) and 0.0 < alpha <= 1.0):
-        raise ValueError(f"alpha must be in (0, 1] or {SAMPLE_AVERAGE!r} (eq 14's learning rate), got {alpha!r}")
+    try:
+        PFCParams(alpha=alpha)  # the PFC's own check of eq 14's rate
+    except ConfigError:
+        raise ValueError(f"alpha must be in (0, 1] or {SAMPLE_AVERAGE!r} (eq 14's learning rate), got {alpha!r}") from None
     da = run["da"].to_numpy(dtype=float)
     contexts = run["context"].to_numpy()
     estimate = np.zeros(n_contexts)

@@ -15,8 +15,11 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from neurocur.contexts.synthetic import SYNTHETIC
 from neurocur.contract import require_columns
-from neurocur.regions.pfc import ACTIONS, DISENGAGE, ENGAGE, eq14_rate, reward_update, transition_model
+from neurocur.regions.pfc import ACTIONS, DISENGAGE, ENGAGE, RewardModel
+
+from .dwell import Spec, spec_of
 
 __all__ = ["replay_reward_model", "decision_rewards"]
 
@@ -29,27 +32,25 @@ def replay_reward_model(run: pd.DataFrame, n_contexts: int, alpha: float | str) 
     updates nothing (the PFC has no previous context yet).
     """
     require_columns(run, ["context", "da", "action"], needed_by="replay_reward_model")
-    P = transition_model(n_contexts)
-    R3 = np.zeros((n_contexts, 2, n_contexts))
-    N3 = np.zeros((n_contexts, 2, n_contexts), dtype=np.int64)
+    model = RewardModel(n_contexts, alpha)
     out = np.empty((len(run), n_contexts, 2))
     previous = None
     for t, (context, da, action) in enumerate(zip(run["context"].to_numpy(), run["da"].to_numpy(dtype=float),
                                                   run["action"].to_numpy())):
         if previous is not None:
-            o, a = previous
-            N3[o, a, context] += 1
-            R3[o, a, context] = reward_update(R3[o, a, context], da, eq14_rate(alpha, N3[o, a, context]))
-        out[t] = np.einsum("oas,oas->oa", P, R3)
+            model.update(*previous, context, da)
+        out[t] = model.expected()
         previous = (context, ACTIONS.index(action))
     return out
 
 
-def decision_rewards(episodes: pd.DataFrame, alphas, *, last_episode=None) -> pd.DataFrame:
+def decision_rewards(episodes: pd.DataFrame, alphas, spec: Spec = SYNTHETIC, *, last_episode=None) -> pd.DataFrame:
     """Per run: the rewards after each kind of decision against the estimates decided on.
 
     ``alphas``: eq 14's rate per condition (``{condition: alpha}``, e.g.
-    :func:`neurocur.analysis.write.pfc_alphas`), or one for all. ``last_episode``: a Series
+    :func:`neurocur.analysis.write.pfc_alphas`), or one for all. ``spec``: the world's
+    :class:`~neurocur.contexts.base.SourceSpec`, or one per condition; its number of contexts
+    sizes the model (eqs 12-13 spread a disengage over all the other contexts, visited or not). ``last_episode``: a Series
     indexed by (condition, run) of the last episode to include (e.g. the first module's storing
     episode, for the first cycle); runs without one are left out; None takes every episode.
 
@@ -62,10 +63,9 @@ def decision_rewards(episodes: pd.DataFrame, alphas, *, last_episode=None) -> pd
     require_columns(episodes, ["condition", "run", "episode", "context", "da", "action", "q_engage", "q_disengage"],
                     needed_by="decision_rewards")
     rows = []
-    n_contexts = int(episodes["context"].max()) + 1
     for (condition, run), table in episodes.sort_values(["condition", "run", "episode"]).groupby(["condition", "run"]):
         alpha = alphas[condition] if isinstance(alphas, dict) else alphas
-        estimates = replay_reward_model(table, n_contexts, alpha)
+        estimates = replay_reward_model(table, len(spec_of(spec, condition).context_names), alpha)
         keep = np.ones(len(table), dtype=bool)
         if last_episode is not None:
             if (condition, run) not in last_episode.index:

@@ -52,6 +52,31 @@ def eq14_rate(alpha, n):
     return 1.0 / n if alpha == SAMPLE_AVERAGE else alpha
 
 
+class RewardModel:
+    """Eq 14's reward model ``R[o, a, o']`` (previous context, decision, context) and the expected
+    reward ``R(o, a) = sum_o' P[o, a, o'] R[o, a, o']`` under eqs 12-13's ``P``; every estimate
+    starts at 0. The PFC holds one; :mod:`neurocur.analysis.reward_model` replays one from a run's
+    recorded DA and decisions."""
+
+    def __init__(self, n_contexts: int, alpha) -> None:
+        self.alpha = alpha
+        self.P = transition_model(n_contexts)
+        self.R3 = np.zeros((n_contexts, 2, n_contexts))
+        self.N3 = np.zeros((n_contexts, 2, n_contexts), dtype=np.int64)  # samples of each estimate
+
+    def update(self, o: int, a: int, o_next: int, da: float) -> bool:
+        """Eq 14 on ``R[o, a, o_next]`` with the reward ``da``; True when the estimate changed."""
+        self.N3[o, a, o_next] += 1
+        r = self.R3[o, a, o_next]
+        new = reward_update(r, da, eq14_rate(self.alpha, self.N3[o, a, o_next]))
+        self.R3[o, a, o_next] = new
+        return bool(new != r)
+
+    def expected(self) -> np.ndarray:
+        """``R(o, a)``, (n_contexts, 2)."""
+        return np.einsum("oas,oas->oa", self.P, self.R3)
+
+
 @dataclass(frozen=True)
 class PFCParams:
     alpha: float | str = param(0.2, float, low=0.0, high=1.0, low_open=True, choices=(SAMPLE_AVERAGE,),
@@ -93,10 +118,8 @@ class PFCLSPI(Region):
 
     def reset(self, rng) -> None:
         n = self.n_contexts
-        self.P = transition_model(n)
-        self.planner = LSPI(self.P, self.params.discount)
-        self.R3 = np.zeros((n, 2, n))
-        self.N3 = np.zeros((n, 2, n), dtype=np.int64)  # samples of each estimate (for the sample average)
+        self.model = RewardModel(n, self.params.alpha)
+        self.planner = LSPI(self.model.P, self.params.discount)
         self.Q = np.zeros((n, 2))
         self.policy = None
         self.previous_context = None
@@ -104,14 +127,8 @@ class PFCLSPI(Region):
 
     def step(self, context, da, action):
         if self.previous_context is not None and action is not None:
-            prev = self.previous_context
-            r = self.R3[prev, action, context]
-            self.N3[prev, action, context] += 1
-            new = reward_update(r, da, eq14_rate(self.params.alpha, self.N3[prev, action, context]))
-            if new != r:  # an unchanged model keeps its Q
-                self.R3[prev, action, context] = new
-                R = np.einsum("oas,oas->oa", self.P, self.R3)
-                self.Q, self.policy = self.planner.solve(R, self.policy)
+            if self.model.update(self.previous_context, action, context, da):  # an unchanged model keeps its Q
+                self.Q, self.policy = self.planner.solve(self.model.expected(), self.policy)
         self.previous_context = context
         self.q = self.Q[context].copy()
         return (self.q,)

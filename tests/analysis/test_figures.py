@@ -209,7 +209,7 @@ def test_reward_estimates_are_the_pfc_model_pooled_over_previous_context_and_act
     model = []
     for t, (context, reward) in enumerate(zip(contexts, da)):
         pfc.step(context, reward, None if t == 0 else actions[t - 1])
-        model.append(pfc.R3.copy())
+        model.append(pfc.model.R3.copy())
     estimates = reward_estimates(pd.DataFrame({"context": contexts, "da": da}), 3, 0.3)
     np.testing.assert_array_equal(estimates[:, 0], [m[0, ENGAGE, 0] for m in model])
     # C2 is entered by disengaging from C1, then by engaging: the figure pools the two entries

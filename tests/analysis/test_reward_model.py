@@ -9,6 +9,7 @@ import pandas as pd
 import pytest
 
 from neurocur.analysis.reward_model import decision_rewards, replay_reward_model
+from neurocur.contexts.base import SourceSpec
 from neurocur.regions.pfc import ACTIONS, PFCLSPI, transition_model
 
 
@@ -23,7 +24,7 @@ def test_the_replay_is_the_pfcs_own_model_bit_for_bit(alpha):
     P, own = transition_model(n), []
     for t in range(steps):
         pfc.step(int(contexts[t]), float(da[t]), None if t == 0 else int(actions[t - 1]))
-        own.append(np.einsum("oas,oas->oa", P, pfc.R3))
+        own.append(np.einsum("oas,oas->oa", P, pfc.model.R3))
     run = pd.DataFrame({"context": contexts, "da": da, "action": [ACTIONS[a] for a in actions]})
     np.testing.assert_array_equal(replay_reward_model(run, n, alpha), np.array(own))
 
@@ -34,11 +35,23 @@ def test_decision_rewards_by_hand():
                         "da": [9.0, 2.0, 4.0, -2.0], "action": ["engage", "disengage", "engage", "disengage"],
                         "q_engage": [0.0, 1.0, 0.0, 0.0], "q_disengage": [0.0, 0.0, 1.0, 1.0]})
     # R[0, eng, 0] = 1 after episode 1; R[0, dis, 1] = 2 after 2; R[1, eng, 1] = -1 after 3
-    row = decision_rewards(run, 0.5).iloc[0]
+    two = SourceSpec(("C1", "C2"), ("S-A", "S-B"), ("S-A", "S-B"))
+    row = decision_rewards(run, 0.5, two).iloc[0]
     assert row["da_after_engage"] == pytest.approx(0.0) and row["da_after_disengage"] == 4.0
     # the current context's R(o, .) at each decision: (0, 0), (1, 0), (0, 0), (-1, 0)
     assert row["r_engage"] == 0.0 and row["r_disengage"] == 0.0
     assert row["engage_below"] == 0.25 and row["greedy_disengage"] == 0.5
-    first = decision_rewards(run, {"c": 0.5}, last_episode=pd.Series({("c", 0): 1})).iloc[0]
+    first = decision_rewards(run, {"c": 0.5}, {"c": two}, last_episode=pd.Series({("c", 0): 1})).iloc[0]
     assert first["n_decisions"] == 2 and first["da_after_disengage"] != first["da_after_disengage"]  # NaN: none
-    assert decision_rewards(run, 0.5, last_episode=pd.Series({("c", 1): 1}, dtype=float)).empty
+    assert decision_rewards(run, 0.5, two, last_episode=pd.Series({("c", 1): 1}, dtype=float)).empty
+
+
+def test_the_model_is_sized_by_the_world_not_by_the_contexts_visited():
+    """A disengage spreads over every other context of the world (eqs 12-13), visited or not."""
+    run = pd.DataFrame({"condition": "c", "run": 0, "episode": [0, 1, 2], "context": [0, 1, 0], "da": [0.0, 4.0, 2.0],
+                        "action": ["disengage", "disengage", "engage"], "q_engage": 0.0, "q_disengage": 0.0})
+    two = SourceSpec(("C1", "C2"), ("S-A", "S-B"), ("S-A",))
+    three = SourceSpec(("C1", "C2", "C3"), ("S-A", "S-B", "S-C"), ("S-A",))
+    # R[0, dis, 1] = 2 after episode 1; at episode 2 (in C1) R(C1, disengage) = 2 / (contexts - 1)
+    assert decision_rewards(run, 0.5, two).iloc[0]["r_disengage"] == pytest.approx(2 / 3)
+    assert decision_rewards(run, 0.5, three).iloc[0]["r_disengage"] == pytest.approx(1 / 3)

@@ -191,7 +191,7 @@ def test_pfc_eq14_reward_model_and_lspi_values():
             R3[prev, action, context] = (1 - alpha) * R3[prev, action, context] + alpha * da  # eq 14
         prev = context
         R = (P * R3).sum(axis=2)
-        np.testing.assert_allclose(pfc.R3, R3)
+        np.testing.assert_allclose(pfc.model.R3, R3)
         np.testing.assert_allclose(q, q_by_value_iteration(P, R, gamma)[context], atol=1e-9)
     assert R3[1, 0, 1] == pytest.approx(0.3 * 3.0 * 0.7 + 0.3 * -2.0)
     assert R3[0, 1, 2] == pytest.approx(-0.3) and R3[0, 0, 0] == pytest.approx(0.6)
@@ -211,8 +211,8 @@ def test_pfc_eq14_as_a_sample_average():
         prev = context
     assert len(given) > 6
     for (o, a, o2), rewards in given.items():
-        assert pfc.R3[o, a, o2] == pytest.approx(np.mean(rewards), abs=1e-12)
-        assert pfc.N3[o, a, o2] == len(rewards)
+        assert pfc.model.R3[o, a, o2] == pytest.approx(np.mean(rewards), abs=1e-12)
+        assert pfc.model.N3[o, a, o2] == len(rewards)
     assert eq14_rate(0.2, 7) == 0.2 and eq14_rate("sample_average", 4) == 0.25
     with pytest.raises(ConfigError, match="'sample_average'"):
         make(PFCLSPI, small_world(3), alpha="mean")
