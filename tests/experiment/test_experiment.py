@@ -6,6 +6,7 @@ import tomllib
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from neurocur.config import ConfigError
@@ -205,8 +206,6 @@ class _Projector:
 
 
 def test_module_quality_is_abs_corr_with_the_slow_dimension():
-    import pandas as pd
-
     from neurocur.contexts.synthetic import SyntheticWorld
 
     world = SyntheticWorld(["S-A", "S-B"])
@@ -268,3 +267,18 @@ def test_first_difference_names_the_key():
     assert first_difference(a, {"x": 1}) == "t"
     assert first_difference({"v": float("nan")}, {"v": float("nan")}) is None
     assert first_difference([1], [1, 2]) == "(root)"
+
+
+def test_a_runs_first_frames_do_not_depend_on_its_length():
+    """A longer run extends the shorter one bit for bit, so one long run gives every shorter length
+    (docs/reproduction.md, iCub "Longer runs"): nothing the circuit or world does depends on ``steps``."""
+    exp = load_experiment(SYNTHETIC)
+    cond = exp.conditions["literal"]  # stores modules early, so storage is compared too
+    short = run_one(cond, 1, 15_000, exp.run_seed(1))
+    long = run_one(cond, 1, 30_000, exp.run_seed(1))
+    n = len(short.episodes)
+    assert len(long.episodes) > n and len(short.modules) >= 1
+    pd.testing.assert_frame_equal(long.episodes.iloc[:n].reset_index(drop=True), short.episodes, check_exact=True)
+    stored = ["module", "step", "episode", "context", "n_clusters", "source"]  # quality and gates: end of run
+    early = long.modules[long.modules["episode"] < n][stored].reset_index(drop=True)
+    pd.testing.assert_frame_equal(early, short.modules[stored].reset_index(drop=True), check_exact=True)
