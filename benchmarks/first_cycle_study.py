@@ -22,9 +22,8 @@ from __future__ import annotations
 import argparse
 
 import pandas as pd
-from scipy.stats import wilcoxon
 
-from neurocur.analysis import cycle_behaviour, load, source_specs
+from neurocur.analysis import cycle_behaviour, load, source_specs, wilcoxon_signed_rank
 from neurocur.analysis.reward_model import decision_rewards
 from neurocur.analysis.write import pfc_alphas
 
@@ -67,9 +66,8 @@ def main() -> None:
     for condition, part in rewards.groupby("condition"):
         paired = part.dropna(subset=["da_after_engage", "da_after_disengage"])
         if len(paired) > 1:
-            test = wilcoxon(paired["da_after_engage"], paired["da_after_disengage"])
-            print(f"{condition}: DA after engage vs after disengage, Wilcoxon signed-rank (paired by run, "
-                  f"n = {len(paired)}): p = {test.pvalue:.2g}")
+            test = wilcoxon_signed_rank(paired["da_after_engage"], paired["da_after_disengage"])
+            print(f"{condition}: DA after engage vs after disengage, {test['test']}: p = {test['p_value']:.2g}")
 
 
 if __name__ == "__main__":
