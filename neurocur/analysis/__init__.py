@@ -40,7 +40,10 @@ Not re-exported: :mod:`~neurocur.analysis.paper` (the paper's numbers, with thei
 PFC's eq-14 model replayed from a run's recorded DA and decisions).
 """
 
+import ast
+import functools
 import importlib
+from pathlib import Path
 
 from neurocur.analysis import (
     bootstrap,
@@ -89,17 +92,29 @@ def _deferred(name: str):
     return importlib.import_module(f"{__name__}.{name}")
 
 
+@functools.cache
+def _deferred_names() -> dict[str, str]:
+    """Each deferred module's public name -> that module, read from the literal ``__all__`` of its
+    source without importing it, so that ``dir()`` (a notebook's tab completion) and a lookup of a
+    name that is not there stay cheap."""
+    names = {}
+    for sub in _DEFERRED:
+        tree = ast.parse(Path(__file__).with_name(f"{sub}.py").read_text(encoding="utf-8"))
+        value = next(node.value for node in tree.body if isinstance(node, ast.Assign)
+                     and any(isinstance(t, ast.Name) and t.id == "__all__" for t in node.targets))
+        names.update(dict.fromkeys(ast.literal_eval(value), sub))
+    return names
+
+
 def __getattr__(name: str):
-    if name == "__all__":  # a star import asks for it: every deferred module is imported then
-        return [*_EAGER, *(n for sub in _DEFERRED for n in _deferred(sub).__all__)]
+    if name == "__all__":  # a star import asks for it, then fetches every name: the deferred modules load then
+        return [*_EAGER, *_deferred_names()]
     if name in _DEFERRED:
         return _deferred(name)
-    for sub in _DEFERRED:
-        module = _deferred(sub)
-        if name in module.__all__:
-            return getattr(module, name)
+    if name in _deferred_names():
+        return getattr(_deferred(_deferred_names()[name]), name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def __dir__():
-    return sorted({*globals(), *__getattr__("__all__"), *_DEFERRED})
+    return sorted({*globals(), *_EAGER, *_deferred_names(), *_DEFERRED})

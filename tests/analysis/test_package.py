@@ -21,3 +21,17 @@ def test_importing_analysis_does_not_import_matplotlib():
             "print(sorted(m for m in ('matplotlib', 'seaborn', 'statsmodels.api') if m in sys.modules))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "[]"
+
+
+def test_deferred_names_are_the_deferred_modules_all():
+    for sub in analysis._DEFERRED:
+        module = getattr(analysis, sub)
+        assert {n for n, owner in analysis._deferred_names().items() if owner == sub} == set(module.__all__)
+
+
+def test_dir_and_an_unknown_name_do_not_import_matplotlib():
+    code = ("import sys, neurocur.analysis as a; names = dir(a); missing = hasattr(a, 'no_such_name'); "
+            "print('write_all' in names, missing, "
+            "sorted(m for m in ('matplotlib', 'seaborn', 'statsmodels.api') if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "True False []"
