@@ -14,14 +14,23 @@
    modules the forkserver imported before forking (numpy, pandas, numba, scikit-learn:
    about 230 MB), which every worker shares; its proportional set size (PSS) counts a
    shared page in proportion to the processes sharing it, and its unique set size (USS)
-   only its private pages, the memory one more worker adds.
+   only its private pages, the memory one more worker adds. The fork server (and
+   multiprocessing's resource tracker) are not workers and are left out of the workers'
+   figures: the server's resident size is reported on its own, and once the workers have
+   ended every page it holds is its own again, so counted as a worker it showed a USS
+   equal to its RSS at the end of some sweeps and not others.
    From the wall time: seconds per run per core (wall x jobs / runs) and runs per
    core-hour (3600 / that), the figure a sweep of many runs is paid in.
 2. IncSFA alone: ``IncSFA.partial_fit`` on the same number of frames, in visits of 100
    frames of one paper source (S-A) with the experiment's EC parameters, in this
    process (single-threaded, as the workers are); the ratio of a run's seconds per core to it is what the rest of the model
    costs on top of learning the features.
-3. The breakdown: one run of the condition in this process under cProfile (after a
+3. The core: one run of the condition in this process without a profiler, its seconds, and
+   of them the compiled IncSFA kernel (``_kernels.incsfa_fit``) and the EC's encoding (the
+   matrix products of ``ECIncSFA.step``), timed call by call: the arithmetic a run must do
+   whatever the Python around it costs. Beside it, the seconds per run that the target
+   (25 runs with 2 jobs in 15 s wall) leaves: 15 s over the runs one worker does in turn.
+4. The breakdown: one run of the condition in this process under cProfile (after a
    short warm-up run, so numba's compilation is not counted), the cumulative time of
    the learners and of the world, and the rest (regions' own code, the scheduler,
    recording, tables).
@@ -71,6 +80,7 @@ class MemorySampler(threading.Thread):
         self.pss: dict[int, int] = {}
         self.uss: dict[int, int] = {}
         self.peak_total = 0
+        self.helpers: dict[int, str] = {}  # the fork server and the resource tracker: not workers
         self._halt = threading.Event()
 
     def run(self) -> None:
@@ -99,6 +109,9 @@ class MemorySampler(threading.Thread):
         total = 0
         for pid in family & status.keys():
             fields = status[pid]
+            role = _helper_role(pid) if int(fields.get("PPid", "0")) == self.root else ""
+            if role:
+                self.helpers[pid] = role
             if "VmHWM" in fields:
                 self.hwm[pid] = max(self.hwm.get(pid, 0), int(fields["VmHWM"].split()[0]))
                 total += int(fields["VmRSS"].split()[0])
@@ -106,6 +119,22 @@ class MemorySampler(threading.Thread):
                 self.pss[pid] = max(self.pss.get(pid, 0), pss)
                 self.uss[pid] = max(self.uss.get(pid, 0), uss)
         self.peak_total = max(self.peak_total, total)
+
+
+def _helper_role(pid: int) -> str:
+    """``"fork server"`` or ``"resource tracker"`` for multiprocessing's helper processes (children
+    of the command; the workers the fork server forks carry its command line too), else ``""``.
+    The fork server is no worker: its pages are the ones workers share, and once the workers have
+    ended they are all its own (its USS then equals its RSS)."""
+    try:
+        cmdline = Path(f"/proc/{pid}/cmdline").read_bytes().decode(errors="replace")
+    except OSError:
+        return ""
+    for module, role in (("multiprocessing.forkserver", "fork server"), ("multiprocessing.resource_tracker",
+                                                                       "resource tracker")):
+        if module in cmdline:
+            return role
+    return ""
 
 
 def _proportional_and_unique(pid: int) -> tuple[int, int]:
@@ -133,15 +162,20 @@ def sweep(runs: int, steps: int, condition: str, jobs: int) -> dict:
         if child.returncode != 0:
             raise SystemExit(f"neurocur run failed (exit {child.returncode}):\n{output}")
     command = sampler.hwm.pop(child.pid, 0)
-    sampler.pss.pop(child.pid, 0)
-    sampler.uss.pop(child.pid, 0)
+    server = 0
+    for pid in [child.pid, *sampler.helpers]:
+        if sampler.helpers.get(pid) == "fork server":
+            server = max(server, sampler.hwm[pid])
+        for table in (sampler.hwm, sampler.pss, sampler.uss):
+            table.pop(pid, 0)
     return {
+        "server_kb": server,
         "worker_pss_kb": max(sampler.pss.values(), default=0),
         "worker_uss_kb": max(sampler.uss.values(), default=0),
         "wall": wall,
         "command_kb": command,
         "worker_kb": max(sampler.hwm.values(), default=0),
-        "processes": len(sampler.hwm) + 1,
+        "processes": len(sampler.hwm),
         "total_kb": sampler.peak_total,
         "rusage_children_kb": resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss,
         "output": output,
@@ -171,6 +205,36 @@ def incsfa_alone(steps: int, condition: str) -> float:
     for i in range(steps // 100):
         models[1].partial_fit(visits[i % len(visits)])
     return time.perf_counter() - start
+
+
+def core_one(steps: int, condition: str) -> tuple[float, float, float]:
+    """(seconds of one run, of them in the IncSFA kernel, in the EC's encoding), in this process."""
+    from neurocur.experiments import load_experiment, run_one
+    from neurocur.learn import incsfa
+    from neurocur.regions import ec
+
+    spent = {"kernel": 0.0, "encoding": 0.0}
+
+    def timed(key, fn):
+        def call(*args):
+            start = time.perf_counter()
+            out = fn(*args)
+            spent[key] += time.perf_counter() - start
+            return out
+        return call
+
+    kernel, step = incsfa.incsfa_fit, ec.ECIncSFA.step
+    exp = load_experiment(EXPERIMENT)
+    cond = exp.select([condition])[0]
+    run_one(cond, 0, 2000, exp.run_seed(0))  # warm-up: numba's cache
+    incsfa.incsfa_fit, ec.ECIncSFA.step = timed("kernel", kernel), timed("encoding", step)
+    try:
+        start = time.perf_counter()
+        run_one(cond, 0, steps, exp.run_seed(0))
+        total = time.perf_counter() - start
+    finally:
+        incsfa.incsfa_fit, ec.ECIncSFA.step = kernel, step
+    return total, spent["kernel"], spent["encoding"]
 
 
 def profile_one(steps: int, condition: str) -> tuple[float, list[tuple[str, float]], dict]:
@@ -212,7 +276,8 @@ def main(argv=None) -> int:
     print(f"  wall time              {s['wall']:8.1f} s   ({per_run:.2f} s per run per core, "
           f"{3600 / per_run:.0f} runs per core-hour)")
     print(f"  peak RSS, command      {s['command_kb'] / 1024:8.1f} MB")
-    print(f"  peak RSS, largest worker {s['worker_kb'] / 1024:6.1f} MB   ({s['processes']} processes)")
+    print(f"  peak RSS, fork server  {s['server_kb'] / 1024:8.1f} MB   (the modules every worker shares)")
+    print(f"  peak RSS, largest worker {s['worker_kb'] / 1024:6.1f} MB   ({s['processes']} workers)")
     print(f"  peak PSS, largest worker {s['worker_pss_kb'] / 1024:6.1f} MB   (pages shared with the forkserver "
           f"counted in proportion)")
     print(f"  peak USS, largest worker {s['worker_uss_kb'] / 1024:6.1f} MB   (its private pages only: what each "
@@ -223,6 +288,12 @@ def main(argv=None) -> int:
     alone = incsfa_alone(args.steps, args.condition)
     print(f"IncSFA alone on {args.steps} frames: {alone:.2f} s; a run per core is {per_run / alone:.1f}x that "
           f"(load average {os.getloadavg()[0]:.2f})")
+    total, kernel, encoding = core_one(args.steps, args.condition)
+    turns = -(-args.runs // args.jobs)
+    print(f"one run in this process: {total:.2f} s; the IncSFA kernel {kernel:.2f} s and the EC's encoding "
+          f"{encoding:.2f} s ({kernel + encoding:.2f} s), the rest {total - kernel - encoding:.2f} s. "
+          f"{args.runs} runs in 15 s wall with {args.jobs} jobs leave {15 / turns:.2f} s per run, start-up included "
+          f"({turns} runs per worker)")
     if args.profile:
         total, rows, summary = profile_one(args.steps, args.condition)
         print(f"\nprofile of one run in this process: {summary['frames']} frames, {summary['n_episodes']} episodes, "
