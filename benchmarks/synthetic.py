@@ -51,6 +51,8 @@ import time
 from pathlib import Path
 
 EXPERIMENT = Path(__file__).resolve().parents[1] / "neurocur" / "experiments_data" / "synthetic.toml"
+#: the wall-time target of the paper-size condition (25 runs, 2 jobs), in seconds
+TARGET_WALL = 15.0
 #: One BLAS/numba thread in this process too, as in the workers (neurocur.experiments.processes): set before
 #: numpy is imported; a second BLAS thread spinning on a busy machine would slow every matrix product.
 for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS"):
@@ -161,13 +163,12 @@ def sweep(runs: int, steps: int, condition: str, jobs: int) -> dict:
         sampler.stop()
         if child.returncode != 0:
             raise SystemExit(f"neurocur run failed (exit {child.returncode}):\n{output}")
-    command = sampler.hwm.pop(child.pid, 0)
-    server = 0
-    for pid in [child.pid, *sampler.helpers]:
-        if sampler.helpers.get(pid) == "fork server":
-            server = max(server, sampler.hwm[pid])
+    command = sampler.hwm.get(child.pid, 0)
+    server = max((sampler.hwm.get(pid, 0) for pid, role in sampler.helpers.items() if role == "fork server"),
+                 default=0)
+    for pid in (child.pid, *sampler.helpers):  # what is left are the workers
         for table in (sampler.hwm, sampler.pss, sampler.uss):
-            table.pop(pid, 0)
+            table.pop(pid, None)
     return {
         "server_kb": server,
         "worker_pss_kb": max(sampler.pss.values(), default=0),
@@ -207,9 +208,21 @@ def incsfa_alone(steps: int, condition: str) -> float:
     return time.perf_counter() - start
 
 
+def warmed_up(condition: str):
+    """``(experiment, condition)`` of the synthetic experiment, after a short run of the condition in
+    this process (numba's compilation or cache, the first imports), so that a measurement after it
+    counts neither."""
+    from neurocur.experiments import load_experiment, run_one
+
+    exp = load_experiment(EXPERIMENT)
+    cond = exp.select([condition])[0]
+    run_one(cond, 0, 2000, exp.run_seed(0))
+    return exp, cond
+
+
 def core_one(steps: int, condition: str) -> tuple[float, float, float]:
     """(seconds of one run, of them in the IncSFA kernel, in the EC's encoding), in this process."""
-    from neurocur.experiments import load_experiment, run_one
+    from neurocur.experiments import run_one
     from neurocur.learn import incsfa
     from neurocur.regions import ec
 
@@ -224,9 +237,7 @@ def core_one(steps: int, condition: str) -> tuple[float, float, float]:
         return call
 
     kernel, step = incsfa.incsfa_fit, ec.ECIncSFA.step
-    exp = load_experiment(EXPERIMENT)
-    cond = exp.select([condition])[0]
-    run_one(cond, 0, 2000, exp.run_seed(0))  # warm-up: numba's cache
+    exp, cond = warmed_up(condition)
     incsfa.incsfa_fit, ec.ECIncSFA.step = timed("kernel", kernel), timed("encoding", step)
     try:
         start = time.perf_counter()
@@ -238,11 +249,9 @@ def core_one(steps: int, condition: str) -> tuple[float, float, float]:
 
 
 def profile_one(steps: int, condition: str) -> tuple[float, list[tuple[str, float]], dict]:
-    from neurocur.experiments import load_experiment, run_one
+    from neurocur.experiments import run_one
 
-    exp = load_experiment(EXPERIMENT)
-    cond = exp.select([condition])[0]
-    run_one(cond, 0, 2000, exp.run_seed(0))  # warm-up: numba compilation and caches
+    exp, cond = warmed_up(condition)
     profiler = cProfile.Profile()
     start = time.perf_counter()
     profiler.enable()
@@ -292,7 +301,8 @@ def main(argv=None) -> int:
     turns = -(-args.runs // args.jobs)
     print(f"one run in this process: {total:.2f} s; the IncSFA kernel {kernel:.2f} s and the EC's encoding "
           f"{encoding:.2f} s ({kernel + encoding:.2f} s), the rest {total - kernel - encoding:.2f} s. "
-          f"{args.runs} runs in 15 s wall with {args.jobs} jobs leave {15 / turns:.2f} s per run, start-up included "
+          f"{args.runs} runs in {TARGET_WALL:g} s wall with {args.jobs} jobs leave {TARGET_WALL / turns:.2f} s per run, "
+          f"start-up included "
           f"({turns} runs per worker)")
     if args.profile:
         total, rows, summary = profile_one(args.steps, args.condition)
