@@ -21,13 +21,21 @@ def store_errors(history, gated, states, err, known):  # pragma: no cover - comp
     familiar. For every frame t whose state has a cluster (``known[t]``): the state's
     errors move one row down (all first, as numpy's ``history[1:, v] = history[:-1, v]``),
     then ``history[0, s] = err[t]`` in frame order. Returns ``(context error, total,
-    complete, drift)``: the mean of the stored errors (``row[~nan].sum() / count``, NaN if
-    none), eq 11's sum (NaN unless every state has one), whether every state has an error
-    or was gated, and the ``converged`` rule's extrapolated drift ``mean / (1 - rho)``
+    complete, drift, progress)``: the mean of the stored errors (``row[~nan].sum() / count``,
+    NaN if none), eq 11's sum (NaN unless every state has one), whether every state has an
+    error or was gated, the ``converged`` rule's extrapolated drift ``mean / (1 - rho)``
     over the states with an error, rho the largest ratio of successive rows' sums (inf if
-    one of those states lacks an older error or a ratio is not below 1).
+    one of those states lacks an older error or a ratio is not below 1), and the same-state
+    progress: the mean of ``history[0, s_t] - err[t]`` (the row as it was before this
+    episode) over the known frames whose state had an error (``drop.mean()``; NaN if none).
     """
     T, n, m = states.shape[0], history.shape[0] - 1, history.shape[1]
+    drops, n_drops = np.empty(T), 0
+    for t in range(T):
+        if known[t] and not np.isnan(history[0, states[t]]):
+            drops[n_drops] = history[0, states[t]] - err[t]
+            n_drops += 1
+    progress = pairwise_sum(drops, 0, n_drops) / n_drops if n_drops else np.nan
     for t in range(T):
         if known[t]:
             for j in range(n, 0, -1):
@@ -58,8 +66,8 @@ def store_errors(history, gated, states, err, known):  # pragma: no cover - comp
         for j in range(1, n + 1):
             older = pairwise_sum(kept[j], 0, k)
             if newer >= older:
-                return mean, total, complete, np.inf
+                return mean, total, complete, np.inf, progress
             rho = max(rho, newer / older)
             newer = older
         drift = now / k / (1.0 - rho)
-    return mean, total, complete, drift
+    return mean, total, complete, drift, progress

@@ -68,7 +68,13 @@ class HPCROC(Region):
       module explains it (section 2.6), and the adaptive module, which learns nothing on
       a familiar episode, never has a cluster there, so a partly gated context could
       otherwise never be stored;
-    - ``reward_error`` (to VTA): the context error (``"context"``) or ``episode_error``.
+    - ``reward_error`` (to VTA): the context error (``"context"``) or ``episode_error``;
+    - ``progress`` (an optional output, :class:`~neurocur.regions.vta_state_progress.StateProgressVTA`'s
+      input): the mean, over the frames whose state has a stored error from its previous
+      visit and an error now, of the stored error minus the error now. It is eq 11's
+      decrease over the visit per frame: each state is compared with itself, the other
+      states of the context do not dilute it (the context error's 1/M) and a block of two
+      visits does not double it. NaN when no frame has both.
 
     The ``converged`` rule asks that the features have converged, not merely stopped
     moving. With the sources replayed identically each epoch, a state's error measures
@@ -129,6 +135,8 @@ class HPCROC(Region):
         Signal("familiar", "bool", (), "a frozen module's error is below threshold"),
         Signal("module_learned", "bool", (), "the adaptive module is stored at this pass"),
         Signal("reward_error", "float64", (), "adaptive module's error used for the intrinsic reward"),
+        Signal("progress", "float64", (), "drop of the adaptive module's error at this episode's states since their "
+               "previous visit, per frame (NaN while undefined)", optional=True),
     )
     probes = (
         Probe("familiar", "bool", "", "gated: a frozen module's mean error < threshold"),
@@ -185,7 +193,7 @@ class HPCROC(Region):
                                 amnesic=p.amnesic, width=p.width)
         err, known, ep_err, responds = self._errors(self.bank, idx, features)
         # a state seen only in gated episodes has no error (nothing is learned there): a frozen module explains it
-        ctx_err, total, complete, drift = store_errors(self.history[:, c], self.gated[c], episode.states, err, known)
+        ctx_err, total, complete, drift, progress = store_errors(self.history[:, c], self.gated[c], episode.states, err, known)
         if p.freeze == "context_mean":
             rule = ctx_err < p.threshold and complete
         elif p.freeze == "context_sum":
@@ -202,7 +210,8 @@ class HPCROC(Region):
         self._idx, self._features, self._context = idx, features, c
         self.familiar, self.module_learned = familiar, learned
         self._rec = (familiar, gating, ctx_err, ep_err, min_err, learned)
-        return familiar, learned, float(ctx_err if p.reward_error == "context" else ep_err)
+        reward_error = float(ctx_err if p.reward_error == "context" else ep_err)
+        return familiar, learned, reward_error, progress
 
     def _keep_outputs(self, episode, y: np.ndarray) -> None:
         """Keep each visited state's outputs and derivatives (no derivative across a start)."""

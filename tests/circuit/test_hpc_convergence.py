@@ -71,7 +71,7 @@ def visits(hpc, features_per_visit):
     returns module_learned of each visit made."""
     learned = []
     for y in features_per_visit:
-        _, stored, _ = hpc.step(Episode(np.zeros((T, 1)), np.arange(T), 0), y, np.empty((T, 0, 2)))
+        _, stored, *_ = hpc.step(Episode(np.zeros((T, 1)), np.arange(T), 0), y, np.empty((T, 0, 2)))
         hpc.learn()
         learned.append(stored)
         if stored:

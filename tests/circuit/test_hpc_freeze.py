@@ -38,7 +38,7 @@ def visit(hpc, x, library=None, states=STATES):
     returns (familiar, module_learned, the recorded context error)."""
     features = np.column_stack([np.full(len(states), x), np.zeros(len(states))])
     lib = np.empty((len(states), 0, 2)) if library is None else library
-    familiar, learned, _ = hpc.step(Episode(np.zeros((len(states), 1)), states, 0), features, lib)
+    familiar, learned, *_ = hpc.step(Episode(np.zeros((len(states), 1)), states, 0), features, lib)
     error = hpc.record()[2]
     hpc.learn()
     return familiar, learned, error

@@ -8,6 +8,9 @@ from neurocur.regions._hpc_kernels import store_errors
 
 
 def _numpy_store(row, prev, gated, states, err, known):
+    previous = row[states]  # each frame's state's error before this episode
+    both = known & ~np.isnan(previous)
+    progress = float((previous[both] - err[both]).mean()) if both.any() else np.nan
     visited = states[known]
     prev[visited] = row[visited]
     row[visited] = err[known]
@@ -26,7 +29,7 @@ def _numpy_store(row, prev, gated, states, err, known):
     if not np.isnan(before).any() and kept.sum() < before.sum():
         now = float(kept.sum())
         drift = now / len(kept) / (1.0 - now / float(before.sum()))
-    return mean, total, complete, drift
+    return mean, total, complete, drift, progress
 
 
 def _same(a, b):
@@ -35,7 +38,7 @@ def _same(a, b):
 
 def test_store_errors_equals_numpy():
     rng = np.random.default_rng(0)
-    finite = 0
+    finite = progressed = 0
     for m in (1, 7, 130, 1000):
         history = np.full((2, m), np.nan)  # drift_ratios = 1: this visit's errors and the previous visit's
         row, prev = history
@@ -52,4 +55,5 @@ def test_store_errors_equals_numpy():
             np.testing.assert_array_equal(prev, prev_ref)
             assert got[2] == ref[2] and all(_same(g, r) for g, r in zip(got, ref)), (m, visit, got, ref)
             finite += bool(np.isfinite(got[3]) and np.isfinite(got[1]))
-    assert finite > 10  # the complete, shrinking case was reached
+            progressed += bool(np.isfinite(got[4]))
+    assert finite > 10 and progressed > 100  # the complete, shrinking case and the progress were reached

@@ -57,14 +57,30 @@ def test_hpc_errors_and_context_mean_freeze():
     # half the states: stored errors 0.2, 0.2; the other half missing -> no context_mean freeze
     out, rec = hpc_pass(hpc, ep([0, 1]), Y[:2] + shift[:2])
     assert rec["episode_error"] == pytest.approx(0.2) and rec["error"] == pytest.approx(0.2)
-    assert out == (False, False, pytest.approx(0.2))
+    assert out[:3] == (False, False, pytest.approx(0.2)) and math.isnan(out[3])  # no state visited twice yet
     # the other half: now every state has a stored error -> mean (0.2+0.2+0+0.1)/4 = 0.125 < 0.3
     out, rec = hpc_pass(hpc, ep([2, 3]), Y[2:] + shift[2:])
     assert rec["episode_error"] == pytest.approx(0.05) and rec["error"] == pytest.approx(0.125)
-    assert out == (False, True, pytest.approx(0.125)) and rec["module_learned"] and rec["n_modules"] == 1
+    assert out[:3] == (False, True, pytest.approx(0.125)) and rec["module_learned"] and rec["n_modules"] == 1
     assert len(hpc.library) == 1 and hpc.bank is None and np.isnan(hpc.stored).all()
     event = hpc.events[-1]
     assert event == {"event": "module_stored", "module": 0, "context": 0, "n_clusters": 8}
+
+
+def test_hpc_progress_is_the_drop_at_the_visits_own_states():
+    """``progress``: the mean drop of the stored error at the states the visit shows, since their
+    previous visit; eq 11's decrease over the visit per frame, undiluted by the other states."""
+    hpc = make(HPCROC, small_world(), n_states=4, threshold=0.01, prune_min_weight=0.0)
+    hpc_pass(hpc, ep([0, 1, 2, 3]), Y)  # a cluster at Y in every state
+    out, _ = hpc_pass(hpc, ep([0, 1, 2, 3]), Y + [0.2, 0.0])  # errors 0.2, none stored before: undefined
+    assert out[2] == pytest.approx(0.2) and math.isnan(out[3])
+    total = hpc.stored[0].sum()
+    out, rec = hpc_pass(hpc, ep([1, 2]), Y[1:3] + [0.05, 0.0])  # clusters at Y and Y + 0.2: errors 0.05
+    assert out[3] == pytest.approx(0.15)
+    assert total - hpc.stored[0].sum() == pytest.approx(2 * out[3])  # eq 11's decrease over the visit
+    assert 0.2 - rec["error"] == pytest.approx(out[3] * 2 / 4)  # the context mean's drop: diluted by 2 of 4 states
+    out, _ = hpc_pass(hpc, ep([1, 3]), Y[[1, 3]] + [0.05, 0.0])  # state 1: 0.05 -> 0 (a cluster there now);
+    assert out[3] == pytest.approx((0.05 + 0.15) / 2)  # state 3: 0.2 -> 0.05
 
 
 def test_hpc_context_sum_and_episode_mean_rules():

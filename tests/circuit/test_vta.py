@@ -14,6 +14,7 @@ from neurocur.regions.sensory import SensoryWorld
 from neurocur.regions.vta import AbsLearningProgressVTA, LearningProgressVTA, NoveltyVTA, VTARole
 from neurocur.regions.vta_content_novelty import ContentNoveltyVTA
 from neurocur.regions.vta_mixture import INTRINSIC, MixtureVTA
+from neurocur.regions.vta_state_progress import StateProgressVTA
 from neurocur.regions.vta_surprise import SurpriseVTA
 from neurocur.regions.vta_td import TDVTA
 
@@ -34,28 +35,35 @@ def make(cls, n_contexts=3, **params):
 
 
 def das(vta, inputs):
-    """The released DA of each ``(context, error, familiar, learned, reward)`` pass."""
-    return np.array([vta.step(*x)[0] for x in inputs])
+    """The released DA of each ``(context, error, familiar, learned, reward[, progress])`` pass; a model
+    reads as many of them as it has inputs."""
+    n = len(vta.inputs)
+    return np.array([vta.step(*x[:n])[0] for x in inputs])
 
 
 def random_inputs(n=300, n_contexts=3, seed=5):
-    """A mixed input stream: errors (some undefined), familiar and storage events, rewards."""
+    """A mixed input stream: errors (some undefined), familiar and storage events, rewards, and HPC's
+    same-state progress (some undefined)."""
     rng = np.random.default_rng(seed)
     error = rng.uniform(0.0, 2.0, n)
     error[rng.random(n) < 0.1] = NAN
     familiar = rng.random(n) < 0.15
     learned = ~familiar & (rng.random(n) < 0.03)
+    progress = rng.normal(0.0, 0.5, n)
+    progress[rng.random(n) < 0.1] = NAN
     return list(zip(rng.integers(n_contexts, size=n).tolist(), error.tolist(), familiar.tolist(), learned.tolist(),
-                    rng.normal(0.0, 1.0, n).tolist()))
+                    rng.normal(0.0, 1.0, n).tolist(), progress.tolist()))
 
 
 def test_every_vta_type_shares_the_roles_ports_and_releases_dopamine():
     assert {"vta.learning_progress", "vta.abs_learning_progress", "vta.novelty", "vta.content_novelty",
-            "vta.surprise", "vta.td", "vta.mixture"} <= set(VTA_TYPES)
+            "vta.surprise", "vta.td", "vta.mixture", "vta.state_progress"} <= set(VTA_TYPES)
+    role = ["context", "reward_error", "familiar", "module_learned", "reward"]
     for name in VTA_TYPES:
         cls = REGIONS.get(name)
         assert issubclass(cls, VTARole) and cls.modulator == "da"
-        assert [s.name for s in cls.inputs] == ["context", "reward_error", "familiar", "module_learned", "reward"]
+        extra = ["progress"] if name == "vta.state_progress" else []  # a model may read more than the role's ports
+        assert [s.name for s in cls.inputs] == role + extra
         assert [s.name for s in cls.outputs] == [p.name for p in cls.probes] == ["da"]
 
 
@@ -72,7 +80,7 @@ def test_drugs_act_on_the_released_level(name):
     plain = das(make(cls), inputs)
     drugged = make(cls)
     drugged.drugs = (_Affine(),)
-    released = [drugged.step(*x)[0] for x in inputs]
+    released = das(drugged, inputs).tolist()
     assert np.all(np.isfinite(plain))
     if cls is TDVTA:  # V learns from the released level, so the drug changes what follows too
         assert released[0] == 3.0 * plain[0] - 1.0 and not np.allclose(released, 3.0 * plain - 1.0)
@@ -110,6 +118,14 @@ def test_learning_progress_falls_to_zero_on_noise_while_surprise_stays_at_the_er
     assert abs(lp.mean()) < 1e-3
     np.testing.assert_array_equal(surprise, error)
     assert absolute[1:].mean() == pytest.approx(2 * 0.1 / math.sqrt(math.pi), rel=0.05)
+
+
+def test_state_progress_passes_hpcs_progress_with_boredom():
+    seq = [(0, 1.0, False, False, 0.0, 0.25), (0, 0.6, False, False, 0.0, NAN), (1, 0.9, True, False, 0.0, 0.5),
+           (1, NAN, False, True, 3.0, -0.125), (1, 0.3, False, False, 0.0, 0.0625)]
+    # progress as it comes, 0 while undefined, boredom when familiar; the error, storage and reward play no part
+    assert das(make(StateProgressVTA), seq).tolist() == [0.25, 0.0, -100.0, -0.125, 0.0625]
+    assert das(make(StateProgressVTA, boredom=-2.0), seq)[2] == -2.0
 
 
 # ------------------------------------------------------------------ novelty
@@ -169,9 +185,9 @@ def test_td_on_a_reward_cycle_converges_to_the_bellman_values():
 
 def test_td_ignores_the_intrinsic_inputs():
     inputs = random_inputs()
-    silent = [(c, e, f, m, 0.0) for c, e, f, m, _ in inputs]
+    silent = [(c, e, f, m, 0.0) for c, e, f, m, *_ in inputs]
     assert not das(make(TDVTA), silent).any()
-    same = [(c, 0.5, False, False, r) for c, _, _, _, r in inputs]
+    same = [(c, 0.5, False, False, r) for c, _, _, _, r, _ in inputs]
     np.testing.assert_array_equal(das(make(TDVTA), inputs), das(make(TDVTA), same))
 
 

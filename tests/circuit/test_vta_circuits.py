@@ -9,10 +9,11 @@ import dataclasses
 import numpy as np
 import pytest
 
-from neurocur.circuit import Circuit
+from neurocur.circuit import Circuit, Link, RegionSpec
 from neurocur.config import ConfigError
 from neurocur.experiments import run_one
 from neurocur.regions import REGIONS
+from neurocur.regions.vta import VTARole
 from neurocur.regions.vta_td import TDVTA
 
 #: the shipped circuit file of each VTA model
@@ -20,6 +21,15 @@ CIRCUIT_FILES = {"vta_novelty": "vta.novelty", "vta_abs_lp": "vta.abs_learning_p
                  "vta_content_novelty": "vta.content_novelty", "vta_surprise": "vta.surprise", "vta_td": "vta.td",
                  "vta_mixture": "vta.mixture"}
 VTA_TYPES = [n for n in REGIONS.names() if n.startswith("vta.")]
+
+
+def with_vta(circuit: Circuit, type_name: str) -> Circuit:
+    """``circuit`` with the VTA model ``type_name`` (default parameters); the inputs it reads beyond
+    the role's ports are wired from HPC's outputs of the same name."""
+    cls = REGIONS.get(type_name)
+    extra = tuple(Link("HPC", s.name, "VTA", s.name) for s in cls.inputs[len(VTARole.inputs):])
+    return Circuit({**circuit.specs, "VTA": RegionSpec("VTA", cls, cls.Params())}, circuit.links + extra,
+                   source=circuit.source, lesions=circuit.lesions)
 
 
 def replayed(circuit: Circuit, episodes, error_column: str) -> np.ndarray:
@@ -51,6 +61,34 @@ def test_circuit_file_swaps_the_vta(name, type_name, circuits_dir, small, make_w
     np.testing.assert_array_equal(episodes["da"], replayed(circuit, episodes, "error"))
 
 
+def replayed_progress(sim) -> np.ndarray:
+    """HPC's ``progress`` of every episode, replayed from the recorded frames: the mean, over the
+    frames with an error now and one stored at their state's previous visit, of stored minus now.
+    Each (context, state) keeps its last error; the table starts afresh after a module is stored."""
+    episodes, probes = sim.episodes(), sim.probes()
+    frames = probes[probes["signal"].isin(["state", "frame_error"])]
+    frames = frames.set_index(["episode", "step", "signal"])["value"].unstack("signal")
+    stored, progress = {}, []
+    for (_, block), row in zip(frames.groupby(level="episode"), episodes.itertuples()):
+        keys = [(row.context, int(s)) for s in block["state"]]
+        drops = [stored[k] - e for k, e in zip(keys, block["frame_error"]) if e == e and k in stored]
+        progress.append(np.mean(drops) if drops else np.nan)
+        stored.update((k, e) for k, e in zip(keys, block["frame_error"]) if e == e)
+        if row.module_learned:
+            stored = {}
+    return np.array(progress)
+
+
+def test_state_progress_is_the_same_state_drop(circuits_dir, small, make_world):
+    circuit = Circuit.from_toml(circuits_dir / "vta_state_progress.toml", overrides=small)
+    assert circuit.specs["VTA"].type_name == "vta.state_progress"
+    sim = circuit.build(make_world(), seed=3, record_frames=True).run(3000)
+    episodes, progress = sim.episodes(), replayed_progress(sim)
+    assert episodes["familiar"].any() and np.isfinite(progress).sum() >= 30
+    expected = np.where(episodes["familiar"], -100.0, np.nan_to_num(progress, nan=0.0))
+    np.testing.assert_allclose(episodes["da"], expected, rtol=1e-12, atol=1e-15)
+
+
 def paying(world_class):
     """``world_class`` paying ``10 + context`` for a visit of contexts 1 and 2, nothing for context 0."""
 
@@ -80,11 +118,14 @@ def synthetic(short_experiment):
 @pytest.mark.parametrize("type_name", VTA_TYPES)
 def test_every_vta_model_runs_in_the_synthetic_experiment(synthetic, type_name):
     cond = synthetic.conditions["curious"]
-    circuit = cond.circuit.replace("VTA", {"type": type_name})
+    circuit = with_vta(cond.circuit, type_name)
     result = run_one(dataclasses.replace(cond, circuit=circuit), 0, synthetic.steps, synthetic.run_seed(0))
     episodes = result.episodes
     assert episodes["familiar"].any() and episodes["module_learned"].any()
-    np.testing.assert_array_equal(episodes["da"], replayed(circuit, episodes, "episode_error"))
+    if type_name == "vta.state_progress":  # its input is not recorded per episode: replayed from frames above
+        assert (episodes["da"][episodes["familiar"]] == -100.0).all() and (episodes["da"][~episodes["familiar"]] != 0).any()
+    else:
+        np.testing.assert_array_equal(episodes["da"], replayed(circuit, episodes, "episode_error"))
     if type_name == "vta.td":
         assert (episodes["da"] == 0.0).all()  # no extrinsic reward in the synthetic world
 
@@ -107,10 +148,11 @@ def icub(short_experiment):
 @pytest.mark.parametrize("type_name", VTA_TYPES)
 def test_every_vta_model_runs_in_the_icub_experiment(icub, type_name):
     cond = icub.conditions["curious"]
-    circuit = cond.circuit.replace("VTA", {"type": type_name})
+    circuit = with_vta(cond.circuit, type_name)
     episodes = run_one(dataclasses.replace(cond, circuit=circuit), 0, icub.steps, icub.run_seed(0)).episodes
     assert episodes["module_learned"].any() and np.isfinite(episodes["da"]).all()
-    np.testing.assert_array_equal(episodes["da"], replayed(circuit, episodes, "error"))
+    if type_name != "vta.state_progress":  # its input is not recorded per episode: replayed from frames above
+        np.testing.assert_array_equal(episodes["da"], replayed(circuit, episodes, "error"))
 
 
 # ------------------------------------------------------------------ bad input
