@@ -34,7 +34,7 @@ class StateProgressVTA(VTARole):
     Params = LearningProgressParams
     inputs = (*VTARole.inputs, Signal("progress", "float64", (), "HPC's same-state drop of the error, per frame"))
 
-    def dopamine(self, context, reward_error, familiar, module_learned, reward, progress=float("nan")):
+    def dopamine(self, context, reward_error, familiar, module_learned, reward, progress):
         if familiar:
             return self.params.boredom
         return 0.0 if is_nan(progress) else float(progress)

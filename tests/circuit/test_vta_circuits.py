@@ -24,11 +24,14 @@ VTA_TYPES = [n for n in REGIONS.names() if n.startswith("vta.")]
 
 
 def with_vta(circuit: Circuit, type_name: str) -> Circuit:
-    """``circuit`` with the VTA model ``type_name`` (default parameters); the inputs it reads beyond
-    the role's ports are wired from HPC's outputs of the same name."""
+    """``circuit`` with the VTA model ``type_name`` (default parameters): the role's ports keep their
+    edges, the inputs it reads beyond them are wired from HPC's outputs of the same name, and edges
+    into inputs it does not have are dropped."""
     cls = REGIONS.get(type_name)
-    extra = tuple(Link("HPC", s.name, "VTA", s.name) for s in cls.inputs[len(VTARole.inputs):])
-    return Circuit({**circuit.specs, "VTA": RegionSpec("VTA", cls, cls.Params())}, circuit.links + extra,
+    role = {s.name for s in VTARole.inputs}
+    links = tuple(k for k in circuit.links if k.dst != "VTA" or k.input in role)
+    extra = tuple(Link("HPC", s.name, "VTA", s.name) for s in cls.inputs if s.name not in role)
+    return Circuit({**circuit.specs, "VTA": RegionSpec("VTA", cls, cls.Params())}, links + extra,
                    source=circuit.source, lesions=circuit.lesions)
 
 
@@ -133,7 +136,7 @@ def test_every_vta_model_runs_in_the_synthetic_experiment(synthetic, type_name):
 def test_the_mixture_halves_learning_progress_and_leaves_the_behaviour(synthetic):
     """Without extrinsic reward, DA = 0.5 LP: PFC's values halve and every decision stays the same."""
     cond = synthetic.conditions["curious"]
-    runs = {t: run_one(dataclasses.replace(cond, circuit=cond.circuit.replace("VTA", {"type": t})), 0,
+    runs = {t: run_one(dataclasses.replace(cond, circuit=with_vta(cond.circuit, t)), 0,
                        synthetic.steps, synthetic.run_seed(0)).episodes for t in ("vta.learning_progress", "vta.mixture")}
     lp, mix = runs["vta.learning_progress"], runs["vta.mixture"]
     np.testing.assert_array_equal(mix["context"], lp["context"])

@@ -30,11 +30,13 @@ def test_synthetic_experiment_has_the_papers_parameters():
     assert (exp.name, exp.runs, exp.steps) == ("synthetic", 25, 350_000)
     assert list(exp.conditions) == ["curious", "random_switching", "literal"]
     cur, rnd, lit = (exp.conditions[c] for c in ("curious", "random_switching", "literal"))
-    assert cur.circuit_path == lit.circuit_path == CIRCUIT and rnd.circuit_path == ROOT / "neurocur" / "circuits" / "lesion_lc_random.toml"
+    circuits = ROOT / "neurocur" / "circuits"
+    assert lit.circuit_path == CIRCUIT and rnd.circuit_path == circuits / "lesion_lc_random.toml"
+    assert cur.circuit_path == circuits / "vta_state_progress.toml"  # the curious agent's reward (reproduction 2.8)
     paper = {"HPC.threshold": 0.3, "HPC.n_states": 1000, "HPC.max_clusters": 2, "EC.amnesic": 2.0, "EC.mca_rate": 0.05}
     chosen = {"HPC.clusterers": "state", "HPC.freeze": "converged", "HPC.drift_ratios": 2, "HPC.ordered": True,
               "HPC.reward_error": "episode", "HPC.min_spread": 0.2, "sensory.episodes_on_engage": 2, "EC.n_pca": 3}
-    assert cur.params == rnd.params == paper | chosen
+    assert rnd.params == paper | chosen and cur.params == paper | chosen | {"PFC.alpha": "sample_average"}
     assert lit.params == paper | chosen | {"HPC.freeze": "episode_mean", "HPC.reward_error": "episode", "HPC.ordered": False,
                                             "HPC.min_spread": 0.0, "sensory.episodes_on_engage": 1,
                                             "EC.orthonormalize": 0}

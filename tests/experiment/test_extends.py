@@ -35,26 +35,29 @@ def test_a_file_inherits_the_reading_and_states_its_own_conditions(tmp_path):
     base, mine = load_experiment("synthetic"), load_experiment(path)
     assert (mine.name, mine.description, mine.runs, mine.steps, mine.seed) == ("mine", "", 3, base.steps, base.seed)
     assert list(mine.conditions) == ["only"]
-    cond, curious = mine.conditions["only"], base.conditions["curious"]
-    assert cond.params == curious.params | {"HPC.threshold": 0.2, "VTA.boredom": 0.0}
-    assert cond.world == curious.world | {"contexts": ["S-A", "S-B", "S-D"], "context_names": ["A", "B", "D"]}
+    cond, reading = mine.conditions["only"], base.conditions["random_switching"]  # [params] alone: no own params
+    assert cond.params == reading.params | {"HPC.threshold": 0.2, "VTA.boredom": 0.0}
+    assert cond.world == reading.world | {"contexts": ["S-A", "S-B", "S-D"], "context_names": ["A", "B", "D"]}
     assert cond.circuit.specs["HPC"].params.threshold == 0.2 and cond.circuit.specs["HPC"].params.ordered
     assert cond.make_world().context_names == ("A", "B", "D")
 
 
 @pytest.mark.parametrize("name", EXTENDING)
 def test_hypothesis_runs_share_the_synthetic_reading(name):
-    """Every condition of a shipped hypothesis run has synthetic.toml's [params] underneath its own."""
-    reading = load_experiment("synthetic").conditions["curious"]
+    """Every condition of a shipped hypothesis run has synthetic.toml's [params] underneath its own
+    (its random-switching condition has no params of its own)."""
+    reading = load_experiment("synthetic").conditions["random_switching"]
     for cond in load_experiment(name).conditions.values():
         assert cond.params.items() >= {k: v for k, v in reading.params.items() if k not in cond.sweep}.items(), cond.name
         hpc = cond.circuit.specs["HPC"].params
         assert (hpc.freeze, hpc.drift_ratios, hpc.ordered) == ("converged", 2, True), cond.name
 
 
-def test_the_epsilon_greedy_condition_is_synthetics_curious_run():
-    """Same circuit, world and seeds: lc_softmax's ε-greedy runs are synthetic.toml's curious runs."""
-    curious, mine = load_experiment("synthetic"), load_experiment("lc_softmax")
+def test_the_epsilon_greedy_condition_is_synthetics_curious_run_with_the_papers_reward():
+    """Same circuit, world and seeds: lc_softmax's ε-greedy runs are synthetic.toml's curious runs with
+    the paper's reward (cd_misfa's learning progress, α = 0.2), which the hypothesis runs keep."""
+    curious = load_experiment("synthetic", sets=['circuit="cd_misfa"', "PFC.alpha=0.2"])
+    mine = load_experiment("lc_softmax")
     a, b = curious.conditions["curious"], mine.conditions["epsilon_greedy"]
     assert a.circuit.to_dict() == b.circuit.to_dict() and a.world == b.world
     assert [curious.run_seed(i).spawn_key for i in range(3)] == [mine.run_seed(i).spawn_key for i in range(3)]
