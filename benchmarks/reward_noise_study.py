@@ -4,8 +4,10 @@ docs/reproduction.md, section 2.8).
     python benchmarks/reward_noise_study.py [--runs 25] [--seed 2026] [--steps 350000] [--set KEY=VALUE ...]
 
 Runs the synthetic experiment's ``curious`` condition (``neurocur/experiments_data/synthetic.toml``,
-the experiment's own seeds; ``--seed`` another seed set) in this process and reads the HPC's
-state at every episode. With ``HPC.reward_error = "episode"`` (the default) the dopamine of a
+the experiment's own seeds; ``--seed`` another seed set) with the paper's reward, the default
+before section 2.8's third variant (circuit ``cd_misfa``, ``PFC.alpha = 0.2``; ``--set`` may
+change them), in this process, and reads the HPC's state at every episode. With
+``HPC.reward_error = "episode"`` the dopamine of a
 visit is the drop of the episode's mean error since the context's previous visit,
 DA = ē(previous visit) − ē(this visit). The error at a state is the distance of the features
 from that state's clusters, so each visit's error already compares the features with those
@@ -39,6 +41,8 @@ from neurocur.experiments.run import run_one
 from neurocur.regions.hpc import HPCROC
 
 EXPERIMENT = Path(__file__).resolve().parents[1] / "neurocur" / "experiments_data" / "synthetic.toml"
+#: the curious agent's reward before section 2.8's third variant: the paper's learning progress, alpha = 0.2
+PAPERS_REWARD = ['circuit="cd_misfa"', "PFC.alpha=0.2"]
 
 
 def record_same_state_progress(found: list[float]):
@@ -60,7 +64,7 @@ def record_same_state_progress(found: list[float]):
 
 def first_cycle(runs: int, seed: int | None, steps: int, sets: list[str]) -> pd.DataFrame:
     """Per first-cycle episode of every run: run, DA, LP_same, W and the previous decision."""
-    exp = load_experiment(EXPERIMENT, sets=sets, seed=seed)
+    exp = load_experiment(EXPERIMENT, sets=[*PAPERS_REWARD, *sets], seed=seed)
     condition = exp.conditions["curious"]
     rows = []
     for run in range(runs):
