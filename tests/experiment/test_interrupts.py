@@ -3,6 +3,7 @@ correct results (after a resume) and leaves no worker behind; the command runs a
 in its own session, so that a signal reaches its whole process group as a terminal's would."""
 
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -17,8 +18,9 @@ from neurocur.results.store import PARTIAL
 
 SYNTHETIC = Path(__file__).resolve().parents[2] / "neurocur" / "experiments_data" / "synthetic.toml"
 #: runs in progress when the first signal comes (each worker's first run also loads the compiled kernels);
-#: one may still end between two signals, so a test counts the runs actually in progress
-RUNS, STEPS = 2, 60000
+#: a run of STEPS takes about 0.7 s here, but one may still end before either signal, so a test counts
+#: the runs actually in progress instead of timing them
+RUNS, STEPS = 2, 200_000
 
 
 def start(out, runs=RUNS, steps=STEPS, jobs=2):
@@ -113,7 +115,8 @@ def test_ctrl_c_twice_abandons_the_runs_at_once(tmp_path, clean):
     workers_running(proc)
     os.killpg(proc.pid, signal.SIGINT)
     first = proc.stderr.readline()
-    assert first.startswith(f"neurocur: interrupted; finishing the {RUNS} run(s) in progress"), first
+    announced = re.match(r"neurocur: interrupted; finishing the (\d+) run\(s\) in progress", first)
+    assert announced and 1 <= int(announced[1]) <= RUNS, first
     os.killpg(proc.pid, signal.SIGINT)
     sent = time.monotonic()
     _, err = proc.communicate(timeout=20)
@@ -129,7 +132,7 @@ def test_ctrl_c_twice_abandons_the_runs_at_once(tmp_path, clean):
 
 def test_ctrl_c_once_finishes_the_runs_in_progress_and_starts_no_other(tmp_path):
     out = tmp_path / "out"
-    proc = start(out, runs=3, steps=4 * STEPS, jobs=1)  # a run takes about 1 s
+    proc = start(out, runs=3, steps=4 * STEPS, jobs=1)  # a run takes about 2.5 s
     first = out / "runs" / "curious" / "run-000" / "run.json"
     wait_until(lambda: first.is_file() or proc.poll() is not None, 60, "the first run")
     time.sleep(0.3)  # run 1 is submitted as soon as run 0 is done, and takes longer than this
