@@ -2,11 +2,12 @@
 
     python benchmarks/learning_time_study.py single [--seeds 5] [--epochs 60]
     python benchmarks/learning_time_study.py full [--seeds 4] [--steps 350000]
+    python benchmarks/learning_time_study.py progress [--seeds 20]
     python benchmarks/learning_time_study.py ... --set HPC.threshold=0.1 EC.mca_rate=0.02
 
-Both modes build the synthetic experiment's circuit with its parameters
-(``neurocur/experiments_data/synthetic.toml``, condition ``curious``; ``--set`` overrides
-them) and follow the adaptive module episode by episode. Its **quality** for a source is
+Both modes build the synthetic experiment's condition ``curious`` as ``neurocur run`` does
+(``neurocur/experiments_data/synthetic.toml``: its circuit, the experiment's parameters and the
+condition's; ``--set`` overrides them) and follow the adaptive module episode by episode. Its **quality** for a source is
 the |corr| of its slowest output, on one epoch of the source's frames, with the source's
 slow dimension (what ``module_report`` gives a stored module).
 
@@ -22,31 +23,38 @@ thresholds 0.3, 0.15 and 0.08, with the quality at that moment (median over seed
 module: its source, the epochs it spent in its source's contexts since the previous
 storage (Figure 4F's learning time), its quality at storage, and the epochs after which its
 quality for that source had first reached 0.99 and 0.999 (NaN: never before storage).
+
+``progress``: what the reward pays for learning each source, with nothing ever stored (threshold
+0), as the mean DA (VTA's output) per episode up to a number of epochs of the source's frames.
+Staying: one context per source, the agent always stays (as in ``single``). Switching: one
+context per source and S-D, the agent engages or switches at random (the LC's ``random``
+lesion). Printed per mode and epoch mark: the mean DA per source over seeds, and S-A against
+S-B and S-B against S-C, paired by seed (how often the easier paid more; Wilcoxon signed-rank).
 """
 
 from __future__ import annotations
 
 import argparse
 import math
-import tomllib
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
+from neurocur.analysis import wilcoxon_signed_rank
 from neurocur.circuit import Circuit
 from neurocur.contexts.sources import SLOW_DIM
 from neurocur.contexts.synthetic import SyntheticWorld
-from neurocur.experiments.sets import parse_set
+from neurocur.experiments import load_experiment
 from neurocur.learn.correlation import abs_corr
 from neurocur.regions.hpc import extrapolated_drift
 from neurocur.regions.lc import EpsilonGreedyLC
 from neurocur.regions.pfc import ENGAGE
 
-ROOT = Path(__file__).resolve().parents[1] / "neurocur"
 EPOCH = 1000
 THRESHOLDS = (0.3, 0.15, 0.08)
 LEVELS = (0.99, 0.999)
+MARKS = (2, 5, 10, 20)  # epochs of a source's frames at which ``progress`` averages its DA
+SOURCES = ("S-A", "S-B", "S-C")
 
 
 class StayLC(EpsilonGreedyLC):
@@ -57,14 +65,11 @@ class StayLC(EpsilonGreedyLC):
         return ENGAGE, context, 0.0
 
 
-def experiment_params(sets: list[str]) -> tuple[dict, dict]:
-    """The synthetic experiment's (world, circuit-param) settings of condition ``curious``, plus ``--set``."""
-    spec = tomllib.loads((ROOT / "experiments_data" / "synthetic.toml").read_text())
-    world = {k: v for k, v in spec["world"].items() if k not in ("type", "contexts", "context_names")}
-    params = dict(spec["params"])
-    for key, value in map(parse_set, sets):
-        (world if key.startswith("world.") else params)[key.removeprefix("world.")] = value
-    return world, params
+def curious(sets: list[str]) -> tuple[dict, Circuit]:
+    """The synthetic experiment's world settings (but its contexts) and circuit of condition ``curious``, with ``--set``."""
+    condition = load_experiment("synthetic", sets=sets).conditions["curious"]
+    world = {k: v for k, v in condition.world.items() if k not in ("type", "contexts", "context_names")}
+    return world, condition.circuit
 
 
 def quality(model, world: SyntheticWorld, context: int) -> float:
@@ -86,13 +91,12 @@ def first_epoch(frames: np.ndarray, ok: np.ndarray) -> float:
 
 
 def single(seeds: int, epochs: int, sets: list[str]) -> pd.DataFrame:
-    world_kw, params = experiment_params(sets)
+    world_kw, circuit = curious(sets)
+    circuit = circuit.with_params({"HPC.threshold": 1e-300, "sensory.initial_context": 0})
     rows = []
     for source in ("S-A", "S-B", "S-C"):
         for seed in range(seeds):
             world = SyntheticWorld(contexts=[source, "S-D"], **world_kw)
-            circuit = Circuit.from_toml(ROOT / "circuits" / "cd_misfa.toml",
-                                        overrides={**params, "HPC.threshold": 1e-300, "sensory.initial_context": 0})
             sim = circuit.replace("LC", StayLC("LC")).build(world, seed=seed)
             hpc, ec = sim.regions["HPC"], sim.regions["EC"]
             trace = []
@@ -120,12 +124,12 @@ def single(seeds: int, epochs: int, sets: list[str]) -> pd.DataFrame:
 
 
 def full(seeds: int, steps: int, sets: list[str]) -> pd.DataFrame:
-    world_kw, params = experiment_params(sets)
+    world_kw, circuit = curious(sets)
     contexts = ["S-A", "S-A", "S-B", "S-C", "S-D"]
     rows = []
     for seed in range(seeds):
         world = SyntheticWorld(contexts=contexts, **world_kw)
-        sim = Circuit.from_toml(ROOT / "circuits" / "cd_misfa.toml", overrides=params).build(world, seed=seed)
+        sim = circuit.build(world, seed=seed)
         ec, hpc = sim.regions["EC"], sim.regions["HPC"]
         learnable = ("S-A", "S-B", "S-C")
         spent = dict.fromkeys(learnable, 0)
@@ -153,10 +157,41 @@ def full(seeds: int, steps: int, sets: list[str]) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
+def paid(circuit: Circuit, world: SyntheticWorld, seed: int, epochs: int) -> pd.DataFrame:
+    """One row per pass: the frames of each context before it, its context and the DA it released."""
+    sim = circuit.build(world, seed=seed)
+    seen = np.zeros(world.n_contexts, dtype=int)
+    learnable = [c for c in range(world.n_contexts) if world.source_of(c) in SOURCES]
+    rows = []
+    while seen[learnable].min() < epochs * EPOCH:
+        before = sim.n_frames
+        sim.run(1)
+        context = sim.regions["HPC"]._context
+        rows.append((world.source_of(context), seen[context], sim.regions["VTA"].da))
+        seen[context] += sim.n_frames - before
+    return pd.DataFrame(rows, columns=["source", "frames_before", "da"])
+
+
+def progress(seeds: int, sets: list[str]) -> pd.DataFrame:
+    world_kw, circuit = curious(sets)
+    circuit = circuit.with_params({"HPC.threshold": 1e-300, "sensory.initial_context": 0})
+    modes = {"staying": circuit.replace("LC", StayLC("LC")), "switching": circuit.lesion("LC", "random")}
+    rows = []
+    for seed in range(seeds):
+        for mode, built in modes.items():
+            worlds = ([[s, "S-D"] for s in SOURCES] if mode == "staying" else [[*SOURCES, "S-D"]])
+            trace = pd.concat([paid(built, SyntheticWorld(contexts=c, **world_kw), seed, MARKS[-1]) for c in worlds])
+            for mark in MARKS:
+                early = trace[trace["frames_before"] < mark * EPOCH]
+                for source, da in early[early["source"].isin(SOURCES)].groupby("source")["da"]:
+                    rows.append({"mode": mode, "epochs": mark, "seed": seed, "source": source, "da": da.mean()})
+    return pd.DataFrame(rows)
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("mode", choices=("single", "full"))
-    parser.add_argument("--seeds", type=int, default=None, help="runs (default: 5 single, 4 full)")
+    parser.add_argument("mode", choices=("single", "full", "progress"))
+    parser.add_argument("--seeds", type=int, default=None, help="runs (default: 5 single, 4 full, 20 progress)")
     parser.add_argument("--epochs", type=int, default=60, help="single: epochs per source")
     parser.add_argument("--steps", type=int, default=350_000, help="full: frames per run")
     parser.add_argument("--set", nargs="+", default=[], metavar="KEY=VALUE", help="override a setting")
@@ -166,6 +201,15 @@ def main(argv=None) -> None:
             table = single(args.seeds or 5, args.epochs, args.set)
             print(table.to_string(index=False))
             print(table.drop(columns="seed").groupby("source").median().T.to_string())
+        elif args.mode == "progress":
+            table = progress(args.seeds or 20, args.set)
+            means = table.pivot_table(index=["mode", "epochs"], columns="source", values="da")
+            for (mode, mark), g in table.groupby(["mode", "epochs"]):
+                pair = g.pivot(index="seed", columns="source", values="da")
+                for a, b in zip(SOURCES, SOURCES[1:]):
+                    means.loc[(mode, mark), f"{a} > {b}"] = f"{int((pair[a] > pair[b]).sum())}/{len(pair)}"
+                    means.loc[(mode, mark), f"p ({a} vs {b})"] = wilcoxon_signed_rank(pair[a], pair[b])["p_value"]
+            print(means.to_string())
         else:
             table = full(args.seeds or 4, args.steps, args.set)
             print(table.to_string(index=False))
