@@ -55,6 +55,7 @@ class Simulator:
             raise ValueError(f"two of the region names {names} have the same seed key (crc32); rename one")
         for name in names:
             region = self.regions[name]
+            region.wired = frozenset(k.signal for k in circuit.links if k.src == name)
             region.bind(world)
             region.reset(np.random.default_rng(children[name]))
             if region.drugs:  # the drugs' own stream: the region's draws stay those of the untreated run

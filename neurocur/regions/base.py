@@ -13,7 +13,8 @@ A region is one brain area. It declares
   returns a (T, n) array), recorded only on request;
 - ``lesions``: named lesions, each a dict of parameter overrides.
 
-Life cycle, driven by the scheduler: ``bind(world)`` once (sizes from the world),
+Life cycle, driven by the scheduler: ``wired`` is set to the names of the outputs some edge reads
+(an optional output none reads may be left uncomputed), then ``bind(world)`` once (sizes from the world),
 ``reset(rng)`` once, then per pass (= one episode) ``step(*inputs) -> tuple`` in
 topological order, then ``learn(*learn_inputs)`` for plastic regions, then
 ``record()``. A region may append event dicts to ``self.events`` (the scheduler
@@ -125,6 +126,9 @@ class Region:
         self.drugs: tuple = ()
         #: The drugs' own random stream (noise), set by the simulator; separate from the region's.
         self.drug_rng: np.random.Generator | None = None
+        #: The outputs some edge of the circuit reads, set by the simulator before :meth:`bind`;
+        #: a region may leave an optional output that none reads uncomputed (NaN).
+        self.wired: frozenset[str] = frozenset()
 
     def modulate(self, level: float) -> float:
         """The released neuromodulator ``level`` after this region's drugs (identity without any)."""

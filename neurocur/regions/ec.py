@@ -54,6 +54,16 @@ class ECIncSFA(Region):
       adaptive module starts with a seed drawn from this region's generator;
     - else, unless the episode is familiar (gating, section 2.6):
       ``IncSFA.partial_fit`` on each independent segment of the episode.
+
+    ``slowness_progress`` (an optional output, computed only when an edge reads it, as
+    ``circuits/vta_slowness_progress.toml``'s does; a variant, not the paper's reward): how much
+    slower the adaptive module's slowest output has become on this context since the context's
+    previous visit, measured on this episode's frames. With
+    eq 4's Δ = <ẏ²> (within segments; IncSFA keeps the output at unit variance), it is
+    Δ(y₀ under the projection of the context's previous visit) − Δ(y₀ now). Section 4.4's Ω
+    quantifies learning progress as the convergence of this output (CIMCA, eqs 16-17), so the
+    drop of its Δ is that progress on the module's own objective. NaN while undefined (a fresh
+    module, or the context's first visit with this module).
     """
 
     Params = ECParams
@@ -65,6 +75,8 @@ class ECIncSFA(Region):
     outputs = (
         Signal("features", "float64", ("T", "J"), "adaptive module's slow features per frame"),
         Signal("library_features", "float64", ("T", "M", "J"), "every frozen module's slow features per frame"),
+        Signal("slowness_progress", "float64", (), "drop of the slowest output's delta on this episode's frames "
+               "since the context's previous visit (NaN while undefined or unread)", optional=True),
     )
 
     @property
@@ -83,6 +95,7 @@ class ECIncSFA(Region):
     def _new_module(self) -> IncSFA:
         p = self.params
         self._proj = self._offset = None
+        self._seen: dict[int, np.ndarray] = {}  # context -> the slowest output's projection at its last visit
         return IncSFA(p.n_components, p.n_pca, amnesic=p.amnesic, var_fraction=p.var_fraction,
                       eig_cutoff=p.eig_cutoff, orthonormalize=p.orthonormalize, mca_rate=p.mca_rate,
                       mca_rates=p.mca_rates, gamma=p.gamma, random_state=int(self.rng.integers(2**63)), dtype=p.dtype)
@@ -99,7 +112,17 @@ class ECIncSFA(Region):
         else:
             lib = np.empty((T, 0, J))
         self.episode, self.features = episode, y
-        return y, lib
+        return y, lib, self._slowness_progress(episode, y)
+
+    def _slowness_progress(self, episode, y) -> float:
+        """Δ(y₀) under the context's previous projection minus Δ(y₀) now, on this episode's frames."""
+        if "slowness_progress" not in self.wired or self._proj is None:
+            return np.nan
+        before = self._seen.get(episode.context)
+        self._seen[episode.context] = self._proj[:, 0].copy()
+        if before is None:
+            return np.nan
+        return _delta(episode.frames @ before, episode.starts) - _delta(y[:, 0], episode.starts)  # offsets cancel in Δ
 
     def learn(self, familiar, module_learned) -> None:
         if module_learned:
@@ -120,3 +143,12 @@ class ECIncSFA(Region):
     def products(self, events):
         """``"library"``: the frozen modules (IncSFA), in storage order."""
         return {"library": list(self.library)}
+
+
+def _delta(y: np.ndarray, starts: np.ndarray) -> float:
+    """Eq 4's Δ = <ẏ²> of one output over a block: the mean squared difference of successive
+    frames, none spanning an independent episode's start."""
+    steps = np.diff(y)
+    within = np.ones(len(steps), dtype=bool)
+    within[starts[starts > 0] - 1] = False
+    return float(np.mean(steps[within] ** 2))

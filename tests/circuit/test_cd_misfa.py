@@ -74,7 +74,7 @@ def test_modules_table_and_library(run):
     assert products["library"] == ec.library and set(products) == {"library", "modules"}
     # EC's stacked encoding equals every frozen module's own transform (eq 2)
     episode = run.regions["sensory"].episode
-    y, lib = ec.step(episode)
+    y, lib, _ = ec.step(episode)
     for m, module in enumerate(ec.library):
         np.testing.assert_allclose(lib[:, m, :], module.transform(episode.frames), atol=1e-10)
     np.testing.assert_allclose(y, ec.adaptive.transform(episode.frames), atol=1e-10)

@@ -14,12 +14,15 @@ from neurocur.regions.sensory import SensoryWorld
 from neurocur.regions.vta import AbsLearningProgressVTA, LearningProgressVTA, NoveltyVTA, VTARole
 from neurocur.regions.vta_content_novelty import ContentNoveltyVTA
 from neurocur.regions.vta_mixture import INTRINSIC, MixtureVTA
+from neurocur.regions.vta_slowness_progress import SlownessProgressVTA
 from neurocur.regions.vta_state_progress import StateProgressVTA
 from neurocur.regions.vta_surprise import SurpriseVTA
 from neurocur.regions.vta_td import TDVTA
 
 NAN = math.nan
 VTA_TYPES = [n for n in REGIONS.names() if n.startswith("vta.")]
+#: the models that read a ``progress`` input besides the role's ports
+PROGRESS_READERS = ("vta.state_progress", "vta.slowness_progress")
 
 
 class _World:
@@ -57,12 +60,12 @@ def random_inputs(n=300, n_contexts=3, seed=5):
 
 def test_every_vta_type_shares_the_roles_ports_and_releases_dopamine():
     assert {"vta.learning_progress", "vta.abs_learning_progress", "vta.novelty", "vta.content_novelty",
-            "vta.surprise", "vta.td", "vta.mixture", "vta.state_progress"} <= set(VTA_TYPES)
+            "vta.surprise", "vta.td", "vta.mixture", "vta.state_progress", "vta.slowness_progress"} <= set(VTA_TYPES)
     role = ["context", "reward_error", "familiar", "module_learned", "reward"]
     for name in VTA_TYPES:
         cls = REGIONS.get(name)
         assert issubclass(cls, VTARole) and cls.modulator == "da"
-        extra = ["progress"] if name == "vta.state_progress" else []  # a model may read more than the role's ports
+        extra = ["progress"] if name in PROGRESS_READERS else []  # a model may read more than the role's ports
         assert [s.name for s in cls.inputs] == role + extra
         assert [s.name for s in cls.outputs] == [p.name for p in cls.probes] == ["da"]
 
@@ -120,12 +123,13 @@ def test_learning_progress_falls_to_zero_on_noise_while_surprise_stays_at_the_er
     assert absolute[1:].mean() == pytest.approx(2 * 0.1 / math.sqrt(math.pi), rel=0.05)
 
 
-def test_state_progress_passes_hpcs_progress_with_boredom():
+@pytest.mark.parametrize("cls", [StateProgressVTA, SlownessProgressVTA])
+def test_state_and_slowness_progress_pass_their_progress_input_with_boredom(cls):
     seq = [(0, 1.0, False, False, 0.0, 0.25), (0, 0.6, False, False, 0.0, NAN), (1, 0.9, True, False, 0.0, 0.5),
            (1, NAN, False, True, 3.0, -0.125), (1, 0.3, False, False, 0.0, 0.0625)]
     # progress as it comes, 0 while undefined, boredom when familiar; the error, storage and reward play no part
-    assert das(make(StateProgressVTA), seq).tolist() == [0.25, 0.0, -100.0, -0.125, 0.0625]
-    assert das(make(StateProgressVTA, boredom=-2.0), seq)[2] == -2.0
+    assert das(make(cls), seq).tolist() == [0.25, 0.0, -100.0, -0.125, 0.0625]
+    assert das(make(cls, boredom=-2.0), seq)[2] == -2.0
 
 
 # ------------------------------------------------------------------ novelty

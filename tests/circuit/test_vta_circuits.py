@@ -23,14 +23,18 @@ CIRCUIT_FILES = {"vta_novelty": "vta.novelty", "vta_abs_lp": "vta.abs_learning_p
 VTA_TYPES = [n for n in REGIONS.names() if n.startswith("vta.")]
 
 
+#: where the models that read a ``progress`` input get it (their circuit files' edges)
+PROGRESS = {"vta.state_progress": ("HPC", "progress"), "vta.slowness_progress": ("EC", "slowness_progress")}
+
+
 def with_vta(circuit: Circuit, type_name: str) -> Circuit:
     """``circuit`` with the VTA model ``type_name`` (default parameters): the role's ports keep their
-    edges, the inputs it reads beyond them are wired from HPC's outputs of the same name, and edges
-    into inputs it does not have are dropped."""
+    edges, a ``progress`` input is wired as the model's circuit file wires it, and edges into
+    inputs it does not have are dropped."""
     cls = REGIONS.get(type_name)
     role = {s.name for s in VTARole.inputs}
     links = tuple(k for k in circuit.links if k.dst != "VTA" or k.input in role)
-    extra = tuple(Link("HPC", s.name, "VTA", s.name) for s in cls.inputs if s.name not in role)
+    extra = tuple(Link(*PROGRESS[type_name], "VTA", s.name) for s in cls.inputs if s.name not in role)
     return Circuit({**circuit.specs, "VTA": RegionSpec("VTA", cls, cls.Params())}, links + extra,
                    source=circuit.source, lesions=circuit.lesions)
 
@@ -92,6 +96,49 @@ def test_state_progress_is_the_same_state_drop(circuits_dir, small, make_world):
     np.testing.assert_allclose(episodes["da"], expected, rtol=1e-12, atol=1e-15)
 
 
+def delta(y, starts):
+    """Eq 4's Δ of one output over a block of segments: the mean of its squared successive differences."""
+    bounds = [*starts.tolist(), len(y)]
+    steps = [y[t + 1] - y[t] for a, b in zip(bounds[:-1], bounds[1:]) for t in range(a, b - 1)]
+    return sum(d * d for d in steps) / len(steps)
+
+
+def test_slowness_progress_is_the_drop_of_the_slowest_outputs_delta(circuits_dir, small, make_world):
+    """DA on an unfamiliar episode = Δ(y₀) under the adaptive module's projection at the context's
+    previous visit minus Δ(y₀) under its projection now, both on this episode's frames; 0 on a
+    context's first visit with a module (and before the module has learned); -100 when familiar."""
+    circuit = Circuit.from_toml(circuits_dir / "vta_slowness_progress.toml",
+                                overrides={**small, "sensory.episodes_on_engage": 2})  # blocks of two segments too
+    assert circuit.specs["VTA"].type_name == "vta.slowness_progress"
+    sim = circuit.build(make_world(), seed=3)
+    ec = sim.regions["EC"]
+    assert "slowness_progress" in ec.wired
+    seen, expected = {}, []
+    while sim.n_frames < 3000:
+        module = ec.adaptive
+        now = module.projection_[:, 0].copy() if module.__sklearn_is_fitted__() else None
+        sim.run(1)
+        episode = ec.episode
+        before = seen.get((id(module), episode.context))
+        if now is not None:
+            seen[(id(module), episode.context)] = now
+        dropped = (delta(episode.frames @ before, episode.starts) - delta(episode.frames @ now, episode.starts)
+                   if before is not None and now is not None else 0.0)
+        expected.append(dropped)
+    episodes = sim.episodes()
+    assert episodes["familiar"].any() and episodes["module_learned"].any()
+    assert (np.array(expected)[~episodes["familiar"]] != 0).sum() >= 10 and (episodes["n_frames"] > 30).any()
+    np.testing.assert_allclose(episodes["da"], np.where(episodes["familiar"], -100.0, expected), rtol=1e-9, atol=1e-10)
+
+
+def test_an_unread_optional_output_is_not_computed(circuits_dir, small, make_world):
+    sim = Circuit.from_toml(circuits_dir / "cd_misfa.toml", overrides=small).build(make_world(), seed=3)
+    ec = sim.regions["EC"]
+    assert ec.wired == {"features", "library_features"}
+    sim.run(600)
+    assert np.isnan(ec.step(ec.episode)[2])
+
+
 def paying(world_class):
     """``world_class`` paying ``10 + context`` for a visit of contexts 1 and 2, nothing for context 0."""
 
@@ -125,7 +172,7 @@ def test_every_vta_model_runs_in_the_synthetic_experiment(synthetic, type_name):
     result = run_one(dataclasses.replace(cond, circuit=circuit), 0, synthetic.steps, synthetic.run_seed(0))
     episodes = result.episodes
     assert episodes["familiar"].any() and episodes["module_learned"].any()
-    if type_name == "vta.state_progress":  # its input is not recorded per episode: replayed from frames above
+    if type_name in PROGRESS:  # their input is not recorded per episode: replayed from frames above
         assert (episodes["da"][episodes["familiar"]] == -100.0).all() and (episodes["da"][~episodes["familiar"]] != 0).any()
     else:
         np.testing.assert_array_equal(episodes["da"], replayed(circuit, episodes, "episode_error"))
@@ -154,7 +201,7 @@ def test_every_vta_model_runs_in_the_icub_experiment(icub, type_name):
     circuit = with_vta(cond.circuit, type_name)
     episodes = run_one(dataclasses.replace(cond, circuit=circuit), 0, icub.steps, icub.run_seed(0)).episodes
     assert episodes["module_learned"].any() and np.isfinite(episodes["da"]).all()
-    if type_name != "vta.state_progress":  # its input is not recorded per episode: replayed from frames above
+    if type_name not in PROGRESS:  # their input is not recorded per episode: replayed from frames above
         np.testing.assert_array_equal(episodes["da"], replayed(circuit, episodes, "error"))
 
 
