@@ -1,6 +1,6 @@
 """Paired statistics of one experiment run twice on the same seeds: before and after a code change.
 
-    python benchmarks/before_after.py BEFORE_DIR AFTER_DIR [--condition curious ...]
+    python benchmarks/before_after.py BEFORE_DIR AFTER_DIR [BEFORE_DIR AFTER_DIR ...] [--condition curious ...]
 
 A change that alters the results tables for the same seeds is shown with this table in
 its commit message and in ``docs/reproduction.md``. For every condition present in both
@@ -10,7 +10,8 @@ paired by run: the order metrics by :func:`neurocur.analysis.comparison.compare`
 metrics by :func:`neurocur.analysis.efficiency.compare_efficiency`, Holm-adjusted over all
 the metrics of a condition. The mean learning time of each source's first module
 (epochs, Figure 4F) follows, tested (Wilcoxon) on the runs that learned the source both
-times; ``n_pairs`` counts them.
+times; ``n_pairs`` counts them. Several pairs of folders (e.g. one per seed set) are pooled:
+the runs of the k-th pair are numbered from 1000·k.
 """
 
 from __future__ import annotations
@@ -61,15 +62,25 @@ def condition_table(before, after, condition: str, spec) -> pd.DataFrame:
     return rows.assign(condition=condition)
 
 
+def pooled(folders: list[str]):
+    """The (episodes, modules) of ``folders`` loaded and concatenated, the k-th folder's runs numbered from 1000·k."""
+    tables = [[t.assign(run=t["run"] + 1000 * k) for t in load(folder)] for k, folder in enumerate(folders)]
+    return tuple(pd.concat(t, ignore_index=True) for t in zip(*tables))
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("before", help="results folder computed by the code before the change")
-    parser.add_argument("after", help="results folder of the same experiment and seeds, after the change")
+    parser.add_argument("folders", nargs="+", metavar="BEFORE AFTER",
+                        help="a results folder computed by the code before the change, then one of the same "
+                             "experiment and seeds after it; more such pairs are pooled")
     parser.add_argument("--condition", action="append", help="only this condition (repeatable; default: all shared)")
     args = parser.parse_args(argv)
-    specs, before_specs = source_specs(args.after), source_specs(args.before)
+    if len(args.folders) % 2:
+        parser.error(f"expected pairs of folders (BEFORE AFTER ...), got {len(args.folders)} folders")
+    befores, afters = args.folders[0::2], args.folders[1::2]
+    specs, before_specs = source_specs(afters[0]), source_specs(befores[0])
     conditions = args.condition or [c for c in specs if c in before_specs]
-    before, after = load(args.before), load(args.after)
+    before, after = pooled(befores), pooled(afters)
     columns = {"condition": "condition", "metric": "metric", "value_b": "before", "value_a": "after",
                "difference": "after − before", "ci_diff_low": "CI low", "ci_diff_high": "CI high",
                "n_pairs": "pairs", "p_value": "p", "p_adjusted": "p (Holm)"}
