@@ -9,6 +9,12 @@ conditions) small, through the command line, and hashes every table of every run
 (column names, dtypes and values, via ``pandas.util.hash_pandas_object``). A change that
 alters any results table for the same seed changes a fingerprint: such a change must be
 deliberate, recorded with ``--write`` in the same commit, and its statistics shown.
+
+The versions of the packages that shape the numbers (MuJoCo renders the iCub world and moves its
+objects; numba compiles the learners) are recorded beside each experiment's fingerprints. When
+tables differ and so do the versions, ``--check`` says so: the iCub episodes are not the same
+across MuJoCo releases (the cup of the topple context falls differently), so its tables are
+reproducible bit for bit only under the recorded versions.
 """
 
 from __future__ import annotations
@@ -16,9 +22,11 @@ from __future__ import annotations
 import argparse
 import hashlib
 import json
+import platform
 import subprocess
 import sys
 import tempfile
+from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
 import pandas as pd
@@ -30,6 +38,21 @@ CASES = {
     "synthetic": ["synthetic", "--runs", "2", "--steps", "30000"],
     "icub": ["icub", "--runs", "2", "--steps", "8000", "--set", "HPC.threshold=1.5"],
 }
+
+
+#: the packages whose versions are recorded with the fingerprints
+PACKAGES = ("numpy", "scipy", "pandas", "pyarrow", "numba", "llvmlite", "scikit-learn", "mujoco")
+
+
+def environment() -> dict[str, str]:
+    """Python's version and those of :data:`PACKAGES` (``"absent"`` when one is not installed)."""
+    found = {"python": platform.python_version()}
+    for name in PACKAGES:
+        try:
+            found[name] = version(name)
+        except PackageNotFoundError:
+            found[name] = "absent"
+    return found
 
 
 def table_hash(table: pd.DataFrame) -> str:
@@ -59,9 +82,11 @@ def main(argv=None) -> int:
     parser.add_argument("--jobs", type=int, default=2)
     args = parser.parse_args(argv)
     found = {name: fingerprints(name, CASES[name], args.jobs) for name in (args.only or CASES)}
+    now = environment()
     if args.write:
         recorded = json.loads(RECORD.read_text()) if RECORD.is_file() else {}
-        RECORD.write_text(json.dumps({**recorded, **found}, indent=2, sort_keys=True) + "\n")
+        written = {**recorded, **found, "environment": {**recorded.get("environment", {}), **dict.fromkeys(found, now)}}
+        RECORD.write_text(json.dumps(written, indent=2, sort_keys=True) + "\n")
         print(f"recorded {sum(map(len, found.values()))} table fingerprints in {RECORD}")
         return 0
     if args.check:
@@ -70,6 +95,11 @@ def main(argv=None) -> int:
                sorted(set(tables) | set(recorded.get(name, {}))) if tables.get(key) != recorded.get(name, {}).get(key)]
         for key in bad:
             print(f"differs: {key}")
+        for name in sorted({key.split("/")[0] for key in bad}):
+            then = recorded.get("environment", {}).get(name, {})
+            moved = [f"{p} {then.get(p, 'not recorded')} -> {v}" for p, v in now.items() if then.get(p) != v]
+            if moved:
+                print(f"{name}: recorded under other versions ({', '.join(moved)}); a dependency may be the cause")
         print(f"{sum(map(len, found.values())) - len(bad)} tables identical, {len(bad)} differ")
         return 1 if bad else 0
     print(json.dumps(found, indent=2, sort_keys=True))
