@@ -156,9 +156,13 @@ class Circuit:
         specs[name] = _lesioned(specs[name], how, drug, source=PY, key=f"lesion.{name}")
         return Circuit(specs, self.links, source=self.source, lesions=self.lesions + ((name, how, drug),))
 
-    def replace(self, name: str, region) -> Circuit:
+    def replace(self, name: str, region, *, drop_edges: bool = False) -> Circuit:
         """A new circuit with region ``name`` replaced by a Region object or a spec mapping
-        ``{"type": "vta.novelty", "params": {...}}``."""
+        ``{"type": "vta.novelty", "params": {...}}``.
+
+        An edge into an input, or out of an output, that the new region does not have is an
+        error naming it; with ``drop_edges=True`` such edges are dropped (e.g. HPC's ``progress``
+        when ``vta.state_progress`` is replaced by a model that does not read it)."""
         self._check_region(name)
         specs = dict(self.specs)
         if isinstance(region, Region):
@@ -170,7 +174,16 @@ class Circuit:
         else:
             raise ValueError(f"replace() expects a Region object or a mapping with 'type' and 'params'; "
                              f"got {type(region).__name__}")
-        return Circuit(specs, self.links, source=self.source, lesions=self.lesions)
+        inputs = {s.name for s in _ports(specs[name], "inputs") + _ports(specs[name], "learn_inputs")}
+        outputs = {s.name for s in _ports(specs[name], "outputs")}
+        stale = [k for k in self.links if (k.dst == name and k.input not in inputs)
+                 or (k.src == name and k.signal not in outputs)]
+        if stale and not drop_edges:
+            raise ConfigError(PY, f"replace.{name}",
+                              f"a region with a port for every edge of '{name}', or drop_edges=True to drop the others",
+                              f"{specs[name].type_name}, which has no port for {', '.join(map(str, stale))}")
+        links = [k for k in self.links if k not in stale]
+        return Circuit(specs, links, source=self.source, lesions=self.lesions)
 
     def with_params(self, overrides: Mapping, *, source: str = "overrides") -> Circuit:
         """A new circuit with ``"REGION.param"`` overrides applied."""

@@ -163,6 +163,21 @@ def test_python_lesion_and_replace_match_files(circuit, make_world, circuits_dir
     assert replaced.episodes()["da"].iloc[0] == 3.0
 
 
+def test_replace_names_or_drops_the_edges_the_new_region_has_no_port_for(make_world, circuits_dir, small):
+    """vta.state_progress reads HPC's progress; a model without that input needs the edge dropped."""
+    from neurocur.regions.vta import NoveltyVTA
+
+    circuit = Circuit.from_toml(circuits_dir / "vta_state_progress.toml", overrides=small)
+    with pytest.raises(ConfigError, match=r"key 'replace.VTA': .*drop_edges=True.*got vta.novelty, which has no "
+                                          r"port for HPC.progress -> VTA.progress"):
+        circuit.replace("VTA", {"type": "vta.novelty"})
+    swapped = circuit.replace("VTA", NoveltyVTA("VTA", scale=3.0), drop_edges=True)
+    assert {str(k) for k in circuit.links} - {str(k) for k in swapped.links} == {"HPC.progress -> VTA.progress"}
+    novelty = Circuit.from_toml(circuits_dir / "cd_misfa.toml", overrides=small).replace("VTA", NoveltyVTA("VTA", scale=3.0))
+    pd.testing.assert_frame_equal(swapped.build(make_world(), seed=4).run(20 * 60).episodes(),
+                                  novelty.build(make_world(), seed=4).run(20 * 60).episodes())
+
+
 def test_engage_gives_two_episodes(make_world, circuits_dir, small):
     circuit = Circuit.from_toml(circuits_dir / "cd_misfa.toml", overrides={**small, "sensory.episodes_on_engage": 2})
     df = circuit.build(make_world(), seed=3).run(20 * 100).episodes()
