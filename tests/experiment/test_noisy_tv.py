@@ -20,7 +20,8 @@ from neurocur.contexts import build_world
 from neurocur.experiments import load_experiment, run_one
 
 RUNS, STEPS = 12, 50_000
-VTA = {"learning_progress": "vta.learning_progress", "lp_no_boredom": "vta.learning_progress",
+VTA = {"learning_progress": "vta.learning_progress", "state_progress": "vta.state_progress",
+       "lp_no_boredom": "vta.learning_progress",
        "abs_learning_progress": "vta.abs_learning_progress", "surprise": "vta.surprise",
        "count_novelty": "vta.novelty", "content_novelty": "vta.content_novelty", "td": "vta.td",
        "random_switching": "vta.learning_progress"}
@@ -31,6 +32,7 @@ def test_the_experiment_file():
     assert (exp.runs, exp.steps, exp.seed) == (25, 350_000, 2026)
     assert {name: c.circuit.specs["VTA"].type_name for name, c in exp.conditions.items()} == VTA
     assert exp.conditions["lp_no_boredom"].circuit.specs["VTA"].params.boredom == 0.0
+    assert exp.conditions["state_progress"].circuit.specs["PFC"].params.alpha == "sample_average"
     assert exp.conditions["random_switching"].circuit_path.name == "lesion_lc_random.toml"
     world = build_world(exp.conditions["surprise"].world)
     spec = world.source_spec()
