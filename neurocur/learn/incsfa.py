@@ -159,7 +159,7 @@ class IncSFA(Estimator):
             np.empty(k), np.empty(k), np.empty(j), np.empty(k),
         )
 
-    def partial_fit(self, X, y=None, *, continues: bool = False):
+    def partial_fit(self, X, y=None, *, continues: bool = False, check_input: bool = True):
         """Learn from one episode ``X`` (rows are consecutive time steps); returns ``self``.
 
         The derivative is taken only between rows of ``X``; with ``continues=True`` the
@@ -167,10 +167,16 @@ class IncSFA(Estimator):
         first call needs rows that are not all equal, more than the samples that only set
         the mean (at least 4 rows for the default amnesic l = 2; see
         :func:`~neurocur.learn.ccipca.check_first_block`). ``y`` is ignored.
+
+        ``check_input=False`` skips the checks of ``X`` on a fitted learner (as scikit-learn's
+        trees allow): for a caller whose input is already known to be a C-contiguous float64
+        array of ``n_features_in_`` finite columns within the learners' range, such as EC's
+        frames, which the world's frame contract keeps in [0, 1]. The first block is always checked.
         """
         params = self._checked_params()
         first = not self.__sklearn_is_fitted__()
-        X = self._check_X(X, learn=True)
+        if check_input or first:
+            X = self._check_X(X, learn=True)
         if first:
             check_first_block(X, params["amnesic"])
             self._start(X.shape[1])

@@ -132,8 +132,8 @@ class ECIncSFA(Region):
             self.adaptive = self._new_module()
         elif not familiar:
             a = self.adaptive
-            for frames, _ in self.episode.segments():
-                a.partial_fit(frames)
+            for frames, _ in self.episode.segments():  # the frame contract has checked them (float64, [0, 1])
+                a.partial_fit(frames, check_input=False)
             self._proj = a.projection_
             self._offset = a.mean_ @ self._proj
 

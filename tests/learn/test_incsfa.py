@@ -136,6 +136,21 @@ def test_continues_controls_the_derivative(mixture):
     np.testing.assert_array_equal(one.eigenvalues_, split.eigenvalues_)
 
 
+def test_unchecked_input_learns_the_same_and_the_first_block_is_checked_anyway(mixture):
+    checked, unchecked = IncSFA(2, 4, random_state=3), IncSFA(2, 4, random_state=3)
+    for start in range(0, 600, 100):
+        checked.partial_fit(mixture[start:start + 100])
+        unchecked.partial_fit(mixture[start:start + 100], check_input=False)
+    np.testing.assert_array_equal(checked.projection_, unchecked.projection_)
+    np.testing.assert_array_equal(checked.mean_, unchecked.mean_)
+    with pytest.raises(ValueError, match="zero variance"):
+        IncSFA().partial_fit(np.ones((10, 5)), check_input=False)
+    bad = mixture[:100].copy()
+    bad[3, 2] = np.nan
+    with pytest.raises(ValueError, match="finite"):
+        checked.partial_fit(bad)  # checked by default on a fitted learner
+
+
 def test_deterministic_and_copy(mixture):
     a = IncSFA(2, 4, random_state=11)
     b = IncSFA(2, 4, random_state=11)
