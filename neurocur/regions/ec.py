@@ -58,12 +58,11 @@ class ECIncSFA(Region):
     ``slowness_progress`` (an optional output, computed only when an edge reads it, as
     ``circuits/vta_slowness_progress.toml``'s does; a variant, not the paper's reward): how much
     slower the adaptive module's slowest output has become on this context since the context's
-    previous visit, measured on this episode's frames. With
-    eq 4's Δ = <ẏ²> (within segments; IncSFA keeps the output at unit variance), it is
-    Δ(y₀ under the projection of the context's previous visit) − Δ(y₀ now). Section 4.4's Ω
-    quantifies learning progress as the convergence of this output (CIMCA, eqs 16-17), so the
-    drop of its Δ is that progress on the module's own objective. NaN while undefined (a fresh
-    module, or the context's first visit with this module).
+    previous visit, measured on this episode's frames. With eq 4's Δ = <ẏ²> (within segments;
+    IncSFA keeps the output at unit variance), it is Δ(y₀ under the projection of the context's
+    previous visit) − Δ(y₀ now). Section 4.4's Ω quantifies learning progress as the convergence
+    of this output (CIMCA, eqs 16-17), so the drop of its Δ is that progress on the module's own
+    objective. NaN while undefined (a fresh module, or the context's first visit with this module).
     """
 
     Params = ECParams
