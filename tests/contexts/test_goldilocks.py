@@ -20,8 +20,8 @@ from neurocur.contexts.sources import sinusoid_pair
 from neurocur.experiments import load_experiment, run_experiment
 from neurocur.learn.omega import omega
 
-CONDITIONS = ["learning_progress", "abs_learning_progress", "surprise", "content_novelty", "count_novelty", "td",
-              "random_switching"]
+CONDITIONS = ["learning_progress", "state_progress", "abs_learning_progress", "surprise", "content_novelty",
+              "count_novelty", "td", "random_switching"]
 
 
 def test_the_shipped_world_spans_easy_to_unlearnable():
