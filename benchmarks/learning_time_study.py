@@ -65,11 +65,16 @@ class StayLC(EpsilonGreedyLC):
         return ENGAGE, context, 0.0
 
 
-def curious(sets: list[str]) -> tuple[dict, Circuit]:
-    """The synthetic experiment's world settings (but its contexts) and circuit of condition ``curious``, with ``--set``."""
+def curious(sets: list[str], *, never_store: bool = False) -> tuple[dict, Circuit]:
+    """The synthetic experiment's world settings (but its contexts) and circuit of condition ``curious``,
+    with ``--set``; ``never_store``: a freeze threshold of 0 and the first context first, so the
+    adaptive module of the context the run starts in keeps learning."""
     condition = load_experiment("synthetic", sets=sets).conditions["curious"]
     world = {k: v for k, v in condition.world.items() if k not in ("type", "contexts", "context_names")}
-    return world, condition.circuit
+    circuit = condition.circuit
+    if never_store:
+        circuit = circuit.with_params({"HPC.threshold": 1e-300, "sensory.initial_context": 0})
+    return world, circuit
 
 
 def quality(model, world: SyntheticWorld, context: int) -> float:
@@ -91,10 +96,9 @@ def first_epoch(frames: np.ndarray, ok: np.ndarray) -> float:
 
 
 def single(seeds: int, epochs: int, sets: list[str]) -> pd.DataFrame:
-    world_kw, circuit = curious(sets)
-    circuit = circuit.with_params({"HPC.threshold": 1e-300, "sensory.initial_context": 0})
+    world_kw, circuit = curious(sets, never_store=True)
     rows = []
-    for source in ("S-A", "S-B", "S-C"):
+    for source in SOURCES:
         for seed in range(seeds):
             world = SyntheticWorld(contexts=[source, "S-D"], **world_kw)
             sim = circuit.replace("LC", StayLC("LC")).build(world, seed=seed)
@@ -131,8 +135,7 @@ def full(seeds: int, steps: int, sets: list[str]) -> pd.DataFrame:
         world = SyntheticWorld(contexts=contexts, **world_kw)
         sim = circuit.build(world, seed=seed)
         ec, hpc = sim.regions["EC"], sim.regions["HPC"]
-        learnable = ("S-A", "S-B", "S-C")
-        spent = dict.fromkeys(learnable, 0)
+        spent = dict.fromkeys(SOURCES, 0)
         reached = {}
         while sim.n_frames < steps:
             before, n_lib = sim.n_frames, len(hpc.library)
@@ -146,10 +149,10 @@ def full(seeds: int, steps: int, sets: list[str]) -> pd.DataFrame:
                 q = quality(model, world, ctx)
                 rows.append({"seed": seed, "module": n_lib, "source": src, "epochs": spent.get(src, np.nan) / EPOCH,
                              "quality": q, **{f"q>={lv}": reached.get((src, lv), np.nan) for lv in LEVELS}})
-                spent = dict.fromkeys(learnable, 0)
+                spent = dict.fromkeys(SOURCES, 0)
                 reached = {}
                 continue
-            if src in learnable:
+            if src in SOURCES:
                 q = quality(ec.adaptive, world, ctx)
                 for lv in LEVELS:
                     if q >= lv and (src, lv) not in reached:
@@ -173,8 +176,7 @@ def paid(circuit: Circuit, world: SyntheticWorld, seed: int, epochs: int) -> pd.
 
 
 def progress(seeds: int, sets: list[str]) -> pd.DataFrame:
-    world_kw, circuit = curious(sets)
-    circuit = circuit.with_params({"HPC.threshold": 1e-300, "sensory.initial_context": 0})
+    world_kw, circuit = curious(sets, never_store=True)
     modes = {"staying": circuit.replace("LC", StayLC("LC")), "switching": circuit.lesion("LC", "random")}
     rows = []
     for seed in range(seeds):

@@ -1,5 +1,5 @@
 """Which source the agent learns second, and what its reward said in that cycle (a study of
-results folders, not a test; docs/reproduction.md, section 2.4).
+results folders, not a test; docs/reproduction.md, section 2.9).
 
     neurocur run synthetic --condition curious --seed 2026 --out results/s2026   # and more seed sets
     python benchmarks/second_cycle_study.py results/s2026 results/s2013 results/s7
