@@ -20,7 +20,10 @@
    ended every page it holds is its own again, so counted as a worker it showed a USS
    equal to its RSS at the end of some sweeps and not others.
    From the wall time: seconds per run per core (wall x jobs / runs) and runs per
-   core-hour (3600 / that), the figure a sweep of many runs is paid in.
+   core-hour (3600 / that). From each run's own time (its ``run.json``) and when it was
+   written: where the wall goes (start-up before the first run, the runs, what follows the
+   last), and a run's time in its worker apart from each worker's first: the cost per run of a
+   sweep long enough that its fixed start and end no longer count.
 2. IncSFA alone: ``IncSFA.partial_fit`` on the same number of frames, in visits of 100
    frames of one paper source (S-A) with the experiment's EC parameters, in this
    process (single-threaded, as the workers are); the ratio of a run's seconds per core to it is what the rest of the model
@@ -40,6 +43,7 @@ from __future__ import annotations
 
 import argparse
 import cProfile
+import json
 import os
 import pstats
 import resource
@@ -154,7 +158,7 @@ def sweep(runs: int, steps: int, condition: str, jobs: int) -> dict:
     with tempfile.TemporaryDirectory(prefix="neurocur-bench-") as out:
         argv = [sys.executable, "-m", "neurocur.cli", "run", str(EXPERIMENT), "--runs", str(runs), "--steps",
                 str(steps), "--jobs", str(jobs), "--condition", condition, "--out", out, "--no-progress"]
-        start = time.perf_counter()
+        start, started = time.perf_counter(), time.time()
         child = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         sampler = MemorySampler(child.pid)
         sampler.start()
@@ -163,6 +167,7 @@ def sweep(runs: int, steps: int, condition: str, jobs: int) -> dict:
         sampler.stop()
         if child.returncode != 0:
             raise SystemExit(f"neurocur run failed (exit {child.returncode}):\n{output}")
+        timeline = run_timeline(Path(out), started, wall, jobs)
     command = sampler.hwm.get(child.pid, 0)
     server = max((sampler.hwm.get(pid, 0) for pid, role in sampler.helpers.items() if role == "fork server"),
                  default=0)
@@ -180,7 +185,27 @@ def sweep(runs: int, steps: int, condition: str, jobs: int) -> dict:
         "total_kb": sampler.peak_total,
         "rusage_children_kb": resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss,
         "output": output,
+        **timeline,
     }
+
+
+def run_timeline(out: Path, started: float, wall: float, jobs: int) -> dict:
+    """Where a sweep's wall time goes, from each run's own compute time (``seconds`` of its
+    ``run.json``, measured in its worker) and the time its ``run.json`` was written: the start-up
+    before the first run starts (imports, fork server, pre-flight), the span of the runs, and what
+    follows the last (summary, order table, exit). The first run of each worker (the first ``jobs``
+    to start) also loads numba's cached kernels, so the mean of the others is a run's cost in a
+    long sweep."""
+    runs = []
+    for info in sorted(out.glob("runs/*/run-*/run.json")):
+        end = info.stat().st_mtime - started
+        runs.append((end - json.loads(info.read_text())["seconds"], end))
+    runs.sort()
+    seconds = [end - begin for begin, end in runs]
+    later = seconds[jobs:] or seconds
+    return {"startup": runs[0][0], "span": max(e for _, e in runs) - runs[0][0],
+            "after": wall - max(e for _, e in runs), "first_run": sum(seconds[:jobs]) / len(seconds[:jobs]),
+            "later_run": sum(later) / len(later)}
 
 
 def incsfa_alone(steps: int, condition: str) -> float:
@@ -294,8 +319,13 @@ def main(argv=None) -> int:
     print(f"  peak RSS, all at once  {s['total_kb'] / 1024:8.1f} MB")
     print(f"  getrusage children     {s['rusage_children_kb'] / 1024:8.1f} MB   (largest reaped descendant)")
     print("  " + "\n  ".join(line for line in s["output"].splitlines() if line.strip()))
+    print(f"  where the wall goes    start-up {s['startup']:.1f} s (imports, fork server, pre-flight), the runs "
+          f"{s['span']:.1f} s, after the last run {s['after']:.1f} s (summary, order table, exit)")
+    print(f"  a run in its worker    {s['later_run']:.2f} s (each worker's first run: {s['first_run']:.2f} s, "
+          f"numba's cached kernels loaded)")
     alone = incsfa_alone(args.steps, args.condition)
-    print(f"IncSFA alone on {args.steps} frames: {alone:.2f} s; a run per core is {per_run / alone:.1f}x that "
+    print(f"IncSFA alone on {args.steps} frames: {alone:.2f} s; a run per core is {per_run / alone:.1f}x that, "
+          f"a run in its worker (a long sweep's cost per run) {s['later_run'] / alone:.1f}x "
           f"(load average {os.getloadavg()[0]:.2f})")
     total, kernel, encoding = core_one(args.steps, args.condition)
     turns = -(-args.runs // args.jobs)
