@@ -236,13 +236,27 @@ def default_cache_dir() -> Path:
     return (Path(root) if root else Path.home() / ".cache" / "neurocur") / "icub"
 
 
+def _scene_key(scene: SceneParams) -> dict:
+    """The scene's part of the cache key: every field, but ``arm`` only when it is not the
+    default (the default's key, and so its cache file, are those from before the field existed);
+    the iCub's arm adds the version of the package its meshes come from."""
+    fields = asdict(scene)
+    if fields["arm"] == "primitive":
+        del fields["arm"]
+    else:
+        from importlib.metadata import version
+
+        fields["icub_models"] = version("icub-models")
+    return fields
+
+
 def cache_key(scene: SceneParams, protocol: EpisodeParams, n_episodes: int, seed: int) -> str:
     """Hash of everything that determines the episodes, including the MuJoCo version."""
     spec = {
         "format": _CACHE_FORMAT,
         "mujoco": _mujoco().__version__,
         "frame_shape": FRAME_SHAPE,
-        "scene": asdict(scene),
+        "scene": _scene_key(scene),
         "protocol": asdict(protocol),
         "n_episodes": n_episodes,
         "seed": seed,

@@ -18,9 +18,13 @@ Contacts: the arm touches only the object (not the table or itself); the arm's g
 have contact priority, so the hand–object friction is the hand's (a rubbery-ball
 friction on the hand would wedge the ball between hand and table).
 
-Everything is procedural (primitive geoms only, no meshes or textures), so the scene is
-small, deterministic and free of asset licences. Lengths are in metres; the table top
-is the plane z = 0, the robot faces +x and its right arm is on the -y side.
+By default everything is procedural (primitive geoms only, no meshes or textures), so the
+scene is small, deterministic and free of asset licences. ``SceneParams.arm = "icub"`` draws
+the iCub's own right arm instead (its meshes, from the optional ``icub-models`` package; see
+:mod:`.icub_body`): the primitive arm geoms keep their masses, sizes and contacts but are not
+drawn, and the meshes are massless and contact-free, so the physics is the same and only the
+look changes. Lengths are in metres; the table top is the plane z = 0, the robot faces +x and
+its right arm is on the -y side.
 """
 
 from __future__ import annotations
@@ -29,16 +33,20 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..config import ParamSpec, check_params, param, spec_param
+from ..config import ConfigError, ParamSpec, check_params, describe, param, spec_param
+from . import icub_body
 
 OBJECTS = ("topple", "roll")
+#: the looks of the arm: the scene's own primitive geoms, or the iCub's meshes (same physics)
+ARMS = ("primitive", "icub")
 #: a point or vector in metres
 _XYZ = ParamSpec.sequence(ParamSpec(float), length=3)
 
 
 @dataclass(frozen=True)
 class SceneParams:
-    """Geometry and physics of the scene; every field enters the episode-cache key."""
+    """Geometry and physics of the scene; every field enters the episode-cache key (``arm`` only
+    when it is not the default, so that the default's cache keeps its name)."""
 
     n_states: int = param(20, int, low=2)
     #: shoulder angle (deg, 0 = straight ahead, negative = to the robot's right) of state 0 and state n-1
@@ -74,9 +82,16 @@ class SceneParams:
     camera_pos: tuple[float, float, float] = spec_param((-0.10, -0.03, 0.65), _XYZ)
     camera_target: tuple[float, float, float] = spec_param((0.34, -0.22, 0.0), _XYZ)
     camera_fovy: float = param(48.0, float, low=0.0, low_open=True, high=180.0, high_open=True)
+    #: how the arm looks: "primitive" (capsules and spheres) or "icub" (the iCub's own meshes,
+    #: from the icub-body extra); the arm's physics is the same either way
+    arm: str = param("primitive", str, choices=ARMS)
 
     def __post_init__(self):
         check_params(self)
+        if self.arm == "icub" and not icub_body.available():
+            raise ConfigError(type(self).__name__, "arm", f"the icub-models package for arm = 'icub' (install the "
+                              f"{icub_body.EXTRA!r} extra: pip install 'neurocur[{icub_body.EXTRA}]')",
+                              f"{describe(self.arm)}, and icub-models is not installed")
 
     def state_angles(self) -> np.ndarray:
         """Shoulder angle (rad) of each of the ``n_states`` quantized joint states."""
@@ -103,12 +118,17 @@ def _camera_xyaxes(pos, target) -> str:
     return _vec(np.concatenate([right, up]))
 
 
-def _robot(p: SceneParams) -> str:
-    """Torso, fixed head and the right arm on its shoulder hinge (iCub-like proportions)."""
+def _robot(p: SceneParams, meshes: str = "") -> str:
+    """Torso, fixed head and the right arm on its shoulder hinge (iCub-like proportions).
+
+    ``meshes``: geoms drawn in the arm body after its own (the iCub's arm, :mod:`.icub_body`);
+    then the arm's own geoms go to group 3, which the renderer does not draw.
+    """
     sx, sy, sz = p.shoulder
     hz = p.hand_height - sz  # hand height relative to the shoulder
     elbow = (0.10, 0.0, 0.5 * hz)
     wrist = (p.reach - 0.045, 0.0, hz)
+    hidden = ' group="3"' if meshes else ""
     return f"""
     <body name="torso" pos="{sx - 0.06:.4g} 0 0">
       <geom class="visual" type="box" size="0.06 0.10 0.16" pos="0 0 0.16" material="shell"/>
@@ -126,7 +146,7 @@ def _robot(p: SceneParams) -> str:
       <geom name="hand" class="arm" type="capsule" size="{p.hand_radius:.4g}"
             fromto="{_vec(wrist)} {p.reach + 0.03:.4g} 0 {hz:.4g}" material="hand" mass="0.15"/>
       <geom class="visual" type="box" size="0.02 0.012 0.008" pos="{p.reach - 0.01:.4g} 0.025 {hz + 0.005:.4g}"
-            euler="0 0 35" material="hand" mass="0.02"/>
+            euler="0 0 35" material="hand" mass="0.02"{hidden}/>{meshes}
     </body>"""
 
 
@@ -164,6 +184,11 @@ def scene_xml(obj: str, params: SceneParams | None = None, *, height: int = 75, 
     p = params or SceneParams()
     x, y = p.object_position(obj)
     body = _cup(p, x, y) if obj == "topple" else _ball(p, x, y)
+    mesh_assets, arm_meshes, arm_group = "", "", 2
+    if p.arm == "icub":  # the iCub's hand goes where the primitive one is: its tip (the capsule's end
+        # and round cap, see _robot) and its height relative to the shoulder
+        mesh_assets, arm_meshes = icub_body.geoms(p.reach + 0.03 + p.hand_radius, p.hand_height - p.shoulder[2])
+        arm_group = 3
     return f"""<mujoco model="icub_{obj}">
   <compiler angle="radian" autolimits="true"/>
   <option timestep="{p.timestep:.6g}" integrator="implicitfast">
@@ -184,7 +209,7 @@ def scene_xml(obj: str, params: SceneParams | None = None, *, height: int = 75, 
     <material name="cup" rgba="0.95 0.95 0.92 1"/>
     <material name="inside" rgba="0.35 0.3 0.25 1"/>
     <material name="stripe" rgba="0.15 0.3 0.75 1"/>
-    <material name="ball" rgba="0.95 0.55 0.1 1"/>
+    <material name="ball" rgba="0.95 0.55 0.1 1"/>{mesh_assets}
   </asset>
   <default>
     <geom solref="0.004 1" solimp="0.95 0.99 0.001"/>
@@ -192,7 +217,7 @@ def scene_xml(obj: str, params: SceneParams | None = None, *, height: int = 75, 
       <geom contype="0" conaffinity="0" group="1"/>
     </default>
     <default class="arm">
-      <geom contype="2" conaffinity="0" group="2" mass="0.05" priority="1" condim="3" friction="0.4 0.005 0.0001"/>
+      <geom contype="2" conaffinity="0" group="{arm_group}" mass="0.05" priority="1" condim="3" friction="0.4 0.005 0.0001"/>
     </default>
     <default class="object">
       <geom contype="1" conaffinity="3" friction="0.6 0.005 0.0001" group="0"/>
@@ -209,7 +234,7 @@ def scene_xml(obj: str, params: SceneParams | None = None, *, height: int = 75, 
       <geom class="visual" type="box" size="0.025 0.025 0.35" pos="0.73 0.5 -0.37" material="joint"/>
       <geom class="visual" type="box" size="0.025 0.025 0.35" pos="0.03 -0.5 -0.37" material="joint"/>
       <geom class="visual" type="box" size="0.025 0.025 0.35" pos="0.73 -0.5 -0.37" material="joint"/>
-    </body>{_robot(p)}{body}
+    </body>{_robot(p, arm_meshes)}{body}
   </worldbody>
   <actuator>
     <position name="shoulder" joint="shoulder" kp="{p.servo_kp:.6g}" kv="{p.servo_kv:.6g}"/>

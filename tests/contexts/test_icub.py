@@ -4,13 +4,16 @@ from __future__ import annotations
 
 import subprocess
 import sys
+from dataclasses import asdict
 
 import numpy as np
 import pytest
 
-from neurocur.contexts import icub, icub_data
+from neurocur.config import ConfigError
+from neurocur.contexts import icub, icub_body, icub_data
 from neurocur.contexts.base import concatenate_episodes
 from neurocur.contexts.icub import EpisodeParams, ICubWorld, omega_episodes
+from neurocur.contexts.icub_scene import OBJECTS, SceneParams, scene_xml
 from neurocur.learn.omega import omega, omega_from_eigenvalues
 from neurocur.learn.sfa_batch import whiten_batch
 
@@ -253,3 +256,71 @@ def test_omega_episodes_pca_keeps_the_variance_fraction():
 def test_importing_neurocur_does_not_import_mujoco():
     code = "import sys, neurocur, neurocur.contexts.icub; assert 'mujoco' not in sys.modules"
     subprocess.run([sys.executable, "-c", code], check=True)
+
+
+# ---------------------------------------------------------------- the iCub's own arm (SceneParams.arm)
+
+
+def test_a_bad_arm_names_the_key_and_the_choices():
+    with pytest.raises(ConfigError, match=r"key 'arm': expected one of 'primitive', 'icub', got 'mesh'"):
+        SceneParams(arm="mesh")
+
+
+def test_the_icub_arm_without_its_package_names_the_extra(monkeypatch):
+    monkeypatch.setattr(icub_body, "available", lambda: False)
+    with pytest.raises(ConfigError, match=r"key 'arm'.*pip install 'neurocur\[icub-body\]'"):
+        SceneParams(arm="icub")
+    assert SceneParams().arm == "primitive"  # the default needs no package
+
+
+def test_the_default_arm_keeps_the_cache_key_it_had_before_the_option():
+    scene = SceneParams()
+    assert icub_data._scene_key(scene) == {k: v for k, v in asdict(scene).items() if k != "arm"}
+    icub_key = icub_data._scene_key(SceneParams(arm="icub"))
+    assert icub_key["arm"] == "icub" and "icub_models" in icub_key
+    assert "mesh" not in scene_xml("topple") and "mesh" not in scene_xml("roll")
+
+
+def test_the_icub_arm_scene_has_the_same_bodies_and_massless_contact_free_meshes():
+    mj = icub_data._mujoco()
+    for obj in OBJECTS:
+        plain = mj.MjModel.from_xml_string(scene_xml(obj))
+        model = mj.MjModel.from_xml_string(scene_xml(obj, SceneParams(arm="icub")))
+        for name in ("body_mass", "body_inertia", "body_ipos", "body_iquat", "dof_M0", "jnt_range", "actuator_gainprm"):
+            np.testing.assert_array_equal(getattr(model, name), getattr(plain, name), err_msg=name)
+        meshes = model.geom_type == mj.mjtGeom.mjGEOM_MESH
+        assert meshes.sum() == len(icub_body.PROXIMAL) + len(icub_body.DISTAL) == model.nmesh
+        assert (model.geom_bodyid[meshes] == model.body("arm").id).all()
+        assert (model.geom_contype[meshes] == 0).all() and (model.geom_conaffinity[meshes] == 0).all()
+        # the primitive arm still collides as before, but is not drawn (the renderer draws groups 0-2)
+        arm = (model.geom_bodyid == model.body("arm").id) & ~meshes
+        np.testing.assert_array_equal(model.geom_contype[arm], plain.geom_contype[plain.geom_bodyid == plain.body("arm").id])
+        assert (model.geom_group[arm] == 3).all() and (model.geom_group[meshes] == 1).all()
+
+
+def test_the_icub_hand_spans_the_primitive_hand():
+    p = SceneParams()
+    tip, height = p.reach + 0.03 + p.hand_radius, p.hand_height - p.shoulder[2]
+    where = icub_body.placement(tip, height)
+    model = icub_body._model()
+    R, t = where["parts"]["r_hand"]
+    hand = t + where["scale"] * model["hand_vertices"] @ R.T
+    assert hand[:, 0].max() == pytest.approx(tip) and hand[:, 0].min() < p.reach - 0.045  # from the wrist to the tip
+    R, t = where["parts"]["r_forearm"]
+    np.testing.assert_allclose(t + where["scale"] * R @ model["shoulder"], 0.0, atol=1e-12)  # the shoulder on the hinge
+    np.testing.assert_allclose(t + where["scale"] * R @ model["wrist"], where["wrist"], atol=1e-3)
+    assert 0.9 < where["scale"] < 1.2  # about the iCub's own size
+
+
+@needs_gl
+def test_the_icub_arm_moves_the_object_bit_for_bit_as_the_primitive_arm(tmp_path):
+    plain = ICubWorld(n_episodes=1, seed=3, cache_dir=tmp_path, n_jobs=1)
+    icub_arm = ICubWorld(n_episodes=1, seed=3, cache_dir=tmp_path, n_jobs=1, scene=SceneParams(arm="icub"))
+    assert icub_arm.cache_path != plain.cache_path
+    for c in range(2):
+        assert plain.contact_frame(c, 0) == icub_arm.contact_frame(c, 0) >= 0
+        assert np.array_equal(plain.object_positions(c, 0), icub_arm.object_positions(c, 0))
+        a, b = plain.episode(c, 0), icub_arm.episode(c, 0)
+        assert np.array_equal(a.states, b.states)
+        changed = a.frames != b.frames
+        assert 0.01 < changed.mean() < 0.5  # the arm's pixels, not the whole image

@@ -83,6 +83,7 @@ def test_loading_does_not_build_the_world(tmp_path):
     ("[world.scene]\nn_states = 4\n[world.protocol]\nstart_state = 4", "world.protocol.start_state",
      "< scene.n_states = 4"),
     ("[world.scene]\nreach = \"far\"", "world.scene.reach", "a number"),
+    ("[world.scene]\narm = \"mesh\"", "world.scene.arm", "one of 'primitive', 'icub'"),
 ])
 def test_bad_icub_world_tables_name_the_file_and_key(tmp_path, world, key, expected):
     path = write(tmp_path, world)
