@@ -11,12 +11,14 @@ what was expected, with exit status 2. Ctrl-C exits with status 130.
 from __future__ import annotations
 
 import argparse
+import gc
 import os
 import re
 import signal
 import sys
 import threading
 from pathlib import Path
+from typing import NoReturn
 
 import numpy as np
 
@@ -284,5 +286,17 @@ def main(argv=None) -> int:
         return 130
 
 
+def command() -> NoReturn:
+    """The ``neurocur`` console script: :func:`main`, then exit with its status.
+
+    The objects still alive are frozen first (:func:`gc.freeze`), so that the interpreter's
+    final garbage collections skip them: with the model imported (numpy, pandas, numba,
+    scikit-learn) they took 0.3-0.5 s of every command's exit. Only the console script does
+    this; ``main`` called from Python leaves the collector alone."""
+    status = main()
+    gc.freeze()
+    sys.exit(status)
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    command()

@@ -111,3 +111,19 @@ def test_omega_of_a_file_and_of_contexts(tmp_path, capsys):
     values = [float(line.split("=")[1].split()[0]) for line in lines]
     assert values[:4] == [0.99332, 0.99332, 0.99881, 0.9997] and values[4] > 0.999
     assert "redrawn every epoch: 10 draws joined; per draw mean 1.00000" in lines[4]  # S-D: Omega 1 per draw
+
+
+def test_the_console_script_exits_with_the_status_of_main_and_freezes_the_collector(monkeypatch):
+    import gc
+
+    from neurocur import cli
+
+    monkeypatch.setattr(cli, "main", lambda: 2)
+    frozen = gc.get_freeze_count()
+    try:
+        with pytest.raises(SystemExit) as exit_:
+            cli.command()
+        assert exit_.value.code == 2
+        assert gc.get_freeze_count() > frozen  # the objects alive at exit are left to the interpreter
+    finally:
+        gc.unfreeze()
