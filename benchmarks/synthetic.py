@@ -194,8 +194,9 @@ def run_timeline(out: Path, started: float, wall: float, jobs: int) -> dict:
     ``run.json``, measured in its worker) and the time its ``run.json`` was written: the start-up
     before the first run starts (imports, fork server, pre-flight), the span of the runs, and what
     follows the last (summary, order table, exit). The first run of each worker (the first ``jobs``
-    to start) also loads numba's cached kernels, so the mean of the others is a run's cost in a
-    long sweep."""
+    to start) is reported apart (it touches its memory first; before the fork server loaded the
+    compiled kernels for every worker, :mod:`neurocur.experiments.warm`, it also loaded them, 0.3 s),
+    so the mean of the others is a run's cost in a long sweep."""
     runs = []
     for info in sorted(out.glob("runs/*/run-*/run.json")):
         end = info.stat().st_mtime - started
@@ -321,8 +322,7 @@ def main(argv=None) -> int:
     print("  " + "\n  ".join(line for line in s["output"].splitlines() if line.strip()))
     print(f"  where the wall goes    start-up {s['startup']:.1f} s (imports, fork server, pre-flight), the runs "
           f"{s['span']:.1f} s, after the last run {s['after']:.1f} s (summary, order table, exit)")
-    print(f"  a run in its worker    {s['later_run']:.2f} s (each worker's first run: {s['first_run']:.2f} s, "
-          f"numba's cached kernels loaded)")
+    print(f"  a run in its worker    {s['later_run']:.2f} s (each worker's first run: {s['first_run']:.2f} s)")
     alone = incsfa_alone(args.steps, args.condition)
     print(f"IncSFA alone on {args.steps} frames: {alone:.2f} s; a run per core is {per_run / alone:.1f}x that, "
           f"a run in its worker (a long sweep's cost per run) {s['later_run'] / alone:.1f}x "

@@ -15,6 +15,8 @@ __all__ = ["ctrl_c_held", "fork_context", "note", "single_threaded_children", "s
 
 #: the module the fork server imports once, so that every worker forks with the runner imported
 WORKER_MODULE = "neurocur.experiments.pool"
+#: imported by the fork server after it: the compiled kernels, loaded once for every worker
+WARM_MODULE = "neurocur.experiments.warm"
 
 _THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS")
 
@@ -58,12 +60,12 @@ def ctrl_c_held():
 
 
 def fork_context():
-    """The workers' start method: ``forkserver``, whose server imports :data:`WORKER_MODULE` once
-    (workers fork from it), else ``spawn``."""
+    """The workers' start method: ``forkserver``, whose server imports :data:`WORKER_MODULE` and
+    :data:`WARM_MODULE` once (workers fork from it), else ``spawn``."""
     if "forkserver" not in multiprocessing.get_all_start_methods():
         return multiprocessing.get_context("spawn")
     context = multiprocessing.get_context("forkserver")
-    context.set_forkserver_preload([WORKER_MODULE])
+    context.set_forkserver_preload([WORKER_MODULE, WARM_MODULE])
     return context
 
 

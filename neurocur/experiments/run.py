@@ -110,6 +110,19 @@ def dry_run(condition: Condition, seed: np.random.SeedSequence) -> int:
         raise ValueError(f"condition {condition.name!r}: {exc}") from None
 
 
+def warm_up() -> None:
+    """Run the first episode of the shipped synthetic experiment's curious condition, which loads
+    the compiled kernels it calls (:mod:`neurocur.experiments.warm`). Any error is left to the
+    runs themselves to report: here it only forgoes the saving."""
+    from .spec import load_experiment
+
+    try:
+        experiment = load_experiment("synthetic")
+        _first_episode(experiment.conditions["curious"], experiment.run_seed(0))
+    except Exception:  # an optimisation: a real error surfaces in the runs
+        pass
+
+
 def _first_episode(condition: Condition, seed: np.random.SeedSequence) -> None:
     world = condition.make_world()
     for spec in condition.circuit.specs.values():

@@ -154,3 +154,18 @@ def test_a_study_grows_by_new_conditions_but_old_ones_must_not_change(tmp_path):
     with pytest.raises(ConfigError) as info:
         run_experiment(load_experiment(study, runs=1, steps=200), out, jobs=1, progress=False)
     assert info.value.key == "conditions.low_threshold.params.HPC.threshold"
+
+
+def test_the_fork_servers_warm_up_module_loads_the_compiled_kernels_once_for_every_worker():
+    """Importing neurocur.experiments.warm (the fork server does, after the runner) loads the
+    kernels a synthetic run calls, which a fresh process has not loaded."""
+    import subprocess
+    import sys
+
+    code = ("from neurocur.learn._kernels import incsfa_fit\n"
+            "from neurocur.learn._roc_kernels import roc_episode_error\n"
+            "before = len(incsfa_fit.signatures), len(roc_episode_error.signatures)\n"
+            "import neurocur.experiments.warm\n"
+            "print(before, (len(incsfa_fit.signatures), len(roc_episode_error.signatures)))\n")
+    printed = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert printed.strip() == "(0, 0) (1, 1)"
