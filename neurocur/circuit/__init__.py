@@ -43,66 +43,28 @@ Validation errors are :class:`~neurocur.config.ConfigError` naming the file and 
 
 from __future__ import annotations
 
-import copy
-import dataclasses
 from collections.abc import Mapping
-from dataclasses import dataclass
 from pathlib import Path
 
 import networkx as nx
 
-from ..config import ConfigError, describe, make_params, params_to_dict
-from ..regions import REGIONS, Region
-from ..regions.pharmacology import DRUGS
-from ..registry import UnknownType
-from ..tables import check_keys, require, resolve_file
+from ..config import ConfigError, describe, params_to_dict
+from ..regions import Region
+from ..tables import resolve_file
 from .files import read_circuit_file
+from .specs import (
+    PY,
+    Link,
+    RegionSpec,
+    apply_overrides,
+    lesioned,
+    link_between,
+    link_from_table,
+    ports,
+    spec_from_table,
+)
 
 __all__ = ["Circuit", "RegionSpec", "Link"]
-
-PY = "<python>"
-
-
-@dataclass(frozen=True)
-class RegionSpec:
-    """A declared region: its class and parameters, or a prebuilt (not yet reset) instance,
-    and the drugs acting on its neuromodulator (:mod:`neurocur.regions.pharmacology`)."""
-
-    name: str
-    cls: type
-    params: object
-    instance: Region | None = None
-    origin: str = PY
-    drugs: tuple = ()
-
-    @property
-    def type_name(self) -> str:
-        return self.cls.type_name or self.cls.__qualname__
-
-    def make(self) -> Region:
-        if self.instance is not None:
-            region = copy.deepcopy(self.instance)
-            region.name = self.name
-        else:
-            region = self.cls(self.name, self.params)
-        region.drugs = self.drugs
-        return region
-
-
-@dataclass(frozen=True)
-class Link:
-    """One edge: ``src.signal -> dst.input``."""
-
-    src: str
-    signal: str
-    dst: str
-    input: str
-    delayed: bool = False
-    origin: str = PY
-    key: str = "edges"
-
-    def __str__(self) -> str:
-        return f"{self.src}.{self.signal} -> {self.dst}.{self.input}"
 
 
 class Circuit:
@@ -128,14 +90,14 @@ class Circuit:
         data = read_circuit_file(path)
         regions = {}
         for name, table in data["regions"].items():
-            regions[name] = _spec_from_table(name, table, prefix=f"regions.{name}")
+            regions[name] = spec_from_table(name, table, prefix=f"regions.{name}")
         for name, table in data["replace"].items():
             if name not in regions:
                 raise ConfigError(table["_origin"], f"replace.{name}", f"the name of a declared region ({', '.join(regions)})",
                                   "an unknown region")
-            regions[name] = _spec_from_table(name, table, prefix=f"replace.{name}")
-        links = [_link_from_table(t) for t in data["edges"]]
-        regions = _apply_overrides(regions, overrides or {}, overrides_source)
+            regions[name] = spec_from_table(name, table, prefix=f"replace.{name}")
+        links = [link_from_table(t) for t in data["edges"]]
+        regions = apply_overrides(regions, overrides or {}, overrides_source)
         lesions = []
         for table in data["lesion"]:
             name, how = table["region"], table["how"]
@@ -143,7 +105,7 @@ class Circuit:
                 raise ConfigError(table["_origin"], f"{table['_key']}.region", f"a declared region ({', '.join(regions)})",
                                   describe(name))
             drug = {k: v for k, v in table.items() if k not in ("region", "how") and not k.startswith("_")}
-            regions[name] = _lesioned(regions[name], how, drug, source=table["_origin"], key=table["_key"])
+            regions[name] = lesioned(regions[name], how, drug, source=table["_origin"], key=table["_key"])
             lesions.append((name, how, drug))
         return cls(regions, links, source=path, lesions=lesions)
 
@@ -153,16 +115,19 @@ class Circuit:
         with its parameters as keywords (``circuit.lesion("LC", "clamp", level=4.0)``)."""
         self._check_region(name)
         specs = dict(self.specs)
-        specs[name] = _lesioned(specs[name], how, drug, source=PY, key=f"lesion.{name}")
+        specs[name] = lesioned(specs[name], how, drug, source=PY, key=f"lesion.{name}")
         return Circuit(specs, self.links, source=self.source, lesions=self.lesions + ((name, how, drug),))
 
-    def replace(self, name: str, region, *, drop_edges: bool = False) -> Circuit:
+    def replace(self, name: str, region, *, drop_edges: bool = False, inputs: Mapping[str, str] | None = None) -> Circuit:
         """A new circuit with region ``name`` replaced by a Region object or a spec mapping
         ``{"type": "vta.novelty", "params": {...}}``.
 
-        An edge into an input, or out of an output, that the new region does not have is an
-        error naming it; with ``drop_edges=True`` such edges are dropped (e.g. HPC's ``progress``
-        when ``vta.state_progress`` is replaced by a model that does not read it)."""
+        ``inputs`` maps inputs of the new region to the outputs that feed them,
+        ``{"progress": "EC.slowness_progress"}``: an input the old region did not have needs one,
+        and one it had is rewired (what ``[[edges]]`` add in a variant circuit file). An edge into
+        an input, or out of an output, that the new region does not have is an error naming it;
+        with ``drop_edges=True`` such edges are dropped (e.g. HPC's ``progress`` when
+        ``vta.state_progress`` is replaced by a model that does not read it)."""
         self._check_region(name)
         specs = dict(self.specs)
         if isinstance(region, Region):
@@ -170,24 +135,39 @@ class Circuit:
         elif isinstance(region, Mapping):
             table = dict(region)
             table["_origin"] = PY
-            specs[name] = _spec_from_table(name, table, prefix=f"replace.{name}")
+            specs[name] = spec_from_table(name, table, prefix=f"replace.{name}")
         else:
             raise ValueError(f"replace() expects a Region object or a mapping with 'type' and 'params'; "
                              f"got {type(region).__name__}")
-        inputs = {s.name for s in _ports(specs[name], "inputs") + _ports(specs[name], "learn_inputs")}
-        outputs = {s.name for s in _ports(specs[name], "outputs")}
-        stale = [k for k in self.links if (k.dst == name and k.input not in inputs)
-                 or (k.src == name and k.signal not in outputs)]
+        new = [link_between(src, f"{name}.{inp}", key=f"replace.{name}.inputs.{inp}")
+               for inp, src in (inputs or {}).items()]
+        fed = {(k.dst, k.input) for k in new}
+        kept = [k for k in self.links if (k.dst, k.input) not in fed]
+        ins = {s.name for s in ports(specs[name], "inputs") + ports(specs[name], "learn_inputs")}
+        outs = {s.name for s in ports(specs[name], "outputs")}
+        stale = [k for k in kept if (k.dst == name and k.input not in ins) or (k.src == name and k.signal not in outs)]
         if stale and not drop_edges:
             raise ConfigError(PY, f"replace.{name}",
                               f"a region with a port for every edge of '{name}', or drop_edges=True to drop the others",
                               f"{specs[name].type_name}, which has no port for {', '.join(map(str, stale))}")
-        links = [k for k in self.links if k not in stale]
-        return Circuit(specs, links, source=self.source, lesions=self.lesions)
+        return Circuit(specs, [k for k in kept if k not in stale] + new, source=self.source, lesions=self.lesions)
+
+    def connect(self, source: str, target: str, *, delayed: bool = False) -> Circuit:
+        """A new circuit with the edge ``source -> target``, named ``"REGION.output"`` and
+        ``"REGION.input"`` (``circuit.connect("HPC.progress", "VTA.progress")``): what a
+        ``[[edges]]`` table adds in a circuit file. An edge already into ``target`` is replaced in
+        place (the output it came from must then be read elsewhere, or be optional);
+        ``delayed=True`` delivers the previous pass's value, so the edge may close a loop."""
+        link = link_between(source, target, delayed=delayed, key="connect")
+        into = (link.dst, link.input)
+        links = [link if (k.dst, k.input) == into else k for k in self.links]
+        if link not in links:
+            links.append(link)
+        return Circuit(self.specs, links, source=self.source, lesions=self.lesions)
 
     def with_params(self, overrides: Mapping, *, source: str = "overrides") -> Circuit:
         """A new circuit with ``"REGION.param"`` overrides applied."""
-        return Circuit(_apply_overrides(self.specs, overrides, source), self.links, source=self.source,
+        return Circuit(apply_overrides(self.specs, overrides, source), self.links, source=self.source,
                        lesions=self.lesions)
 
     def build(self, world, seed, record_frames: bool = False):
@@ -238,7 +218,7 @@ class Circuit:
             raise ValueError(f"no region named {name!r} in this circuit (regions: {', '.join(self.specs)})")
 
     def _step_inputs(self, name) -> dict:
-        return {s.name: s for s in _ports(self.specs[name], "inputs")}
+        return {s.name: s for s in ports(self.specs[name], "inputs")}
 
     def _validate(self) -> None:
         specs, src = self.specs, self.source
@@ -253,11 +233,11 @@ class Circuit:
                 if end not in specs:
                     raise ConfigError(link.origin, f"{link.key}.{field_}", f"a declared region ({', '.join(specs)})",
                                       describe(end))
-            outs = {s.name: s for s in _ports(specs[link.src], "outputs")}
+            outs = {s.name: s for s in ports(specs[link.src], "outputs")}
             if link.signal not in outs:
                 raise ConfigError(link.origin, f"{link.key}.signal", f"an output of region '{link.src}' ({', '.join(outs) or 'none'})",
                                   describe(link.signal))
-            ins = {s.name: s for s in _ports(specs[link.dst], "inputs") + _ports(specs[link.dst], "learn_inputs")}
+            ins = {s.name: s for s in ports(specs[link.dst], "inputs") + ports(specs[link.dst], "learn_inputs")}
             if link.input not in ins:
                 raise ConfigError(link.origin, f"{link.key}.input", f"an input of region '{link.dst}' ({', '.join(ins) or 'none'})",
                                   describe(link.input))
@@ -276,17 +256,17 @@ class Circuit:
             else:
                 self.graph.add_edge(link.src, link.dst, links=[link])
         for name, spec in specs.items():
-            for sig in _ports(spec, "inputs") + _ports(spec, "learn_inputs"):
+            for sig in ports(spec, "inputs") + ports(spec, "learn_inputs"):
                 if (name, sig.name) not in fed:
                     raise ConfigError(spec.origin if spec.origin != PY else src, f"regions.{name}",
                                       f"an edge into its input '{sig.name}' ({sig.describe()})", "no edge")
-            for sig in _ports(spec, "outputs"):
+            for sig in ports(spec, "outputs"):
                 if not sig.optional and (name, sig.name) not in used_outputs:
                     raise ConfigError(spec.origin if spec.origin != PY else src, f"regions.{name}",
                                       f"an edge from its output '{sig.name}' ({sig.describe()})", "an output that goes nowhere")
         recorded = {"episode": "the scheduler", "step": "the scheduler"}
         for name, spec in specs.items():
-            for probe in _ports(spec, "probes"):
+            for probe in ports(spec, "probes"):
                 if probe.name in recorded:
                     raise ConfigError(spec.origin if spec.origin != PY else src, f"regions.{name}",
                                       f"probe names unique in the circuit ('{probe.name}' is recorded by "
@@ -308,86 +288,3 @@ class Circuit:
         rank = {name: i for i, name in enumerate(specs)}
         self.step_order: tuple[str, ...] = tuple(nx.lexicographical_topological_sort(step_graph, key=rank.__getitem__))
         self.learn_order: tuple[str, ...] = tuple(n for n in self.step_order if specs[n].cls.learn is not Region.learn)
-
-
-# ---------------------------------------------------------------------- helpers
-
-
-def _ports(spec: RegionSpec, kind: str):
-    """The declared signals of a region; instance-level when they depend on parameters."""
-    holder = spec.instance if spec.instance is not None else spec.cls
-    value = getattr(holder, kind)
-    if isinstance(value, property) or callable(value):  # parameter-dependent ports
-        value = getattr(spec.make(), kind)
-    return tuple(value)
-
-
-def _spec_from_table(name: str, table: Mapping, *, prefix: str) -> RegionSpec:
-    origin = table["_origin"]
-    body = {k: v for k, v in table.items() if not k.startswith("_")}
-    check_keys(body, ("type", "params"), source=origin, prefix=prefix, required=("type",))
-    type_name = require(body, "type", str, source=origin, prefix=prefix, expected="a region type name (string)")
-    try:
-        cls = REGIONS.get(type_name)
-    except UnknownType:
-        raise ConfigError(origin, f"{prefix}.type", f"a registered region type ({', '.join(REGIONS.names())})",
-                          describe(type_name)) from None
-    params_table = require(body, "params", dict, source=origin, prefix=prefix, expected="a table of parameters",
-                           default={})
-    params = make_params(cls.Params, params_table, source=origin, prefix=f"{prefix}.params")
-    return RegionSpec(name, cls, params, origin=origin)
-
-
-def _link_from_table(table: Mapping) -> Link:
-    origin, key = table["_origin"], table["_key"]
-    body = {k: v for k, v in table.items() if not k.startswith("_")}
-    check_keys(body, ("from", "to", "signal", "input", "delayed"), source=origin, prefix=key,
-               required=("from", "to", "signal"))
-    words = {f: require(body, f, str, source=origin, prefix=key, expected="a name (string)") for f in ("from", "to", "signal")}
-    inp = require(body, "input", str, source=origin, prefix=key, expected="an input name (string)", default=words["signal"])
-    delayed = require(body, "delayed", bool, source=origin, prefix=key, expected="true or false", default=False)
-    return Link(words["from"], words["signal"], words["to"], inp, delayed, origin=origin, key=key)
-
-
-def _apply_overrides(specs: Mapping[str, RegionSpec], overrides: Mapping, source) -> dict[str, RegionSpec]:
-    specs = dict(specs)
-    grouped: dict[str, dict] = {}
-    for dotted, value in overrides.items():
-        name, dot, pname = str(dotted).partition(".")
-        if not dot or name not in specs:
-            raise ConfigError(source, str(dotted), f"'REGION.param' with REGION one of {', '.join(specs)}",
-                              "an unknown region" if dot else "no dot")
-        grouped.setdefault(name, {})[pname] = value
-    for name, table in grouped.items():
-        spec = specs[name]
-        merged = {**params_to_dict(spec.params), **table}
-        params = make_params(spec.cls.Params, merged, source=source, prefix=name)
-        specs[name] = dataclasses.replace(spec, params=params, instance=None if spec.instance is None else
-                                          _with_params(spec.instance, params))
-    return specs
-
-
-def _with_params(instance: Region, params) -> Region:
-    region = copy.deepcopy(instance)
-    region.params = params
-    return region
-
-
-def _lesioned(spec: RegionSpec, how, drug: Mapping, *, source, key) -> RegionSpec:
-    """``spec`` with the lesion ``how``: a named lesion of its class (parameter overrides,
-    no further keys) or a drug on its neuromodulator (``drug`` holds the drug's parameters)."""
-    options = dict(spec.cls.lesions)
-    if spec.cls.modulator:
-        options.update({name: f"drug on {spec.cls.modulator}" for name in DRUGS})
-    if how not in options:
-        raise ConfigError(source, f"{key}.how", f"a lesion of {spec.type_name} ({', '.join(options) or 'none defined'})",
-                          describe(how))
-    if how in spec.cls.lesions:
-        if drug:
-            raise ConfigError(source, f"{key}.{next(iter(drug))}", f"no further keys for the lesion '{how}' "
-                              "(it sets the region's parameters)", "a key")
-        params = dataclasses.replace(spec.params, **spec.cls.lesions[how])
-        instance = None if spec.instance is None else _with_params(spec.instance, params)
-        return dataclasses.replace(spec, params=params, instance=instance)
-    made = make_params(DRUGS[how], drug, source=source, prefix=key)
-    return dataclasses.replace(spec, drugs=spec.drugs + (made,))

@@ -1,0 +1,160 @@
+"""The parts of a circuit: declared regions (:class:`RegionSpec`) and edges (:class:`Link`), and
+making them from the tables of a circuit file or from Python (parameters, overrides, lesions).
+
+The circuit file format and the meaning of its tables are described in :mod:`neurocur.circuit`;
+:class:`~neurocur.circuit.Circuit` validates the whole.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+from ..config import ConfigError, describe, make_params, params_to_dict
+from ..regions import REGIONS, Region
+from ..regions.pharmacology import DRUGS
+from ..registry import UnknownType
+from ..tables import check_keys, require
+
+__all__ = ["PY", "Link", "RegionSpec", "apply_overrides", "lesioned", "link_between", "link_from_table", "ports",
+           "spec_from_table"]
+
+PY = "<python>"
+
+
+@dataclass(frozen=True)
+class RegionSpec:
+    """A declared region: its class and parameters, or a prebuilt (not yet reset) instance,
+    and the drugs acting on its neuromodulator (:mod:`neurocur.regions.pharmacology`)."""
+
+    name: str
+    cls: type
+    params: object
+    instance: Region | None = None
+    origin: str = PY
+    drugs: tuple = ()
+
+    @property
+    def type_name(self) -> str:
+        return self.cls.type_name or self.cls.__qualname__
+
+    def make(self) -> Region:
+        if self.instance is not None:
+            region = copy.deepcopy(self.instance)
+            region.name = self.name
+        else:
+            region = self.cls(self.name, self.params)
+        region.drugs = self.drugs
+        return region
+
+
+@dataclass(frozen=True)
+class Link:
+    """One edge: ``src.signal -> dst.input``."""
+
+    src: str
+    signal: str
+    dst: str
+    input: str
+    delayed: bool = False
+    origin: str = PY
+    key: str = "edges"
+
+    def __str__(self) -> str:
+        return f"{self.src}.{self.signal} -> {self.dst}.{self.input}"
+
+
+
+def ports(spec: RegionSpec, kind: str):
+    """The declared signals of a region; instance-level when they depend on parameters."""
+    holder = spec.instance if spec.instance is not None else spec.cls
+    value = getattr(holder, kind)
+    if isinstance(value, property) or callable(value):  # parameter-dependent ports
+        value = getattr(spec.make(), kind)
+    return tuple(value)
+
+
+def spec_from_table(name: str, table: Mapping, *, prefix: str) -> RegionSpec:
+    origin = table["_origin"]
+    body = {k: v for k, v in table.items() if not k.startswith("_")}
+    check_keys(body, ("type", "params"), source=origin, prefix=prefix, required=("type",))
+    type_name = require(body, "type", str, source=origin, prefix=prefix, expected="a region type name (string)")
+    try:
+        cls = REGIONS.get(type_name)
+    except UnknownType:
+        raise ConfigError(origin, f"{prefix}.type", f"a registered region type ({', '.join(REGIONS.names())})",
+                          describe(type_name)) from None
+    params_table = require(body, "params", dict, source=origin, prefix=prefix, expected="a table of parameters",
+                           default={})
+    params = make_params(cls.Params, params_table, source=origin, prefix=f"{prefix}.params")
+    return RegionSpec(name, cls, params, origin=origin)
+
+
+def link_from_table(table: Mapping) -> Link:
+    origin, key = table["_origin"], table["_key"]
+    body = {k: v for k, v in table.items() if not k.startswith("_")}
+    check_keys(body, ("from", "to", "signal", "input", "delayed"), source=origin, prefix=key,
+               required=("from", "to", "signal"))
+    words = {f: require(body, f, str, source=origin, prefix=key, expected="a name (string)") for f in ("from", "to", "signal")}
+    inp = require(body, "input", str, source=origin, prefix=key, expected="an input name (string)", default=words["signal"])
+    delayed = require(body, "delayed", bool, source=origin, prefix=key, expected="true or false", default=False)
+    return Link(words["from"], words["signal"], words["to"], inp, delayed, origin=origin, key=key)
+
+
+def link_between(source: str, target: str, *, delayed: bool = False, key: str) -> Link:
+    """The edge ``source -> target`` given from Python as ``"REGION.output"`` and ``"REGION.input"``;
+    a malformed name is a ConfigError at ``key``. Whether the ports exist is checked by the circuit."""
+    ends = []
+    for value, what in ((source, "an output"), (target, "an input")):
+        region, dot, port = str(value).partition(".")
+        if not (isinstance(value, str) and region and dot and port):
+            raise ConfigError(PY, key, f"'REGION.port' naming {what}", describe(value))
+        ends.append((region, port))
+    (src, signal), (dst, inp) = ends
+    return Link(src, signal, dst, inp, bool(delayed), origin=PY, key=key)
+
+
+def apply_overrides(specs: Mapping[str, RegionSpec], overrides: Mapping, source) -> dict[str, RegionSpec]:
+    specs = dict(specs)
+    grouped: dict[str, dict] = {}
+    for dotted, value in overrides.items():
+        name, dot, pname = str(dotted).partition(".")
+        if not dot or name not in specs:
+            raise ConfigError(source, str(dotted), f"'REGION.param' with REGION one of {', '.join(specs)}",
+                              "an unknown region" if dot else "no dot")
+        grouped.setdefault(name, {})[pname] = value
+    for name, table in grouped.items():
+        spec = specs[name]
+        merged = {**params_to_dict(spec.params), **table}
+        params = make_params(spec.cls.Params, merged, source=source, prefix=name)
+        specs[name] = dataclasses.replace(spec, params=params, instance=None if spec.instance is None else
+                                          with_params(spec.instance, params))
+    return specs
+
+
+def with_params(instance: Region, params) -> Region:
+    region = copy.deepcopy(instance)
+    region.params = params
+    return region
+
+
+def lesioned(spec: RegionSpec, how, drug: Mapping, *, source, key) -> RegionSpec:
+    """``spec`` with the lesion ``how``: a named lesion of its class (parameter overrides,
+    no further keys) or a drug on its neuromodulator (``drug`` holds the drug's parameters)."""
+    options = dict(spec.cls.lesions)
+    if spec.cls.modulator:
+        options.update({name: f"drug on {spec.cls.modulator}" for name in DRUGS})
+    if how not in options:
+        raise ConfigError(source, f"{key}.how", f"a lesion of {spec.type_name} ({', '.join(options) or 'none defined'})",
+                          describe(how))
+    if how in spec.cls.lesions:
+        if drug:
+            raise ConfigError(source, f"{key}.{next(iter(drug))}", f"no further keys for the lesion '{how}' "
+                              "(it sets the region's parameters)", "a key")
+        params = dataclasses.replace(spec.params, **spec.cls.lesions[how])
+        instance = None if spec.instance is None else with_params(spec.instance, params)
+        return dataclasses.replace(spec, params=params, instance=instance)
+    made = make_params(DRUGS[how], drug, source=source, prefix=key)
+    return dataclasses.replace(spec, drugs=spec.drugs + (made,))
