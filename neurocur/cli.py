@@ -179,10 +179,11 @@ def _cmd_run(args) -> int:
                        scheduler=args.scheduler)
         from neurocur.analysis import order_tables, write_summary  # imported once the runs are done
 
-        write_summary(out)
+        tables = ResultsStore(out).load()
+        write_summary(out, tables=tables)
     print(f"results: {out}")
     with pd.option_context("display.width", 200, "display.max_columns", None):
-        print(order_tables(out, conditions=list(exp.conditions)).to_string())
+        print(order_tables(out, conditions=list(exp.conditions), tables=tables).to_string())
     return 0
 
 

@@ -36,7 +36,8 @@ def source_specs(results_dir: str | Path) -> dict[str, SourceSpec]:
 
 
 def order_tables(
-    results_dir: str | Path, conditions=None, *, reference: str | None = None, tests: bool = True
+    results_dir: str | Path, conditions=None, *, reference: str | None = None, tests: bool = True,
+    tables: tuple[pd.DataFrame, pd.DataFrame] | None = None,
 ) -> pd.DataFrame:
     """The order table (:func:`~neurocur.analysis.report.order_table`) of every condition
     (or of ``conditions``), each with its own world's sources, side by side.
@@ -45,9 +46,10 @@ def order_tables(
     paired tests of ``reference`` (default: the first condition of the folder's
     ``config.toml`` that has runs) against every other shown condition with the same world's
     sources, the efficiency metrics and the order metrics each Holm-adjusted as one family;
-    each row names its test and adjustment.
+    each row names its test and adjustment. ``tables``: the folder's ``(episodes, modules)``
+    when already loaded (:func:`load`), so that they are not read again.
     """
-    episodes, modules = load(results_dir)
+    episodes, modules = load(results_dir) if tables is None else tables
     specs = {c: s for c, s in source_specs(results_dir).items() if conditions is None or c in conditions}
     blocks = []
     for condition, spec in specs.items():
@@ -65,16 +67,17 @@ def order_tables(
     return table
 
 
-def write_summary(results_dir: str | Path) -> dict:
+def write_summary(results_dir: str | Path, *, tables: tuple[pd.DataFrame, pd.DataFrame] | None = None) -> dict:
     """Aggregate every finished run into ``summary.json`` (:func:`~neurocur.analysis.report.summary`).
 
     One summary when every condition's world has the same sources, else one per condition.
     The reference of the comparisons is the first condition of the folder's ``config.toml``.
     ``throughput`` records the runs' own compute time (``seconds`` of each ``run.json``, one
-    core each): seconds per run and runs per core-hour.
+    core each): seconds per run and runs per core-hour. ``tables``: the folder's ``(episodes,
+    modules)`` when already loaded (:func:`load`).
     """
     store = ResultsStore(results_dir)
-    episodes, modules = store.load()
+    episodes, modules = store.load() if tables is None else tables
     specs = source_specs(results_dir)
     reference = next(iter((store.config() or {}).get("conditions", specs)))
     if len(set(specs.values())) <= 1:
