@@ -287,6 +287,10 @@ def test_order_tables_of_a_folder_test_against_its_first_condition(results_dir):
     other = order_tables(results_dir, reference="random_switching")
     assert other.loc[GATED_ROW.replace("vs curious", "vs random_switching"), "curious"] == "0.5 (n=3)"
     assert order_tables(results_dir, conditions=["curious"]).index[-1] == "S-C learning time (epochs)"
+    episodes, modules = load(results_dir)
+    pd.testing.assert_frame_equal(order_tables(results_dir, tables=(episodes, modules)), table)
+    fewer = order_tables(results_dir, tables=(episodes, modules[modules["module"] > 0]), tests=False)
+    assert fewer.loc["modules per run", "curious"] != table.loc["modules per run", "curious"]  # the tables given are read
 
 
 def test_summary_is_json(tables):
