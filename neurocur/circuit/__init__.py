@@ -87,15 +87,23 @@ class Circuit:
 
         ``path`` is a file path or the name of a shipped circuit (``"cd_misfa"``, :func:`~neurocur.tables.shipped_files`)."""
         path = resolve_file(path, Path(), "circuit", source=path, key=None)
-        data = read_circuit_file(path)
+        return cls.from_tables(read_circuit_file(path), path, overrides, overrides_source=overrides_source)
+
+    @classmethod
+    def from_tables(cls, data: Mapping, source, overrides: Mapping | None = None, *,
+                    overrides_source: str = "overrides") -> Circuit:
+        """The circuit of a circuit file's tables as :func:`~neurocur.circuit.files.read_circuit_file`
+        reads them (and :func:`~neurocur.circuit.files.add_tables` adds to them): regions, then
+        their replacements, the overrides, the lesions; ``source`` names the circuit."""
         regions = {}
         for name, table in data["regions"].items():
             regions[name] = spec_from_table(name, table, prefix=f"regions.{name}")
         for name, table in data["replace"].items():
+            key = table.get("_key", f"replace.{name}")
             if name not in regions:
-                raise ConfigError(table["_origin"], f"replace.{name}", f"the name of a declared region ({', '.join(regions)})",
+                raise ConfigError(table["_origin"], key, f"the name of a declared region ({', '.join(regions)})",
                                   "an unknown region")
-            regions[name] = spec_from_table(name, table, prefix=f"replace.{name}")
+            regions[name] = spec_from_table(name, table, prefix=key)
         links = [link_from_table(t) for t in data["edges"]]
         regions = apply_overrides(regions, overrides or {}, overrides_source)
         lesions = []
@@ -107,7 +115,7 @@ class Circuit:
             drug = {k: v for k, v in table.items() if k not in ("region", "how") and not k.startswith("_")}
             regions[name] = lesioned(regions[name], how, drug, source=table["_origin"], key=table["_key"])
             lesions.append((name, how, drug))
-        return cls(regions, links, source=path, lesions=lesions)
+        return cls(regions, links, source=source, lesions=lesions)
 
     def lesion(self, name: str, how: str, **drug) -> Circuit:
         """A new circuit with region ``name`` lesioned: ``how`` is one of its class's ``lesions``,

@@ -14,7 +14,7 @@ from ..config import ConfigError, describe
 from ..regions.pharmacology import DRUGS
 from ..tables import check_keys, deep_merge, load_toml, require, resolve_file
 
-__all__ = ["read_circuit_file"]
+__all__ = ["add_tables", "read_circuit_file"]
 
 
 def read_circuit_file(path: Path, chain: tuple = ()) -> dict:
@@ -30,28 +30,38 @@ def read_circuit_file(path: Path, chain: tuple = ()) -> dict:
         data = read_circuit_file(resolve_file(base_name, path.parent, "circuit", source=path, key="extends"), chain + (path,))
     else:
         data = {"regions": {}, "edges": [], "lesion": [], "replace": {}}
-    regions = require(raw, "regions", dict, source=path, expected="a table of regions", default={})
+    return add_tables(data, raw, path)
+
+
+def add_tables(data: dict, raw: dict, source, prefix: str = "") -> dict:
+    """``data`` (tables read so far) with the ``regions``, ``edges``, ``lesion`` and ``replace``
+    tables of ``raw`` added as a file extending them would add them, each tagged with ``source``
+    and its key (``prefix`` before it: an experiment condition's ``"conditions.NAME."``)."""
+    regions = require(raw, "regions", dict, source=source, prefix=prefix.rstrip("."),
+                      expected="a table of regions", default={})
     for name, table in regions.items():
         if not isinstance(table, dict):
-            raise ConfigError(path, f"regions.{name}", "a table with 'type' and 'params'", describe(table))
+            raise ConfigError(source, f"{prefix}regions.{name}", "a table with 'type' and 'params'", describe(table))
         merged = deep_merge(data["regions"].get(name, {}), table)
-        merged["_origin"] = path
+        merged["_origin"] = source
         data["regions"][name] = merged
     for field_, kind in (("edges", "edge"), ("lesion", "lesion")):
-        items = require(raw, field_, list, source=path, expected=f"an array of {kind} tables ([[{field_}]])", default=[])
+        items = require(raw, field_, list, source=source, prefix=prefix.rstrip("."),
+                        expected=f"an array of {kind} tables ([[{field_}]])", default=[])
         for i, table in enumerate(items):
-            key = f"{field_}[{i}]"
+            key = f"{prefix}{field_}[{i}]"
             if not isinstance(table, dict):
-                raise ConfigError(path, key, f"a {kind} table", describe(table))
+                raise ConfigError(source, key, f"a {kind} table", describe(table))
             if field_ == "lesion":
                 check_keys(table, ("region", "how", *{f for d in DRUGS.values() for f in d.__dataclass_fields__}),
-                           source=path, prefix=key, required=("region", "how"))
+                           source=source, prefix=key, required=("region", "how"))
                 for f in ("region", "how"):
-                    require(table, f, str, source=path, prefix=key, expected="a name (string)")
-            data[field_].append({**table, "_origin": path, "_key": key})
-    replace = require(raw, "replace", dict, source=path, expected="a table of replacements", default={})
+                    require(table, f, str, source=source, prefix=key, expected="a name (string)")
+            data[field_].append({**table, "_origin": source, "_key": key})
+    replace = require(raw, "replace", dict, source=source, prefix=prefix.rstrip("."),
+                      expected="a table of replacements", default={})
     for name, table in replace.items():
         if not isinstance(table, dict):
-            raise ConfigError(path, f"replace.{name}", "a table with 'type' and 'params'", describe(table))
-        data["replace"][name] = {**table, "_origin": path}
+            raise ConfigError(source, f"{prefix}replace.{name}", "a table with 'type' and 'params'", describe(table))
+        data["replace"][name] = {**table, "_origin": source, "_key": f"{prefix}replace.{name}"}
     return data

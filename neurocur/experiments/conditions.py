@@ -12,10 +12,11 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from neurocur.circuit import Circuit
+from neurocur.circuit.files import add_tables, read_circuit_file
 from neurocur.config import ConfigError, check_table, describe, make_params, resolve_paths
 from neurocur.contexts import WORLDS
 from neurocur.registry import UnknownType
-from neurocur.tables import deep_merge, require
+from neurocur.tables import deep_merge, require, resolve_file
 
 __all__ = ["Overrides", "condition_world", "lesioned", "load_circuit"]
 
@@ -89,11 +90,19 @@ class Overrides:
 _OVERRIDES = "<experiment overrides>"
 
 
-def load_circuit(circuit: Path, overrides: Overrides, set_params: dict) -> Circuit:
-    """The condition's circuit with its overrides; errors name the file (or --set) and key."""
+def load_circuit(circuit: Path, overrides: Overrides, set_params: dict, variant: dict | None = None) -> Circuit:
+    """The condition's circuit with its overrides; errors name the file (or --set) and key.
+
+    ``variant``: the condition's own ``replace`` and ``edges`` tables, added to the circuit
+    file's as a file extending it would add them (so before the overrides and the file's
+    lesions), each named ``conditions.NAME.replace.REGION`` or ``conditions.NAME.edges[i]``."""
     try:
-        loaded = Circuit.from_toml(circuit, overrides={**overrides.base, **overrides.condition},
-                                   overrides_source=_OVERRIDES)
+        path = resolve_file(circuit, Path(), "circuit", source=circuit, key=None)
+        data = read_circuit_file(path)
+        if variant:
+            add_tables(data, variant, overrides.source, f"conditions.{overrides.name}.")
+        loaded = Circuit.from_tables(data, path, overrides={**overrides.base, **overrides.condition},
+                                     overrides_source=_OVERRIDES)
     except ConfigError as exc:
         if exc.source == _OVERRIDES and exc.key is not None:
             raise overrides.locate(exc) from None

@@ -24,6 +24,8 @@ runs and steps, the root seed, parameter overrides and, optionally, conditions::
     params = { "LC.epsilon0" = 1.0 }          # merged over the top-level [params]
     # world = { normalise = "image" }         # merged over the top-level [world]
     # lesion = [{ region = "LC", how = "clamp", level = 8.0 }]   # lesions and drugs on the circuit
+    # replace.LC = { type = "lc.softmax", params = { gain = 3.0 } }      # as a circuit file's [replace.LC]
+    # edges = [{ from = "EC", signal = "slowness_progress", to = "VTA", input = "progress" }]  # its [[edges]]
 
 The world table's keys are the parameters of its type (``world.type``, default
 ``"synthetic"``: :class:`~neurocur.contexts.synthetic.SyntheticParams`; ``"icub"``:
@@ -75,7 +77,7 @@ from .sweep import grid, point_label, sweep_table, world_layer
 
 __all__ = ["Condition", "Experiment", "load_experiment", "parse_set", "resolve_experiment", "shipped_experiments"]
 
-CONDITION_KEYS = ("description", "circuit", "params", "world", "lesion")
+CONDITION_KEYS = ("description", "circuit", "params", "world", "lesion", "replace", "edges")
 DEFAULT_CONDITION = "default"
 
 
@@ -240,7 +242,8 @@ def load_experiment(path, *, sets: Sequence[str] = (), runs: int | None = None, 
                 [*base_world, (cond_world, source, f"{prefix}.world", here), swept_world,
                  (world_sets, "--set", "world", cwd)], path)
             overrides = Overrides(base_params, param_origin, {**cond_params, **point_params}, source, name)
-            built = lesioned(load_circuit(circuit, overrides, param_sets), table.get("lesion", []), source,
+            variant = {k: table[k] for k in ("replace", "edges") if k in table}
+            built = lesioned(load_circuit(circuit, overrides, param_sets, variant), table.get("lesion", []), source,
                              f"{prefix}.lesion")
             params = {**base_params, **cond_params, **point_params, **param_sets}
             label = f"{name}@{point_label(point)}" if point else name

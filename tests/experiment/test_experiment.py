@@ -63,6 +63,33 @@ def test_a_condition_lesions_its_circuit(tmp_path):
     assert exp.conditions["b"].circuit.lesions == ()
 
 
+def test_a_condition_replaces_regions_and_adds_edges_as_a_variant_circuit_file_would(tmp_path):
+    """Two variants combined in one condition, and a model whose new input the condition feeds."""
+    from neurocur.circuit import Circuit
+
+    path = write(tmp_path, """
+        circuit = "cd_misfa"
+        runs = 1
+        steps = 10
+        [conditions.combined]
+        circuit = "vta_state_progress"
+        replace.LC = { type = "lc.softmax", params = { gain = 3.0 } }
+        params = { "LC.gain" = 5.0 }
+        [conditions.slowness]
+        replace.VTA = { type = "vta.slowness_progress", params = { boredom = -100.0 } }
+        edges = [{ from = "EC", signal = "slowness_progress", to = "VTA", input = "progress" }]
+        """)
+    exp = load_experiment(path)
+    combined = exp.conditions["combined"].circuit
+    assert combined.specs["VTA"].type_name == "vta.state_progress" and combined.specs["LC"].type_name == "lc.softmax"
+    assert combined.specs["LC"].params.gain == 5.0  # the condition's params apply after its replacement
+    expected = Circuit.from_toml("vta_state_progress").replace("LC", {"type": "lc.softmax"}).with_params({"LC.gain": 5.0})
+    assert combined.to_dict() == expected.to_dict()
+    slowness, shipped = exp.conditions["slowness"].circuit.to_dict(), Circuit.from_toml("vta_slowness_progress").to_dict()
+    assert slowness["regions"] == shipped["regions"]
+    assert sorted(map(str, slowness["edges"])) == sorted(map(str, shipped["edges"]))
+
+
 def test_runs_steps_and_sets_override_the_file():
     exp = load_experiment(SYNTHETIC, runs=3, steps=500, sets=[
         "HPC.threshold=0.25", "world.normalise=image", "params.LC.decay=0.9", "seed=7",
@@ -142,6 +169,16 @@ def test_unknown_condition_lists_the_known_ones():
          "conditions.a.lesion[0].region", "a region of the circuit"),
         ('circuit = "CIRCUIT"\nruns = 1\nsteps = 10\n[conditions.a]\nlesion = [{ region = "LC", how = "random", level = 1 }]',
          "conditions.a.lesion[0].level", "no further keys"),
+        ('circuit = "CIRCUIT"\nruns = 1\nsteps = 10\n[conditions.a]\nreplace.LC = { type = "lc.nothing" }',
+         "conditions.a.replace.LC.type", "a registered region type"),
+        ('circuit = "CIRCUIT"\nruns = 1\nsteps = 10\n[conditions.a]\nreplace.XX = { type = "lc.softmax" }',
+         "conditions.a.replace.XX", "the name of a declared region"),
+        ('circuit = "CIRCUIT"\nruns = 1\nsteps = 10\n[conditions.a]\nreplace.VTA = { type = "vta.slowness_progress" }',
+         "regions.VTA", "an edge into its input 'progress'"),
+        ('circuit = "CIRCUIT"\nruns = 1\nsteps = 10\n[conditions.a]\nedges = [{ from = "EC", signal = "nope", to = "VTA" }]',
+         "conditions.a.edges[0].signal", "an output of region 'EC'"),
+        ('circuit = "CIRCUIT"\nruns = 1\nsteps = 10\n[conditions.a]\nedges = "EC"',
+         "conditions.a.edges", "an array of edge tables"),
     ],
 )
 def test_bad_files_name_the_file_and_key(tmp_path, body, key, expected):
