@@ -225,6 +225,10 @@ class Circuit:
         if name not in self.specs:
             raise ValueError(f"no region named {name!r} in this circuit (regions: {', '.join(self.specs)})")
 
+    def _declared(self, spec: RegionSpec) -> tuple[str, str]:
+        """The file and key that declared ``spec``, for its errors."""
+        return (spec.origin if spec.origin != PY else self.source), spec.key or f"regions.{spec.name}"
+
     def _step_inputs(self, name) -> dict:
         return {s.name: s for s in ports(self.specs[name], "inputs")}
 
@@ -266,17 +270,17 @@ class Circuit:
         for name, spec in specs.items():
             for sig in ports(spec, "inputs") + ports(spec, "learn_inputs"):
                 if (name, sig.name) not in fed:
-                    raise ConfigError(spec.origin if spec.origin != PY else src, f"regions.{name}",
-                                      f"an edge into its input '{sig.name}' ({sig.describe()})", "no edge")
+                    raise ConfigError(*self._declared(spec), f"an edge into its input '{sig.name}' ({sig.describe()})",
+                                      "no edge")
             for sig in ports(spec, "outputs"):
                 if not sig.optional and (name, sig.name) not in used_outputs:
-                    raise ConfigError(spec.origin if spec.origin != PY else src, f"regions.{name}",
-                                      f"an edge from its output '{sig.name}' ({sig.describe()})", "an output that goes nowhere")
+                    raise ConfigError(*self._declared(spec), f"an edge from its output '{sig.name}' ({sig.describe()})",
+                                      "an output that goes nowhere")
         recorded = {"episode": "the scheduler", "step": "the scheduler"}
         for name, spec in specs.items():
             for probe in ports(spec, "probes"):
                 if probe.name in recorded:
-                    raise ConfigError(spec.origin if spec.origin != PY else src, f"regions.{name}",
+                    raise ConfigError(*self._declared(spec),
                                       f"probe names unique in the circuit ('{probe.name}' is recorded by "
                                       f"{recorded[probe.name]})", f"a second probe '{probe.name}'")
                 recorded[probe.name] = f"region '{name}'"

@@ -27,7 +27,9 @@ PY = "<python>"
 @dataclass(frozen=True)
 class RegionSpec:
     """A declared region: its class and parameters, or a prebuilt (not yet reset) instance,
-    and the drugs acting on its neuromodulator (:mod:`neurocur.regions.pharmacology`)."""
+    and the drugs acting on its neuromodulator (:mod:`neurocur.regions.pharmacology`);
+    ``origin`` and ``key``: the file and table that declared it (``regions.NAME``,
+    ``replace.NAME``, ``conditions.C.replace.NAME``), which its errors name."""
 
     name: str
     cls: type
@@ -35,6 +37,7 @@ class RegionSpec:
     instance: Region | None = None
     origin: str = PY
     drugs: tuple = ()
+    key: str | None = None
 
     @property
     def type_name(self) -> str:
@@ -89,7 +92,7 @@ def spec_from_table(name: str, table: Mapping, *, prefix: str) -> RegionSpec:
     params_table = require(body, "params", dict, source=origin, prefix=prefix, expected="a table of parameters",
                            default={})
     params = make_params(cls.Params, params_table, source=origin, prefix=f"{prefix}.params")
-    return RegionSpec(name, cls, params, origin=origin)
+    return RegionSpec(name, cls, params, origin=origin, key=prefix)
 
 
 def link_from_table(table: Mapping) -> Link:

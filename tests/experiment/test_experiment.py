@@ -174,7 +174,7 @@ def test_unknown_condition_lists_the_known_ones():
         ('circuit = "CIRCUIT"\nruns = 1\nsteps = 10\n[conditions.a]\nreplace.XX = { type = "lc.softmax" }',
          "conditions.a.replace.XX", "the name of a declared region"),
         ('circuit = "CIRCUIT"\nruns = 1\nsteps = 10\n[conditions.a]\nreplace.VTA = { type = "vta.slowness_progress" }',
-         "regions.VTA", "an edge into its input 'progress'"),
+         "conditions.a.replace.VTA", "an edge into its input 'progress'"),
         ('circuit = "CIRCUIT"\nruns = 1\nsteps = 10\n[conditions.a]\nedges = [{ from = "EC", signal = "nope", to = "VTA" }]',
          "conditions.a.edges[0].signal", "an output of region 'EC'"),
         ('circuit = "CIRCUIT"\nruns = 1\nsteps = 10\n[conditions.a]\nedges = "EC"',
