@@ -99,7 +99,7 @@ class Circuit:
         for name, table in data["regions"].items():
             regions[name] = spec_from_table(name, table, prefix=f"regions.{name}")
         for name, table in data["replace"].items():
-            key = table.get("_key", f"replace.{name}")
+            key = table["_key"]
             if name not in regions:
                 raise ConfigError(table["_origin"], key, f"the name of a declared region ({', '.join(regions)})",
                                   "an unknown region")

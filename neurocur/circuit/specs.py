@@ -69,7 +69,6 @@ class Link:
         return f"{self.src}.{self.signal} -> {self.dst}.{self.input}"
 
 
-
 def ports(spec: RegionSpec, kind: str):
     """The declared signals of a region; instance-level when they depend on parameters."""
     holder = spec.instance if spec.instance is not None else spec.cls

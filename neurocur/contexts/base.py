@@ -78,6 +78,16 @@ class Episode:
         for a, b in zip(bounds[:-1], bounds[1:]):
             yield self.frames[a:b], self.states[a:b]
 
+    def derivative(self, y: np.ndarray) -> np.ndarray:
+        """The temporal derivative of per-frame values ``y`` (rows are this block's frames):
+        ``y[t] - y[t-1]``, NaN at every start (row 0 included), so that none spans two
+        independent episodes."""
+        dy = np.empty_like(y)
+        dy[0] = np.nan
+        dy[1:] = np.diff(y, axis=0)
+        dy[self.starts] = np.nan
+        return dy
+
 
 def concatenate_episodes(episodes) -> Episode:
     """One block from consecutive episodes of a context; ``starts`` marks every segment, ``reward`` is their sum."""

@@ -121,7 +121,7 @@ class ECIncSFA(Region):
         self._seen[episode.context] = self._proj[:, 0].copy()
         if before is None:
             return np.nan
-        return _delta(episode.frames @ before, episode.starts) - _delta(y[:, 0], episode.starts)  # offsets cancel in Δ
+        return _delta(episode.frames @ before, episode) - _delta(y[:, 0], episode)  # offsets cancel in Δ
 
     def learn(self, familiar, module_learned) -> None:
         if module_learned:
@@ -144,10 +144,8 @@ class ECIncSFA(Region):
         return {"library": list(self.library)}
 
 
-def _delta(y: np.ndarray, starts: np.ndarray) -> float:
-    """Eq 4's Δ = <ẏ²> of one output over a block: the mean squared difference of successive
-    frames, none spanning an independent episode's start."""
-    steps = np.diff(y)
-    within = np.ones(len(steps), dtype=bool)
-    within[starts[starts > 0] - 1] = False
-    return float(np.mean(steps[within] ** 2))
+def _delta(y: np.ndarray, episode) -> float:
+    """Eq 4's Δ = <ẏ²> of one output over the episode's block: the mean squared difference of
+    successive frames, none spanning an independent episode's start."""
+    dy = episode.derivative(y)
+    return float(np.mean(dy[~np.isnan(dy)] ** 2))

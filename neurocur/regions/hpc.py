@@ -219,12 +219,8 @@ class HPCROC(Region):
             self.state_outputs = np.full((self.n_contexts, self.m, y.shape[1]), np.nan)
             self.state_derivatives = np.full_like(self.state_outputs, np.nan)
         c, states = episode.context, episode.states
-        dy = np.empty_like(y)
-        dy[0] = np.nan
-        dy[1:] = np.diff(y, axis=0)
-        dy[episode.starts] = np.nan
         self.state_outputs[c, states] = y
-        self.state_derivatives[c, states] = dy
+        self.state_derivatives[c, states] = episode.derivative(y)
 
     def ordered(self, context: int) -> bool:
         """Whether the adaptive module's outputs on ``context``, over the latest visit of each

@@ -92,3 +92,18 @@ def test_compiled_std_and_scaling_equal_numpy():
         raw = rng.standard_normal((n, 7)) * 10.0 ** rng.uniform(-3, 3)
         low, high = float(raw.min()), float(raw.max())
         np.testing.assert_array_equal(_scale(raw, low, high - low, np.empty_like(raw)), (raw - low) / (high - low))
+
+
+def test_a_blocks_derivative_never_spans_a_start():
+    """Two joined episodes: the derivative is the difference of successive rows within each,
+    and NaN at each episode's first row."""
+    from neurocur.contexts.base import Episode
+
+    parts = [Episode(frames=np.full((3, 1), 0.1), states=np.arange(3), context=0),
+             Episode(frames=np.array([[0.9], [0.5]]), states=np.arange(2), context=0)]
+    block = concatenate_episodes(parts)
+    y = np.array([1.0, 2.0, 4.0, 10.0, 13.0])
+    dy = block.derivative(y)
+    np.testing.assert_array_equal(np.isnan(dy), [True, False, False, True, False])
+    np.testing.assert_array_equal(dy[~np.isnan(dy)], [1.0, 2.0, 3.0])
+    assert block.derivative(np.column_stack([y, -y])).shape == (5, 2)
