@@ -43,7 +43,6 @@ from __future__ import annotations
 
 import argparse
 import cProfile
-import json
 import os
 import pstats
 import resource
@@ -197,16 +196,20 @@ def run_timeline(out: Path, started: float, wall: float, jobs: int) -> dict:
     to start) is reported apart (it touches its memory first; before the fork server loaded the
     compiled kernels for every worker, :mod:`neurocur.experiments.warm`, it also loaded them, 0.3 s),
     so the mean of the others is a run's cost in a long sweep."""
-    runs = []
-    for info in sorted(out.glob("runs/*/run-*/run.json")):
-        end = info.stat().st_mtime - started
-        runs.append((end - json.loads(info.read_text())["seconds"], end))
+    from neurocur.results import ResultsStore
+    from neurocur.results.store import RUN_INFO
+
+    store = ResultsStore(out)
+    runs = []  # (start, end, seconds), relative to the command's start
+    for folder in store.run_dirs():
+        end, seconds = (folder / RUN_INFO).stat().st_mtime - started, store.run_info(folder)["seconds"]
+        runs.append((end - seconds, end, seconds))
     runs.sort()
-    seconds = [end - begin for begin, end in runs]
+    seconds = [s for _, _, s in runs]
     later = seconds[jobs:] or seconds
-    return {"startup": runs[0][0], "span": max(e for _, e in runs) - runs[0][0],
-            "after": wall - max(e for _, e in runs), "first_run": sum(seconds[:jobs]) / len(seconds[:jobs]),
-            "later_run": sum(later) / len(later)}
+    last = max(end for _, end, _ in runs)
+    return {"startup": runs[0][0], "span": last - runs[0][0], "after": wall - last,
+            "first_run": sum(seconds[:jobs]) / len(seconds[:jobs]), "later_run": sum(later) / len(later)}
 
 
 def incsfa_alone(steps: int, condition: str) -> float:
