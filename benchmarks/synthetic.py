@@ -4,10 +4,16 @@
     python benchmarks/synthetic.py --runs 4 --steps 50000 --condition random_switching --jobs 2
 
 1. The sweep: ``neurocur run synthetic`` for one condition, in a
-   child process, into a temporary folder (deleted afterwards). Reported: wall time,
-   seconds per run, the peak resident memory (VmHWM) of the command's process and of
+   child process, into a temporary folder (deleted afterwards), twice. The first is timed
+   with nothing watching it: wall time, seconds per run. The second is watched for memory:
+   the peak resident memory (VmHWM) of the command's process and of
    its largest worker, and the largest summed resident memory of all of them at
    once (sampled from /proc every 0.1 s; Linux), plus ``getrusage(RUSAGE_CHILDREN)``.
+   The watching is not free: reading a worker's ``smaps_rollup`` walks its page tables,
+   and one sample of the command's processes took about 44 ms, a sixth of a core taken from
+   two busy workers, which made the sweep 1.5-2 s slower; so its wall time is printed beside
+   the timed one but is not the figure. The two sweeps' order tables must be identical (same
+   seeds), which the script checks.
    Workers are started by a forkserver, so they are the command's grandchildren:
    their usage reaches RUSAGE_CHILDREN only through the forkserver, which is why the
    /proc sampling is the figure to read. A worker's resident size counts the pages of the
@@ -153,39 +159,52 @@ def _proportional_and_unique(pid: int) -> tuple[int, int]:
     return kb.get("Pss", 0), kb.get("Private_Clean", 0) + kb.get("Private_Dirty", 0)
 
 
-def sweep(runs: int, steps: int, condition: str, jobs: int) -> dict:
+def sweep(runs: int, steps: int, condition: str, jobs: int, *, watched: bool) -> dict:
+    """One ``neurocur run`` of the condition: its wall time, output and timeline (:func:`run_timeline`),
+    and with ``watched`` its processes' memory, sampled while it runs (which slows it)."""
     with tempfile.TemporaryDirectory(prefix="neurocur-bench-") as out:
         argv = [sys.executable, "-m", "neurocur.cli", "run", str(EXPERIMENT), "--runs", str(runs), "--steps",
                 str(steps), "--jobs", str(jobs), "--condition", condition, "--out", out, "--no-progress"]
         start, started = time.perf_counter(), time.time()
         child = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-        sampler = MemorySampler(child.pid)
-        sampler.start()
+        if watched:
+            sampler = MemorySampler(child.pid)
+            sampler.start()
         output, _ = child.communicate()
         wall = time.perf_counter() - start
-        sampler.stop()
+        if watched:
+            sampler.stop()
         if child.returncode != 0:
             raise SystemExit(f"neurocur run failed (exit {child.returncode}):\n{output}")
         timeline = run_timeline(Path(out), started, wall, jobs)
-    command = sampler.hwm.get(child.pid, 0)
+    result = {"wall": wall, "output": output, **timeline}
+    return {**result, **_memory(sampler, child.pid)} if watched else result
+
+
+def _memory(sampler: MemorySampler, command_pid: int) -> dict:
+    """The peaks of a watched sweep (kB): the command, the fork server, and the largest worker's RSS, PSS
+    and USS."""
+    command = sampler.hwm.get(command_pid, 0)
     server = max((sampler.hwm.get(pid, 0) for pid, role in sampler.helpers.items() if role == "fork server"),
                  default=0)
-    for pid in (child.pid, *sampler.helpers):  # what is left are the workers
+    for pid in (command_pid, *sampler.helpers):  # what is left are the workers
         for table in (sampler.hwm, sampler.pss, sampler.uss):
             table.pop(pid, None)
     return {
         "server_kb": server,
         "worker_pss_kb": max(sampler.pss.values(), default=0),
         "worker_uss_kb": max(sampler.uss.values(), default=0),
-        "wall": wall,
         "command_kb": command,
         "worker_kb": max(sampler.hwm.values(), default=0),
         "processes": len(sampler.hwm),
         "total_kb": sampler.peak_total,
         "rusage_children_kb": resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss,
-        "output": output,
-        **timeline,
     }
+
+
+def _table(output: str) -> list[str]:
+    """The order table's lines of a ``neurocur run`` output (without the ``results:`` line, whose folder differs)."""
+    return [line for line in output.splitlines() if not line.startswith("results:")]
 
 
 def run_timeline(out: Path, started: float, wall: float, jobs: int) -> dict:
@@ -309,23 +328,28 @@ def main(argv=None) -> int:
 
     print(f"sweep: {args.runs} runs x {args.steps} frames of {args.condition!r}, {args.jobs} jobs "
           f"({os.cpu_count()} cores, load average {os.getloadavg()[0]:.2f})")
-    s = sweep(args.runs, args.steps, args.condition, args.jobs)
+    s = sweep(args.runs, args.steps, args.condition, args.jobs, watched=False)
     per_run = s["wall"] * args.jobs / args.runs
     print(f"  wall time              {s['wall']:8.1f} s   ({per_run:.2f} s per run per core, "
           f"{3600 / per_run:.0f} runs per core-hour)")
-    print(f"  peak RSS, command      {s['command_kb'] / 1024:8.1f} MB")
-    print(f"  peak RSS, fork server  {s['server_kb'] / 1024:8.1f} MB   (the modules every worker shares)")
-    print(f"  peak RSS, largest worker {s['worker_kb'] / 1024:6.1f} MB   ({s['processes']} workers)")
-    print(f"  peak PSS, largest worker {s['worker_pss_kb'] / 1024:6.1f} MB   (pages shared with the forkserver "
-          f"counted in proportion)")
-    print(f"  peak USS, largest worker {s['worker_uss_kb'] / 1024:6.1f} MB   (its private pages only: what each "
-          f"further worker adds)")
-    print(f"  peak RSS, all at once  {s['total_kb'] / 1024:8.1f} MB")
-    print(f"  getrusage children     {s['rusage_children_kb'] / 1024:8.1f} MB   (largest reaped descendant)")
     print("  " + "\n  ".join(line for line in s["output"].splitlines() if line.strip()))
     print(f"  where the wall goes    start-up {s['startup']:.1f} s (imports, fork server, pre-flight), the runs "
           f"{s['span']:.1f} s, after the last run {s['after']:.1f} s (summary, order table, exit)")
     print(f"  a run in its worker    {s['later_run']:.2f} s (each worker's first run: {s['first_run']:.2f} s)")
+    m = sweep(args.runs, args.steps, args.condition, args.jobs, watched=True)
+    if _table(m["output"]) != _table(s["output"]):
+        raise SystemExit("the watched sweep's order table differs from the timed one's (same seeds)")
+    print(f"the same sweep again, its memory sampled every 0.1 s (wall {m['wall']:.1f} s, slowed by the sampling; "
+          f"order table identical):")
+    print(f"  peak RSS, command      {m['command_kb'] / 1024:8.1f} MB")
+    print(f"  peak RSS, fork server  {m['server_kb'] / 1024:8.1f} MB   (the modules every worker shares)")
+    print(f"  peak RSS, largest worker {m['worker_kb'] / 1024:6.1f} MB   ({m['processes']} workers)")
+    print(f"  peak PSS, largest worker {m['worker_pss_kb'] / 1024:6.1f} MB   (pages shared with the forkserver "
+          f"counted in proportion)")
+    print(f"  peak USS, largest worker {m['worker_uss_kb'] / 1024:6.1f} MB   (its private pages only: what each "
+          f"further worker adds)")
+    print(f"  peak RSS, all at once  {m['total_kb'] / 1024:8.1f} MB")
+    print(f"  getrusage children     {m['rusage_children_kb'] / 1024:8.1f} MB   (largest reaped descendant)")
     alone = incsfa_alone(args.steps, args.condition)
     print(f"IncSFA alone on {args.steps} frames: {alone:.2f} s; a run per core is {per_run / alone:.1f}x that, "
           f"a run in its worker (a long sweep's cost per run) {s['later_run'] / alone:.1f}x "
