@@ -44,14 +44,12 @@ Validation errors are :class:`~neurocur.config.ConfigError` naming the file and 
 from __future__ import annotations
 
 from collections.abc import Mapping
-from pathlib import Path
 
 import networkx as nx
 
 from ..config import ConfigError, describe, params_to_dict
 from ..regions import Region
-from ..tables import resolve_file
-from .files import read_circuit_file
+from .files import circuit_tables
 from .specs import (
     PY,
     Link,
@@ -86,8 +84,8 @@ class Circuit:
         """Load a circuit file (following ``extends``); ``overrides`` maps ``"REGION.param"`` to a value.
 
         ``path`` is a file path or the name of a shipped circuit (``"cd_misfa"``, :func:`~neurocur.tables.shipped_files`)."""
-        path = resolve_file(path, Path(), "circuit", source=path, key=None)
-        return cls.from_tables(read_circuit_file(path), path, overrides, overrides_source=overrides_source)
+        path, data = circuit_tables(path)
+        return cls.from_tables(data, path, overrides, overrides_source=overrides_source)
 
     @classmethod
     def from_tables(cls, data: Mapping, source, overrides: Mapping | None = None, *,

@@ -14,7 +14,14 @@ from ..config import ConfigError, describe
 from ..regions.pharmacology import DRUGS
 from ..tables import check_keys, deep_merge, load_toml, require, resolve_file
 
-__all__ = ["add_tables", "read_circuit_file"]
+__all__ = ["add_tables", "circuit_tables", "read_circuit_file"]
+
+
+def circuit_tables(circuit) -> tuple[Path, dict]:
+    """``(path, tables)`` of a circuit file: ``circuit`` is a file path or the name of a shipped
+    circuit (:func:`~neurocur.tables.resolve_file`), its tables as :func:`read_circuit_file` reads them."""
+    path = resolve_file(circuit, Path(), "circuit", source=circuit, key=None)
+    return path, read_circuit_file(path)
 
 
 def read_circuit_file(path: Path, chain: tuple = ()) -> dict:

@@ -118,6 +118,10 @@ def _camera_xyaxes(pos, target) -> str:
     return _vec(np.concatenate([right, up]))
 
 
+#: a geom group MuJoCo's renderer does not draw by default (it draws groups 0-2)
+NOT_DRAWN = 3
+
+
 def _robot(p: SceneParams, meshes: str = "") -> str:
     """Torso, fixed head and the right arm on its shoulder hinge (iCub-like proportions).
 
@@ -128,7 +132,7 @@ def _robot(p: SceneParams, meshes: str = "") -> str:
     hz = p.hand_height - sz  # hand height relative to the shoulder
     elbow = (0.10, 0.0, 0.5 * hz)
     wrist = (p.reach - 0.045, 0.0, hz)
-    hidden = ' group="3"' if meshes else ""
+    hidden = f' group="{NOT_DRAWN}"' if meshes else ""
     return f"""
     <body name="torso" pos="{sx - 0.06:.4g} 0 0">
       <geom class="visual" type="box" size="0.06 0.10 0.16" pos="0 0 0.16" material="shell"/>
@@ -184,11 +188,11 @@ def scene_xml(obj: str, params: SceneParams | None = None, *, height: int = 75, 
     p = params or SceneParams()
     x, y = p.object_position(obj)
     body = _cup(p, x, y) if obj == "topple" else _ball(p, x, y)
-    mesh_assets, arm_meshes, arm_group = "", "", 2
+    mesh_assets, arm_meshes = "", ""
     if p.arm == "icub":  # the iCub's hand goes where the primitive one is: its tip (the capsule's end
         # and round cap, see _robot) and its height relative to the shoulder
         mesh_assets, arm_meshes = icub_body.geoms(p.reach + 0.03 + p.hand_radius, p.hand_height - p.shoulder[2])
-        arm_group = 3
+    arm_group = NOT_DRAWN if arm_meshes else 2  # the primitive arm's geoms, drawn unless the iCub's are
     return f"""<mujoco model="icub_{obj}">
   <compiler angle="radian" autolimits="true"/>
   <option timestep="{p.timestep:.6g}" integrator="implicitfast">

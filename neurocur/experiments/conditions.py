@@ -12,11 +12,11 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from neurocur.circuit import Circuit
-from neurocur.circuit.files import add_tables, read_circuit_file
+from neurocur.circuit.files import add_tables, circuit_tables
 from neurocur.config import ConfigError, check_table, describe, make_params, resolve_paths
 from neurocur.contexts import WORLDS
 from neurocur.registry import UnknownType
-from neurocur.tables import deep_merge, require, resolve_file
+from neurocur.tables import deep_merge, require
 
 __all__ = ["Overrides", "condition_world", "lesioned", "load_circuit"]
 
@@ -97,8 +97,7 @@ def load_circuit(circuit: Path, overrides: Overrides, set_params: dict, variant:
     file's as a file extending it would add them (so before the overrides and the file's
     lesions), each named ``conditions.NAME.replace.REGION`` or ``conditions.NAME.edges[i]``."""
     try:
-        path = resolve_file(circuit, Path(), "circuit", source=circuit, key=None)
-        data = read_circuit_file(path)
+        path, data = circuit_tables(circuit)
         if variant:
             add_tables(data, variant, overrides.source, f"conditions.{overrides.name}.")
         loaded = Circuit.from_tables(data, path, overrides={**overrides.base, **overrides.condition},
