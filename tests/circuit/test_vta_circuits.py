@@ -119,9 +119,9 @@ def test_slowness_progress_is_the_drop_of_the_slowest_outputs_delta(circuits_dir
         now = module.projection_[:, 0].copy() if module.__sklearn_is_fitted__() else None
         sim.run(1)
         episode = ec.episode
-        before = seen.get((id(module), episode.context))
+        before = seen.get((module, episode.context))  # keyed by the object: an id is reused once it is freed
         if now is not None:
-            seen[(id(module), episode.context)] = now
+            seen[(module, episode.context)] = now
         dropped = (delta(episode.frames @ before, episode.starts) - delta(episode.frames @ now, episode.starts)
                    if before is not None and now is not None else 0.0)
         expected.append(dropped)
