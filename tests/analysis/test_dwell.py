@@ -140,3 +140,12 @@ def test_bad_input_is_named():
         visits(RUN.drop(columns="n_frames"))
     with pytest.raises(ValueError, match="no source spec for condition 'curious'"):
         engagement(RUN, {"random": SPEC})
+
+
+def test_a_visit_ends_with_its_run():
+    """Two runs, the first ending in the context the second starts in: two visits, one in each run."""
+    one = episodes_of([0, 0, 1, 1, 0])
+    table = visits(pd.concat([one, one.assign(run=1)], ignore_index=True))
+    assert table.groupby("run").size().tolist() == [3, 3]
+    assert table.groupby("run")["n_episodes"].apply(list).tolist() == [[2, 2, 1], [2, 2, 1]]
+    assert table.groupby("run")["censored"].apply(list).tolist() == [[False, False, True]] * 2

@@ -82,3 +82,11 @@ def test_bad_input_is_named():
         events(RUN.drop(columns="familiar"), "familiarity_onset")
     with pytest.raises(ValueError, match="'ne_tonic'"):
         tonic_phasic(RUN.drop(columns="ne_tonic"))
+
+
+def test_an_event_window_stops_at_its_runs_end():
+    """Run 0's module stored at its last episode: the lags after it are past the run's end, not run 1's
+    first episodes. Lag 1 is then run 0's other event alone (da 4) beside run 1's (da 104)."""
+    two = pd.concat([RUN, RUN.assign(run=1, da=RUN["da"] + 100.0)], ignore_index=True)
+    table = event_locked_average(two, "da", "module_stored", window=2).set_index("lag")
+    assert table.loc[1, "mean"] == (4.0 + 104.0) / 2 and table.loc[2, "mean"] == (5.0 + 105.0) / 2

@@ -120,3 +120,45 @@ def test_bad_input_is_named():
         inverted_u_test(curve(np.zeros_like), "x", "performance")
     with pytest.raises(ValueError, match="alpha"):
         two_lines(curve(np.zeros_like), "x", "y", alpha=0.0)
+
+
+def test_the_break_level_belongs_to_the_line_tested():
+    """A spike at the peak level: the peak is on both lines, so each is pulled to ±15.5 / 5 = ±3.1
+    (least squares through 0, 1, 2, 10 over x = 0..3 and through 10, 2, 1, 0 over x = 3..6)."""
+    x, run = np.repeat(LEVELS, 10), np.tile(np.arange(10), len(LEVELS))
+    y = np.minimum(x, 6 - x) + np.where(x == 3, 7.0, 0.0) + 0.01 * (-1.0) ** run
+    result = two_lines(pd.DataFrame({"x": x, "run": run, "y": y}), "x", "y", paired=False)
+    assert result["break_point"] == 3.0
+    assert result["slope1"] == pytest.approx(3.1) and result["slope2"] == pytest.approx(-3.1)
+
+
+def test_robin_hood_moves_the_break_toward_the_stronger_line():
+    """A steep rise to a plateau over levels 2-4, then a gentle fall: the first break, at the plateau's
+    median (3), gives the rise the larger t, so the final break moves below 3 and the weaker falling line
+    gets the plateau's observations (Simonsohn 2018: the break at the plateau's z2 / (z1 + z2) quantile)."""
+    means = np.array([0.0, 3.0, 6.0, 6.0, 6.0, 5.5, 5.0])
+    x, run = np.repeat(LEVELS, 10), np.tile(np.arange(10), len(LEVELS))
+    y = means[x.astype(int)] + 0.3 * (-1.0) ** run
+    result = two_lines(pd.DataFrame({"x": x, "run": run, "y": y}), "x", "y", paired=False)
+    assert 2.0 <= result["break_point"] < 3.0
+    assert abs(result["t1"]) > abs(result["t2"])
+
+
+def test_the_break_is_never_at_an_extreme_level():
+    """A monotone rise over 11 levels: the flat region is searched strictly between the 10th and 90th
+    percentiles of x (here exactly levels 1 and 9), so the break is at level 8, not 9."""
+    levels = np.arange(11.0)
+    x, run = np.repeat(levels, 10), np.tile(np.arange(10), len(levels))
+    assert np.quantile(x, [0.1, 0.9]).tolist() == [1.0, 9.0]
+    result = two_lines(pd.DataFrame({"x": x, "run": run, "y": x + 0.01 * (-1.0) ** run}), "x", "y", paired=False)
+    assert result["break_point"] == 8.0
+
+
+def test_the_peak_intervals_shrink_as_runs_are_added():
+    """Runs are resampled within each level, so the vertex interval narrows as 1/sqrt(runs): sixteen times
+    the runs make it about a quarter as wide (0.24-0.31 over five data seeds)."""
+    width = []
+    for runs in (10, 160):
+        result = peak_location(curve(lambda x: -0.3 * (x - 3) ** 2, runs=runs, sd=1.0), "x", "y", n_boot=2000)
+        width.append(result["vertex_ci_high"] - result["vertex_ci_low"])
+    assert 0.15 < width[1] / width[0] < 0.45

@@ -100,3 +100,24 @@ def test_bad_parameter_in_a_circuit_file_names_the_file(tmp_path):
     with pytest.raises(ConfigError) as info:
         Circuit.from_toml(path)
     assert (info.value.source, info.value.key) == (str(path), "replace.LC.params.tau_short")
+
+
+def _logistic(x):
+    return 1.0 / (1.0 + np.exp(-x))
+
+
+def test_each_step_applies_the_documented_equations_to_this_episodes_utilities():
+    """Row by row against the docstring's equations, written out here: the engagement E of the utilities
+    *after* this episode's dopamine, ne_tonic = 1 - E, the gain interpolated by E, and the phasic burst
+    scaled by E (1 at a module storage, else max(0, tanh(Q_eng - Q_dis)) on an engage decision)."""
+    params = dict(slope_short=1.5, slope_long=0.7, utility_mid=0.4, gain_tonic=0.5, gain_phasic=8.0)
+    lc, rng = _lc(seed=2, **params), np.random.default_rng(11)
+    for _ in range(300):
+        q = rng.normal(size=2)
+        learned = bool(rng.random() < 0.1)
+        lc.step(1, q, learned, float(rng.normal(0.5, 2.0)))
+        action, _, tonic, phasic, gain, short, long = lc.record()
+        e = (1.0 - _logistic(params["slope_short"] * (long - short))) * _logistic(
+            params["slope_long"] * (long - params["utility_mid"]))
+        burst = 1.0 if learned else (max(0.0, np.tanh(q[0] - q[1])) if action == 0 else 0.0)
+        np.testing.assert_allclose([tonic, gain, phasic], [1.0 - e, 0.5 + 7.5 * e, e * burst], rtol=1e-12, atol=1e-15)

@@ -99,3 +99,14 @@ def test_another_region_reads_the_released_ne_when_wired(type_name, tmp_path, sm
                     Circuit.from_toml(path, overrides=small).lesion("LC", "noise", sd=0.05)):
         episodes = _run(circuit, make_world(), 1, frames=2000)
         np.testing.assert_array_equal(episodes["ne_read"], episodes[column])
+
+
+@pytest.mark.parametrize("type_name", ["lc.softmax", "lc.adaptive_gain", "lc.fhn"])
+def test_a_released_gain_is_never_negative(type_name, circuits_dir, small, make_world):
+    """A drug that would release a negative gain releases 0: the recorded gain is 0 and the decision is a
+    fair coin (a negative gain would reverse the preference the Q values give)."""
+    circuit = Circuit.from_toml(circuits_dir / f"{LC_CIRCUITS[type_name]}.toml", overrides=small)
+    episodes = _run(circuit.lesion("LC", "clamp", level=-5.0), make_world(), 3, frames=8000)
+    np.testing.assert_array_equal(episodes["ne_gain"], 0.0)
+    n, leave = len(episodes), int((episodes["action"] == "disengage").sum())
+    assert abs(leave - n / 2) < 4 * np.sqrt(n / 4)
