@@ -187,6 +187,25 @@ def test_a_changed_input_file_is_refused_naming_it(tmp_path):
     assert "use another --out folder" in str(info.value)
 
 
+def test_the_code_fingerprint_covers_the_code_that_computes_runs_and_not_the_analysis(tmp_path, monkeypatch):
+    """A copy of the package: a changed analysis module leaves the source hash alone (it only reads
+    results folders); a changed region module, which computes runs, changes it."""
+    from neurocur.results import fingerprint
+
+    copy = tmp_path / "neurocur"
+    shutil.copytree(fingerprint.PACKAGE, copy, ignore=shutil.ignore_patterns("__pycache__"))
+    monkeypatch.setattr(fingerprint, "PACKAGE", copy)
+
+    def source():
+        return fingerprint.code_fingerprint.__wrapped__()["source"]
+
+    before = source()
+    for module, same in (("analysis/report.py", True), ("regions/vta.py", False)):
+        path = copy / module
+        path.write_text(path.read_text() + "\n# one more line\n")
+        assert (source() == before) is same, module
+
+
 def test_changed_code_is_refused_unless_accepted(folder, capsys):
     config = folder / "config.toml"
     text = config.read_text()
