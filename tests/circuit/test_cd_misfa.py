@@ -193,3 +193,15 @@ def test_overrides_are_validated_against_the_region(make_world, circuits_dir, sm
         Circuit.from_toml(circuits_dir / "cd_misfa.toml", overrides={"EC.n_components": 4})
     with pytest.raises(ValueError, match="smaller than the world's 20 context-states"):
         Circuit.from_toml(circuits_dir / "cd_misfa.toml", overrides={"HPC.n_states": 10}).build(make_world(), 0)
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_without_gating_the_adaptive_module_relearns_what_is_stored(seed, circuit, make_world):
+    """The paper's gating claim (section 4.1): it keeps the adaptive module from learning an already
+    stored representation. Lesioned, the stand-in world's one slow source is stored again and again
+    (docs/hypotheses.md, entry 9, measures it on the synthetic world)."""
+    def modules_stored(c):
+        return int(c.build(make_world(), seed=seed).run(20_000).episodes()["module_learned"].sum())
+
+    intact, lesioned = modules_stored(circuit), modules_stored(circuit.lesion("HPC", "no_gating"))
+    assert 1 <= intact <= 4 and lesioned > 10 * intact
