@@ -10,7 +10,8 @@ from neurocur.config import ConfigError
 from neurocur.experiments import load_experiment
 
 #: the hypothesis runs and sweeps whose conditions must run synthetic.toml's chosen reading
-EXTENDING = ("lc_softmax", "inverted_u_ne", "noisy_tv", "goldilocks", "sweep_pfc")
+EXTENDING = ("lc_softmax", "inverted_u_ne", "noisy_tv", "goldilocks", "sweep_pfc", "dopamine_dose", "gating_boredom",
+             "lc_models")
 
 
 def write(folder, name, text):
