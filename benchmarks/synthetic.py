@@ -92,6 +92,7 @@ class MemorySampler(threading.Thread):
         self.uss: dict[int, int] = {}
         self.peak_total = 0
         self.helpers: dict[int, str] = {}  # the fork server and the resource tracker: not workers
+        self.parent: dict[int, int] = {}
         self._halt = threading.Event()
 
     def run(self) -> None:
@@ -124,6 +125,7 @@ class MemorySampler(threading.Thread):
             if role:
                 self.helpers[pid] = role
             if "VmHWM" in fields:
+                self.parent[pid] = int(fields.get("PPid", "0"))
                 self.hwm[pid] = max(self.hwm.get(pid, 0), int(fields["VmHWM"].split()[0]))
                 total += int(fields["VmRSS"].split()[0])
                 pss, uss = _proportional_and_unique(pid)
@@ -183,20 +185,25 @@ def sweep(runs: int, steps: int, condition: str, jobs: int, *, watched: bool) ->
 
 def _memory(sampler: MemorySampler, command_pid: int) -> dict:
     """The peaks of a watched sweep (kB): the command, the fork server, and the largest worker's RSS, PSS
-    and USS."""
+    and USS. The workers are the fork server's children; without a fork server (spawn), the command's
+    descendants other than its helpers (a short-lived child such as ``git``, which the code fingerprint
+    runs, is then counted too)."""
     command = sampler.hwm.get(command_pid, 0)
-    server = max((sampler.hwm.get(pid, 0) for pid, role in sampler.helpers.items() if role == "fork server"),
-                 default=0)
-    for pid in (command_pid, *sampler.helpers):  # what is left are the workers
-        for table in (sampler.hwm, sampler.pss, sampler.uss):
-            table.pop(pid, None)
+    servers = {pid for pid, role in sampler.helpers.items() if role == "fork server"}
+    server = max((sampler.hwm.get(pid, 0) for pid in servers), default=0)
+    workers = ({pid for pid in sampler.hwm if sampler.parent.get(pid) in servers} if servers
+               else set(sampler.hwm) - {command_pid, *sampler.helpers})
+
+    def peak(table):
+        return max((table.get(pid, 0) for pid in workers), default=0)
+
     return {
         "server_kb": server,
-        "worker_pss_kb": max(sampler.pss.values(), default=0),
-        "worker_uss_kb": max(sampler.uss.values(), default=0),
+        "worker_pss_kb": peak(sampler.pss),
+        "worker_uss_kb": peak(sampler.uss),
         "command_kb": command,
-        "worker_kb": max(sampler.hwm.values(), default=0),
-        "processes": len(sampler.hwm),
+        "worker_kb": peak(sampler.hwm),
+        "processes": len(workers),
         "total_kb": sampler.peak_total,
         "rusage_children_kb": resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss,
     }
