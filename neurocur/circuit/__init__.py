@@ -55,6 +55,7 @@ from .specs import (
     Link,
     RegionSpec,
     apply_overrides,
+    input_ports,
     lesioned,
     link_between,
     link_from_table,
@@ -149,7 +150,7 @@ class Circuit:
                for inp, src in (inputs or {}).items()]
         fed = {(k.dst, k.input) for k in new}
         kept = [k for k in self.links if (k.dst, k.input) not in fed]
-        ins = {s.name for s in ports(specs[name], "inputs") + ports(specs[name], "learn_inputs")}
+        ins = {s.name for s in input_ports(specs[name])}
         outs = {s.name for s in ports(specs[name], "outputs")}
         stale = [k for k in kept if (k.dst == name and k.input not in ins) or (k.src == name and k.signal not in outs)]
         if stale and not drop_edges:
@@ -247,7 +248,7 @@ class Circuit:
             if link.signal not in outs:
                 raise ConfigError(link.origin, f"{link.key}.signal", f"an output of region '{link.src}' ({', '.join(outs) or 'none'})",
                                   describe(link.signal))
-            ins = {s.name: s for s in ports(specs[link.dst], "inputs") + ports(specs[link.dst], "learn_inputs")}
+            ins = {s.name: s for s in input_ports(specs[link.dst])}
             if link.input not in ins:
                 raise ConfigError(link.origin, f"{link.key}.input", f"an input of region '{link.dst}' ({', '.join(ins) or 'none'})",
                                   describe(link.input))
@@ -266,7 +267,7 @@ class Circuit:
             else:
                 self.graph.add_edge(link.src, link.dst, links=[link])
         for name, spec in specs.items():
-            for sig in ports(spec, "inputs") + ports(spec, "learn_inputs"):
+            for sig in input_ports(spec):
                 if (name, sig.name) not in fed:
                     raise ConfigError(*self._declared(spec), f"an edge into its input '{sig.name}' ({sig.describe()})",
                                       "no edge")

@@ -18,8 +18,8 @@ from ..regions.pharmacology import DRUGS
 from ..registry import UnknownType
 from ..tables import check_keys, require
 
-__all__ = ["PY", "Link", "RegionSpec", "apply_overrides", "lesioned", "link_between", "link_from_table", "ports",
-           "spec_from_table"]
+__all__ = ["PY", "Link", "RegionSpec", "apply_overrides", "input_ports", "lesioned", "link_between",
+           "link_from_table", "ports", "spec_from_table"]
 
 PY = "<python>"
 
@@ -76,6 +76,11 @@ def ports(spec: RegionSpec, kind: str):
     if isinstance(value, property) or callable(value):  # parameter-dependent ports
         value = getattr(spec.make(), kind)
     return tuple(value)
+
+
+def input_ports(spec: RegionSpec) -> tuple:
+    """Every input a region declares: those its step reads, then those its learn phase reads."""
+    return ports(spec, "inputs") + ports(spec, "learn_inputs")
 
 
 def spec_from_table(name: str, table: Mapping, *, prefix: str) -> RegionSpec:
