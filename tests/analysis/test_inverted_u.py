@@ -20,10 +20,16 @@ def curve(f, *, runs=10, sd=0.5, run_sd=0.0, seed=0) -> pd.DataFrame:
                          "y": f(x) + rng.normal(0, run_sd, runs)[run] + rng.normal(0, sd, len(x))})
 
 
+def symmetric_noise(f, *, levels=LEVELS, runs=10, amplitude=0.01) -> pd.DataFrame:
+    """``runs`` runs at each level: y = f(x) ± ``amplitude`` alternating over runs, so that every
+    level mean is exactly f(x)."""
+    x, run = np.repeat(levels, runs), np.tile(np.arange(runs), len(levels))
+    return pd.DataFrame({"x": x, "run": run, "y": f(x) + amplitude * (-1.0) ** run})
+
+
 def tent_with_symmetric_noise(runs=10):
     """y = x up to 3, 6 − x after, ± 0.01 alternating over runs: every level mean is exactly the tent."""
-    x, run = np.repeat(LEVELS, runs), np.tile(np.arange(runs), len(LEVELS))
-    return pd.DataFrame({"x": x, "run": run, "y": np.minimum(x, 6 - x) + 0.01 * (-1.0) ** run})
+    return symmetric_noise(lambda x: np.minimum(x, 6 - x), runs=runs)
 
 
 def test_the_two_lines_of_a_tent_are_its_slopes_and_its_break_is_its_peak():
@@ -125,9 +131,8 @@ def test_bad_input_is_named():
 def test_the_break_level_belongs_to_the_line_tested():
     """A spike at the peak level: the peak is on both lines, so each is pulled to ±15.5 / 5 = ±3.1
     (least squares through 0, 1, 2, 10 over x = 0..3 and through 10, 2, 1, 0 over x = 3..6)."""
-    x, run = np.repeat(LEVELS, 10), np.tile(np.arange(10), len(LEVELS))
-    y = np.minimum(x, 6 - x) + np.where(x == 3, 7.0, 0.0) + 0.01 * (-1.0) ** run
-    result = two_lines(pd.DataFrame({"x": x, "run": run, "y": y}), "x", "y", paired=False)
+    spiked = symmetric_noise(lambda x: np.minimum(x, 6 - x) + np.where(x == 3, 7.0, 0.0))
+    result = two_lines(spiked, "x", "y", paired=False)
     assert result["break_point"] == 3.0
     assert result["slope1"] == pytest.approx(3.1) and result["slope2"] == pytest.approx(-3.1)
 
@@ -137,9 +142,8 @@ def test_robin_hood_moves_the_break_toward_the_stronger_line():
     median (3), gives the rise the larger t, so the final break moves below 3 and the weaker falling line
     gets the plateau's observations (Simonsohn 2018: the break at the plateau's z2 / (z1 + z2) quantile)."""
     means = np.array([0.0, 3.0, 6.0, 6.0, 6.0, 5.5, 5.0])
-    x, run = np.repeat(LEVELS, 10), np.tile(np.arange(10), len(LEVELS))
-    y = means[x.astype(int)] + 0.3 * (-1.0) ** run
-    result = two_lines(pd.DataFrame({"x": x, "run": run, "y": y}), "x", "y", paired=False)
+    plateau = symmetric_noise(lambda x: means[x.astype(int)], amplitude=0.3)
+    result = two_lines(plateau, "x", "y", paired=False)
     assert 2.0 <= result["break_point"] < 3.0
     assert abs(result["t1"]) > abs(result["t2"])
 
@@ -147,10 +151,9 @@ def test_robin_hood_moves_the_break_toward_the_stronger_line():
 def test_the_break_is_never_at_an_extreme_level():
     """A monotone rise over 11 levels: the flat region is searched strictly between the 10th and 90th
     percentiles of x (here exactly levels 1 and 9), so the break is at level 8, not 9."""
-    levels = np.arange(11.0)
-    x, run = np.repeat(levels, 10), np.tile(np.arange(10), len(levels))
-    assert np.quantile(x, [0.1, 0.9]).tolist() == [1.0, 9.0]
-    result = two_lines(pd.DataFrame({"x": x, "run": run, "y": x + 0.01 * (-1.0) ** run}), "x", "y", paired=False)
+    rising = symmetric_noise(lambda x: x, levels=np.arange(11.0))
+    assert np.quantile(rising["x"], [0.1, 0.9]).tolist() == [1.0, 9.0]
+    result = two_lines(rising, "x", "y", paired=False)
     assert result["break_point"] == 8.0
 
 
