@@ -4,13 +4,12 @@ rule over several successive error ratios (``drift_ratios``) and the slowness-or
 
 from __future__ import annotations
 
-from types import SimpleNamespace
-
 import numpy as np
 import pytest
+from bound_region import bound, minimal_world
 
 from neurocur.contexts.base import Episode
-from neurocur.regions.hpc import HPCROC, HPCParams, _slowness_ordered, extrapolated_drift
+from neurocur.regions.hpc import HPCROC, _slowness_ordered, extrapolated_drift
 
 T = 200
 SLOW = np.sin(2 * np.pi * np.arange(T) / 1000)
@@ -60,10 +59,7 @@ def test_slowness_order_leaves_out_unknown_rows():
 
 
 def region(**params):
-    hpc = HPCROC("HPC", HPCParams(n_states=T, threshold=0.3, freeze="converged", **params))
-    hpc.bind(SimpleNamespace(n_contexts=1, n_states=T))
-    hpc.reset(np.random.default_rng(0))
-    return hpc
+    return bound(HPCROC, "HPC", world=minimal_world(1, T), n_states=T, threshold=0.3, freeze="converged", **params)
 
 
 def visits(hpc, features_per_visit):

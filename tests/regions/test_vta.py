@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 import pytest
+from bound_region import bound, minimal_world
 
 from neurocur.contexts.base import Episode
 from neurocur.regions import REGIONS
@@ -25,16 +26,8 @@ VTA_TYPES = [n for n in REGIONS.names() if n.startswith("vta.")]
 PROGRESS_READERS = ("vta.state_progress", "vta.slowness_progress")
 
 
-class _World:
-    def __init__(self, n_contexts):
-        self.n_contexts = n_contexts
-
-
 def make(cls, n_contexts=3, **params):
-    vta = cls("VTA", **params)
-    vta.bind(_World(n_contexts))
-    vta.reset(np.random.default_rng(0))
-    return vta
+    return bound(cls, "VTA", world=minimal_world(n_contexts), **params)
 
 
 def das(vta, inputs):

@@ -4,6 +4,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from bound_region import bound, minimal_world
 
 from neurocur.circuit import Circuit
 from neurocur.regions.lc_softmax import SoftmaxLC
@@ -11,15 +12,8 @@ from neurocur.regions.lc_softmax import SoftmaxLC
 CIRCUIT = Path(__file__).resolve().parents[2] / "neurocur" / "circuits" / "lc_softmax.toml"
 
 
-class _World:
-    n_contexts = 4
-
-
 def _lc(gain, seed=0):
-    lc = SoftmaxLC("LC", gain=gain)
-    lc.bind(_World())
-    lc.reset(np.random.default_rng(seed))
-    return lc
+    return bound(SoftmaxLC, "LC", world=minimal_world(4), seed=seed, gain=gain)
 
 
 @pytest.mark.parametrize("gain", [0.0, 0.5, 3.0])

@@ -12,14 +12,13 @@ exactly, not to rounding.
 
 from __future__ import annotations
 
-from types import SimpleNamespace
-
 import numpy as np
 import pytest
+from bound_region import bound
 
 from neurocur.contexts.base import Episode
 from neurocur.learn.roc import ROCBank
-from neurocur.regions.hpc import HPCROC, HPCParams
+from neurocur.regions.hpc import HPCROC
 
 ON = 0.25  # the freeze quantity of every test, exactly
 JUST_ABOVE = float(np.nextafter(ON, np.inf))
@@ -27,10 +26,7 @@ STATES = np.arange(4)
 
 
 def region(threshold, freeze="context_mean"):
-    hpc = HPCROC("HPC", HPCParams(n_states=4, threshold=threshold, freeze=freeze))
-    hpc.bind(SimpleNamespace(n_contexts=2, n_states=4))
-    hpc.reset(np.random.default_rng(0))
-    return hpc
+    return bound(HPCROC, "HPC", n_states=4, threshold=threshold, freeze=freeze)
 
 
 def visit(hpc, x, library=None, states=STATES):

@@ -4,6 +4,7 @@ the sub-step trace), the gain read from the released NE, and the recorded fine-g
 
 import numpy as np
 import pytest
+from bound_region import bound, minimal_world
 from scipy.integrate import solve_ivp
 
 from neurocur.circuit import Circuit
@@ -14,15 +15,8 @@ from neurocur.regions.lc_fhn import FHNLC
 EVIDENCE, NONE = np.array([1.0, 0.0]), np.array([0.0, 1.0])  # Q = (engage, disengage)
 
 
-class _World:
-    n_contexts = 4
-
-
 def _lc(seed=0, **params):
-    lc = FHNLC("LC", **params)
-    lc.bind(_World())
-    lc.reset(np.random.default_rng(seed))
-    return lc
+    return bound(FHNLC, "LC", world=minimal_world(4), seed=seed, **params)
 
 
 def _windows(lc, qs):

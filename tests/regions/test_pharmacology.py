@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from bound_region import minimal_world
 
 from neurocur.circuit import Circuit
 from neurocur.config import ConfigError
@@ -69,12 +70,8 @@ def toy_circuit() -> Circuit:
     return Circuit.from_toml(_write_toy())
 
 
-class _World:
-    n_contexts = 1
-
-
 def levels(circuit, seed=1, n=50):
-    sim = circuit.build(_World(), seed).run(n)
+    sim = circuit.build(minimal_world(1), seed).run(n)
     table = sim.episodes()
     return table["level"].to_numpy(), table["own_draw"].to_numpy()
 

@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import math
-from types import SimpleNamespace
 
 import numpy as np
 import pytest
+from bound_region import bound, minimal_world
 
 from neurocur.config import ConfigError
 from neurocur.contexts.base import Episode
@@ -20,14 +20,9 @@ NAN = float("nan")
 
 
 def make(cls, world, seed=0, **params):
-    region = cls(cls.__name__, cls.Params(**params))
-    region.bind(world)
-    region.reset(np.random.default_rng(seed))
-    return region
+    return bound(cls, world=world, seed=seed, **params)
 
 
-def small_world(n_contexts=2, n_states=4):
-    return SimpleNamespace(n_contexts=n_contexts, n_states=n_states)
 
 
 # ------------------------------------------------------------------ HPC
@@ -49,7 +44,7 @@ def hpc_pass(hpc, episode, features, library=None):
 
 
 def test_hpc_errors_and_context_mean_freeze():
-    hpc = make(HPCROC, small_world(), n_states=4, threshold=0.3, prune_min_weight=0.0)
+    hpc = make(HPCROC, minimal_world(), n_states=4, threshold=0.3, prune_min_weight=0.0)
     out, rec = hpc_pass(hpc, ep([0, 1, 2, 3]), Y)
     assert out[:2] == (False, False) and math.isnan(out[2])  # no cluster yet: errors undefined
     assert math.isnan(rec["error"]) and math.isnan(rec["episode_error"])
@@ -70,7 +65,7 @@ def test_hpc_errors_and_context_mean_freeze():
 def test_hpc_progress_is_the_drop_at_the_visits_own_states():
     """``progress``: the mean drop of the stored error at the states the visit shows, since their
     previous visit; eq 11's decrease over the visit per frame, undiluted by the other states."""
-    hpc = make(HPCROC, small_world(), n_states=4, threshold=0.01, prune_min_weight=0.0)
+    hpc = make(HPCROC, minimal_world(), n_states=4, threshold=0.01, prune_min_weight=0.0)
     hpc_pass(hpc, ep([0, 1, 2, 3]), Y)  # a cluster at Y in every state
     out, _ = hpc_pass(hpc, ep([0, 1, 2, 3]), Y + [0.2, 0.0])  # errors 0.2, none stored before: undefined
     assert out[2] == pytest.approx(0.2) and math.isnan(out[3])
@@ -86,26 +81,26 @@ def test_hpc_progress_is_the_drop_at_the_visits_own_states():
 def test_hpc_context_sum_and_episode_mean_rules():
     shifted = Y + np.array([0.1, 0.0])  # every state's error 0.1: mean 0.1 < 0.3, sum 0.4 > 0.3
     for rule, fires in (("context_mean", True), ("context_sum", False), ("episode_mean", True)):
-        hpc = make(HPCROC, small_world(), n_states=4, freeze=rule)
+        hpc = make(HPCROC, minimal_world(), n_states=4, freeze=rule)
         hpc_pass(hpc, ep([0, 1, 2, 3]), Y)
         out, _ = hpc_pass(hpc, ep([0, 1, 2, 3]), shifted)
         assert out[1] is fires, rule
     # episode_mean fires on a partial episode, context_mean does not
     for rule, fires in (("context_mean", False), ("episode_mean", True)):
-        hpc = make(HPCROC, small_world(), n_states=4, freeze=rule)
+        hpc = make(HPCROC, minimal_world(), n_states=4, freeze=rule)
         hpc_pass(hpc, ep([0, 1, 2, 3]), Y)
         hpc.stored[:] = NAN
         out, _ = hpc_pass(hpc, ep([0, 1]), Y[:2])
         assert out[1] is fires, rule
     # context_sum with small errors: 4 x 0.05 = 0.2 < 0.3
-    hpc = make(HPCROC, small_world(), n_states=4, freeze="context_sum")
+    hpc = make(HPCROC, minimal_world(), n_states=4, freeze="context_sum")
     hpc_pass(hpc, ep([0, 1, 2, 3]), Y)
     assert hpc_pass(hpc, ep([0, 1, 2, 3]), Y + np.array([0.05, 0.0]))[0][1] is True
 
 
 def test_hpc_reward_error_modes():
     for mode, expected in (("context", 0.125), ("episode", 0.05)):
-        hpc = make(HPCROC, small_world(), n_states=4, reward_error=mode, threshold=0.01)
+        hpc = make(HPCROC, minimal_world(), n_states=4, reward_error=mode, threshold=0.01)
         hpc_pass(hpc, ep([0, 1, 2, 3]), Y)
         hpc_pass(hpc, ep([0, 1]), Y[:2] + np.array([[0.2, 0.0], [0.0, 0.2]]))
         out, _ = hpc_pass(hpc, ep([2, 3]), Y[2:] + np.array([[0.0, 0.0], [0.1, 0.0]]))
@@ -114,7 +109,7 @@ def test_hpc_reward_error_modes():
 
 def test_hpc_pruning_gating_and_per_context_clusterers():
     for min_weight, kept in ((0.0, 8), (0.5, 4)):
-        hpc = make(HPCROC, small_world(), n_states=4, prune_min_weight=min_weight)
+        hpc = make(HPCROC, minimal_world(), n_states=4, prune_min_weight=min_weight)
         hpc_pass(hpc, ep([0, 1, 2, 3]), Y)  # one cluster per state, weight 0
         out, _ = hpc_pass(hpc, ep([0, 1, 2, 3]), Y)  # error 0 -> stored; second cluster (latest) added
         assert out[1] is True
@@ -128,13 +123,13 @@ def test_hpc_pruning_gating_and_per_context_clusterers():
     out, rec = hpc_pass(hpc, ep([0, 1, 2, 3], context=1), np.zeros((4, 2)), lib)
     assert out[0] is False and rec["gating_module"] == -1 and math.isnan(rec["min_frozen_error"])
     # shared clusterers ("state"): a module learned in context 0 gates context 1
-    shared = make(HPCROC, small_world(), n_states=4, clusterers="state")
+    shared = make(HPCROC, minimal_world(), n_states=4, clusterers="state")
     hpc_pass(shared, ep([0, 1, 2, 3]), Y)
     hpc_pass(shared, ep([0, 1, 2, 3]), Y)
     out, rec = hpc_pass(shared, ep([0, 1, 2, 3], context=1), np.zeros((4, 2)), Y[:, None, :])
     assert out[0] is True and rec["min_frozen_error"] == 0.0
     # gating lesion: never familiar, so module storage may fire again
-    lesioned = make(HPCROC, small_world(), n_states=4, gating=False)
+    lesioned = make(HPCROC, minimal_world(), n_states=4, gating=False)
     lesioned.library = shared.library
     out, rec = hpc_pass(lesioned, ep([0, 1, 2, 3]), np.zeros((4, 2)), Y[:, None, :])
     assert out[0] is False and rec["min_frozen_error"] == 0.0 and rec["gating_module"] == -1
@@ -151,14 +146,14 @@ def test_hpc_parameter_validation_and_world_size():
     with pytest.raises(ConfigError, match="key 'gating': expected a boolean"):
         HPCParams(gating=1)
     with pytest.raises(ValueError, match="smaller than the world's 4 context-states"):
-        make(HPCROC, small_world(), n_states=3)
+        make(HPCROC, minimal_world(), n_states=3)
 
 
 # ------------------------------------------------------------------ VTA
 
 
 def test_vta_learning_progress_and_boredom():
-    vta = make(LearningProgressVTA, small_world(3))
+    vta = make(LearningProgressVTA, minimal_world(3))
     sequence = [  # context, error, familiar, module_learned -> expected DA
         (0, NAN, False, False, 0.0),  # undefined
         (0, 5.0, False, False, 0.0),  # first defined value of context 0
@@ -173,12 +168,12 @@ def test_vta_learning_progress_and_boredom():
     ]
     for c, e, fam, learned, expected in sequence:
         assert vta.step(c, e, fam, learned) == (pytest.approx(expected),)
-    vta = make(LearningProgressVTA, small_world(3), boredom=-7.0)
+    vta = make(LearningProgressVTA, minimal_world(3), boredom=-7.0)
     assert vta.step(0, 1.0, True, False) == (-7.0,)
 
 
 def test_vta_novelty():
-    vta = make(NoveltyVTA, small_world(3), scale=2.0)
+    vta = make(NoveltyVTA, minimal_world(3), scale=2.0)
     das = [vta.step(c, NAN, True, False)[0] for c in (0, 0, 1, 0, 1)]
     np.testing.assert_allclose(das, [2.0, 2.0 / np.sqrt(2), 2.0, 2.0 / np.sqrt(3), 2.0 / np.sqrt(2)])
 
@@ -195,7 +190,7 @@ def q_by_value_iteration(P, R, gamma, n_iter=3000):
 
 def test_pfc_eq14_reward_model_and_lspi_values():
     alpha, gamma = 0.3, 0.8
-    pfc = make(PFCLSPI, small_world(3), alpha=alpha, discount=gamma)
+    pfc = make(PFCLSPI, minimal_world(3), alpha=alpha, discount=gamma)
     P = transition_model(3)
     np.testing.assert_array_equal(P[:, 0], np.eye(3))
     np.testing.assert_array_equal(P[1, 1], [0.5, 0.0, 0.5])
@@ -215,7 +210,7 @@ def test_pfc_eq14_reward_model_and_lspi_values():
 
 def test_pfc_eq14_as_a_sample_average():
     """``alpha = "sample_average"``: each entry R[o, a, o'] is the plain mean of the rewards it was given."""
-    pfc = make(PFCLSPI, small_world(3), alpha="sample_average", discount=0.5)
+    pfc = make(PFCLSPI, minimal_world(3), alpha="sample_average", discount=0.5)
     given: dict = {}
     prev = None
     rng = np.random.default_rng(3)
@@ -231,7 +226,7 @@ def test_pfc_eq14_as_a_sample_average():
         assert pfc.model.N3[o, a, o2] == len(rewards)
     assert eq14_rate(0.2, 7) == 0.2 and eq14_rate("sample_average", 4) == 0.25
     with pytest.raises(ConfigError, match="'sample_average'"):
-        make(PFCLSPI, small_world(3), alpha="mean")
+        make(PFCLSPI, minimal_world(3), alpha="mean")
 
 
 # ------------------------------------------------------------------ LC
@@ -246,7 +241,7 @@ def run_lc(lc, contexts, qs, learned):
 
 
 def test_lc_epsilon_decay_reset_and_ne():
-    lc = make(EpsilonGreedyLC, small_world(4), epsilon0=0.6, decay=0.9)
+    lc = make(EpsilonGreedyLC, minimal_world(4), epsilon0=0.6, decay=0.9)
     n = 12
     learned = [False] * n
     learned[5] = True
@@ -265,14 +260,14 @@ def test_lc_epsilon_decay_reset_and_ne():
     rows = run_lc(lc, [0, 0], [(1.0, 3.0), (1.0, 1.0)], [False, False])
     e0 = rows[0][2]
     assert rows[0][3] == pytest.approx(e0 / 2 + (1 - e0)) and rows[1][3] == pytest.approx(0.5)
-    greedy = make(EpsilonGreedyLC, small_world(4), epsilon0=0.0)
+    greedy = make(EpsilonGreedyLC, minimal_world(4), epsilon0=0.0)
     assert all(r[0] == 1 for r in run_lc(greedy, [2] * 20, [(0.0, 1.0)] * 20, [False] * 20))
     assert all(r[0] == 0 and r[4] == pytest.approx(math.tanh(0.5))
                for r in run_lc(greedy, [2] * 20, [(0.5, 0.0)] * 20, [False] * 20))
 
 
 def test_lc_random_choices_are_uniform():
-    lc = make(EpsilonGreedyLC, small_world(4), seed=3, **EpsilonGreedyLC.lesions["random"])
+    lc = make(EpsilonGreedyLC, minimal_world(4), seed=3, **EpsilonGreedyLC.lesions["random"])
     n = 4000
     rows = run_lc(lc, [2] * n, [(5.0, 0.0)] * n, [False] * n)
     actions = np.array([r[0] for r in rows])
@@ -304,7 +299,7 @@ def test_sensory_concatenates_episodes_when_staying(make_world):
 
 
 def test_hpc_converged_rule_extrapolates_the_remaining_drift():
-    hpc = make(HPCROC, small_world(), n_states=4, threshold=0.3, freeze="converged", prune_min_weight=0.0)
+    hpc = make(HPCROC, minimal_world(), n_states=4, threshold=0.3, freeze="converged", prune_min_weight=0.0)
     hpc_pass(hpc, ep([0, 1, 2, 3]), Y)  # clusters, no errors yet
     out, rec = hpc_pass(hpc, ep([0, 1, 2, 3]), Y + [0.2, 0.0])  # every error 0.2, no previous: no freeze
     assert rec["error"] == pytest.approx(0.2) and out[1] is False
@@ -317,7 +312,7 @@ def test_hpc_converged_rule_extrapolates_the_remaining_drift():
 
 
 def test_hpc_converged_rule_never_fires_when_errors_do_not_shrink():
-    hpc = make(HPCROC, small_world(), n_states=4, threshold=0.3, freeze="converged")
+    hpc = make(HPCROC, minimal_world(), n_states=4, threshold=0.3, freeze="converged")
     rng = np.random.default_rng(0)
     hpc_pass(hpc, ep([0, 1, 2, 3]), Y)
     fired = [hpc_pass(hpc, ep([0, 1, 2, 3]), Y + 0.05 * (k + 1) * rng.standard_normal((4, 2)))[0][1]
@@ -327,8 +322,8 @@ def test_hpc_converged_rule_never_fires_when_errors_do_not_shrink():
 
 def test_hpc_spread_scale_divides_errors_by_the_feature_spread():
     for scale in (1.0, 0.01):  # the same geometry, features shrunk 100 times
-        a = make(HPCROC, small_world(), n_states=4, threshold=0.3)
-        s = make(HPCROC, small_world(), n_states=4, threshold=0.3, error_scale="spread")
+        a = make(HPCROC, minimal_world(), n_states=4, threshold=0.3)
+        s = make(HPCROC, minimal_world(), n_states=4, threshold=0.3, error_scale="spread")
         for hpc in (a, s):
             hpc_pass(hpc, ep([0, 1, 2, 3]), scale * Y)
         _, ra = hpc_pass(a, ep([0, 1, 2, 3]), scale * (Y + [0.2, 0.0]))

@@ -3,6 +3,7 @@ on the recorded trace when utility falls and rises again, and its circuit file."
 
 import numpy as np
 import pytest
+from bound_region import bound, minimal_world
 from scipy.stats import fisher_exact
 
 from neurocur.circuit import Circuit
@@ -11,15 +12,8 @@ from neurocur.contexts.synthetic import SyntheticWorld
 from neurocur.regions.lc_adaptive_gain import AdaptiveGainLC
 
 
-class _World:
-    n_contexts = 4
-
-
 def _lc(seed=0, **params):
-    lc = AdaptiveGainLC("LC", **params)
-    lc.bind(_World())
-    lc.reset(np.random.default_rng(seed))
-    return lc
+    return bound(AdaptiveGainLC, "LC", world=minimal_world(4), seed=seed, **params)
 
 
 def _drive(lc, utilities, q=(1.0, 0.0)):
