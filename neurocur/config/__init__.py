@@ -13,8 +13,19 @@ instance from a TOML table. The learners of :mod:`neurocur.learn` declare a
 :class:`ParamSpec` per parameter (``param_specs``), checked by :func:`coerce_params`;
 a region parameter passed on to a learner is declared with :func:`learner_param`, so
 it takes the learner's spec. Loading a configuration never executes code.
+
+The checks shared by every layer (input blocks, seeds, scalar arguments of functions called
+from Python) are :mod:`.checks`.
 """
 
+from .checks import (
+    RANDOM_STATE,
+    check_block,
+    check_fraction,
+    check_nonconstant,
+    check_positive_int,
+    check_random_state,
+)
 from .errors import ConfigError, describe, join_key
 from .params import (
     ParamSpec,
@@ -45,4 +56,10 @@ __all__ = [
     "path_values",
     "describe",
     "join_key",
+    "RANDOM_STATE",
+    "check_block",
+    "check_fraction",
+    "check_nonconstant",
+    "check_positive_int",
+    "check_random_state",
 ]

@@ -33,7 +33,7 @@ import numpy as np
 import pandas as pd
 
 from ..config import ConfigError, ParamSpec, check_params, describe, param, spec_param
-from ..learn._validation import check_fraction
+from ..config.checks import check_fraction
 from ..learn.correlation import abs_corr
 from ..learn.omega import omega
 from .base import Episode, SourceSpec, World, register_world

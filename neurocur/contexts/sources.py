@@ -49,7 +49,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from neurocur.learn._validation import check_positive_int, check_random_state
+from neurocur.config.checks import check_positive_int, check_random_state
 from neurocur.learn.omega import omega
 
 __all__ = [

@@ -19,7 +19,7 @@ IncSFA, CCIPCA and MCA are scikit-learn transformers (``fit``, ``partial_fit``,
 ``transform``, ``get_params``, ``clone``, ``Pipeline``, ``GridSearchCV``; see
 ``_estimator``); they pass ``sklearn.utils.estimator_checks.check_estimator`` but for
 the checks :func:`expected_failed_checks` lists with their reasons. Their input must be
-finite and within a numerical range (``_validation.check_scale``).
+finite and within a numerical range (``_scale.check_scale``).
 """
 
 from ._estimator import expected_failed_checks

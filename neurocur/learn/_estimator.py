@@ -16,7 +16,7 @@ Learning is streaming: ``partial_fit`` continues from the learned state, ``fit``
 it first (``fit(X)`` is ``partial_fit(X)`` on a new instance with the same parameters).
 Input is checked once per call, never per sample: scikit-learn's ``validate_data``
 (2-d, numeric, finite, the feature count seen first, ``n_features_in_``), then the
-learners' own scale check (:func:`~neurocur.learn._validation.check_scale`); a fresh
+learners' own scale check (:func:`~neurocur.learn._scale.check_scale`); a fresh
 learner's first block must also vary and, for IncSFA and CCIPCA, reach past the samples
 that only set the mean (:func:`~neurocur.learn.ccipca.check_first_block`).
 
@@ -36,13 +36,10 @@ from sklearn.exceptions import NotFittedError
 from sklearn.utils.validation import check_is_fitted, validate_data
 
 from ..config import ParamSpec, coerce_params
-from ._validation import check_nonconstant, check_scale
+from ..config.checks import check_nonconstant
+from ._scale import check_scale
 
-__all__ = ["RANDOM_STATE", "TWO_FEATURE_CHECKS", "Estimator", "NotFittedError", "expected_failed_checks"]
-
-#: ``random_state``: None, a seed, a numpy SeedSequence or a numpy Generator.
-RANDOM_STATE = ParamSpec(int, low=0, optional=True, classes=(np.random.SeedSequence, np.random.Generator))
-
+__all__ = ["TWO_FEATURE_CHECKS", "Estimator", "NotFittedError", "expected_failed_checks"]
 
 class Estimator(ClassNamePrefixFeaturesOutMixin, TransformerMixin, BaseEstimator):
     """Base class: subclasses store every ``__init__`` argument as an attribute of the same

@@ -29,9 +29,9 @@ from typing import ClassVar
 import numpy as np
 
 from ..config import ConfigError, ParamSpec, check_params, describe, param
-from ._estimator import RANDOM_STATE, Estimator
+from ..config.checks import RANDOM_STATE, check_random_state
+from ._estimator import Estimator
 from ._kernels import active_mask, amnesic_rate, ccipca_fit
-from ._validation import check_random_state
 
 
 @dataclass(frozen=True)

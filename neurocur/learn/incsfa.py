@@ -38,10 +38,10 @@ from typing import ClassVar
 import numpy as np
 
 from ..config import ParamSpec
+from ..config.checks import check_random_state
 from ._estimator import Estimator
 from ._kernels import incsfa_fit
 from ._kernels_fast import incsfa_fit_fast
-from ._validation import check_random_state
 from .ccipca import CCIPCA, amnesic_params, check_first_block, init_directions
 from .mca import AUTO_GAMMA_FACTOR, MCA, component_rates, gamma_code, init_weights
 

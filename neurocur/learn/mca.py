@@ -34,9 +34,9 @@ from typing import ClassVar
 import numpy as np
 
 from ..config import ParamSpec
-from ._estimator import RANDOM_STATE, Estimator
+from ..config.checks import RANDOM_STATE, check_random_state
+from ._estimator import Estimator
 from ._kernels import cimca_fit
-from ._validation import check_random_state
 
 #: Safety factor over the online estimate of λ_1 when ``gamma="auto"``.
 AUTO_GAMMA_FACTOR = 2.0

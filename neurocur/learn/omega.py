@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._validation import check_block, check_nonconstant
+from ..config.checks import check_block, check_nonconstant
 from .mca import MCA
 from .sfa_batch import whiten_batch
 

@@ -47,8 +47,8 @@ from typing import ClassVar
 import numpy as np
 
 from ..config import ParamSpec, coerce_params
+from ..config.checks import check_block
 from ._roc_kernels import first_bad, roc_episode_error, roc_error, roc_partial_fit
-from ._validation import check_block
 
 
 class ROCBank:

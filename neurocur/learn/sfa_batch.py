@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validation import check_block, check_nonconstant, check_positive_int
+from ..config.checks import check_block, check_nonconstant, check_positive_int
 
 
 @dataclass(frozen=True)
