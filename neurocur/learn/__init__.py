@@ -12,8 +12,9 @@
 
 The sequential per-sample loops are compiled with numba in ``_kernels`` and
 ``_roc_kernels``; the classes validate input and call them once per block. Each
-learner declares the type and range of its parameters once, as
-:class:`neurocur.config.ParamSpec` objects in its ``param_specs``.
+learner declares its parameters once, as regions and worlds do: a dataclass whose fields
+are made with :func:`neurocur.config.param` (type, range, default), read back by
+:func:`neurocur.config.param_specs`.
 
 IncSFA, CCIPCA and MCA are scikit-learn transformers (``fit``, ``partial_fit``,
 ``transform``, ``get_params``, ``clone``, ``Pipeline``, ``GridSearchCV``; see
