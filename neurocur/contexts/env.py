@@ -15,9 +15,10 @@
   ``np_random`` *is* the world's generator;
 * ``render()``: the last frame shown, as an (H, W, 3) ``uint8`` gray image.
 
-The env knows the world only through its public interface (``reset``, ``step``, ``close``,
-``np_random``, ``n_contexts``, ``n_pixels``, ``n_states``, ``frame_shape``, ``max_frames``), so
-this module does not import :mod:`.base`, which builds :meth:`~.base.World.as_env` on it.
+The env knows the world only through its interface (``reset``, ``step``, ``close``,
+``np_random`` and the generator it holds, ``n_contexts``, ``n_pixels``, ``n_states``,
+``frame_shape``, ``max_frames``), so this module does not import :mod:`.base`, which builds
+:meth:`~.base.World.as_env` on it.
 """
 
 from __future__ import annotations
