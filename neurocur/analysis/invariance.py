@@ -30,9 +30,9 @@ from matplotlib.figure import Figure
 
 from neurocur.analysis.style import figure, style
 from neurocur.config import ConfigError, describe
+from neurocur.config.checks import check_positive_int
 from neurocur.contexts.sources import LEARNABLE, SLOW_DIM, UNLEARNABLE
 from neurocur.contexts.synthetic import NORMALISATIONS, SyntheticWorld, mix_frames
-from neurocur.learn._validation import check_positive_int
 from neurocur.learn.correlation import abs_corr
 from neurocur.learn.incsfa import IncSFA
 from neurocur.tables import check_keys, load_toml, require

@@ -66,7 +66,7 @@ from pathlib import Path
 import numpy as np
 
 from neurocur.config import ConfigError, ParamSpec, check_params, describe, param, spec_param
-from neurocur.learn._validation import check_block, check_nonconstant
+from neurocur.config.checks import check_block, check_nonconstant
 
 from .sources import LEARNABLE, N_STEPS, NOISE_KINDS, PAPER_FAST_CYCLES, UNLEARNABLE, noise_source, sinusoid_pair
 
