@@ -70,16 +70,14 @@ def integrate(v, u, inputs, dt, alpha, tau_v, tau_u, mode, baseline, trace):
     return v, u
 
 
-def window_input(p: FHNLCParams, x: float, n: int, rng) -> np.ndarray:
-    """The input of ``n`` Euler steps: ``x`` for the first ``pulse`` time units, plus, when
-    ``p.noise`` > 0, white noise of intensity sigma (Euler-Maruyama: sigma xi / sqrt(dt) per
-    step, xi standard normal, so that v moves by sigma sqrt(dt) xi / tau_v), as in the
-    noisy LC units of Usher et al. (1999) and Gilzenrat et al. (2002)."""
-    inputs = np.zeros(n)
-    inputs[:int(round(p.pulse / p.dt))] = x
-    if p.noise > 0.0:
-        inputs += (p.noise / np.sqrt(p.dt)) * rng.standard_normal(n)
-    return inputs
+def with_noise(inputs: np.ndarray, sigma: float, dt: float, rng) -> np.ndarray:
+    """``inputs`` (one per Euler step) plus white noise of intensity ``sigma``: Euler-Maruyama,
+    sigma xi / sqrt(dt) per step with xi standard normal, so that v moves by sigma sqrt(dt) xi /
+    tau_v, as in the noisy LC units of Usher et al. (1999) and Gilzenrat et al. (2002).
+    ``inputs`` itself when ``sigma`` is 0 (no draw)."""
+    if sigma <= 0.0:
+        return inputs
+    return inputs + (sigma / np.sqrt(dt)) * rng.standard_normal(len(inputs))
 
 
 @register("lc.fhn")
@@ -92,7 +90,7 @@ class FHNLC(GainLC):
     - the engage evidence, x = drive x max(0, tanh(Q_eng - Q_dis)), is the input for the
       first ``pulse`` time units of the window;
     - v and u are integrated with the input noise of intensity ``noise`` (module docstring;
-      Euler-Maruyama, compiled with numba; :func:`window_input`);
+      Euler-Maruyama, compiled with numba; :func:`with_noise`);
     - the firing rate r(t) = clip(v(t), 0, 1); the NE released in the window is its mean,
       and the gain = gain_base + gain_scale x mean r, released through the drugs, then the
       softmax decision of :class:`~neurocur.regions.lc_softmax.GainLC`.
@@ -133,7 +131,9 @@ class FHNLC(GainLC):
         q_eng, q_dis = float(q[ENGAGE]), float(q[DISENGAGE])
         x = p.drive * phasic_ne(ENGAGE, False, q_eng, q_dis)  # max(0, tanh(Q_eng - Q_dis))
         tonic = min(1.0, max(0.0, self.v))
-        self.v, self.u = integrate(self.v, self.u, window_input(p, x, p.substeps, self.rng), p.dt, p.alpha,
+        inputs = np.zeros(p.substeps)
+        inputs[:int(round(p.pulse / p.dt))] = x
+        self.v, self.u = integrate(self.v, self.u, with_noise(inputs, p.noise, p.dt, self.rng), p.dt, p.alpha,
                                    p.tau_v, p.tau_u, p.mode, p.baseline, self.trace)
         rate = np.clip(self.trace[:, 0], 0.0, 1.0)
         mean_rate = float(rate.mean())
