@@ -23,13 +23,17 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 from scipy.stats import norm, pearsonr
+from statsmodels.stats.multitest import multipletests
 
 from neurocur.results import ResultsStore
 
+from .bootstrap import paired_bootstrap_ci
+from .significance import mcnemar_exact, wilcoxon_signed_rank
 from .style import figure, save_figures, style
 
 __all__ = ["WORLD_TYPES", "d_prime", "vigilance_per_run", "conditioning_per_run", "blocks_per_run",
-           "fig_vigilance", "fig_conditioning", "fig_blocks", "write_validation"]
+           "fig_vigilance", "fig_conditioning", "fig_blocks", "write_validation", "relearning_per_run",
+           "relearning_test"]
 
 
 def d_prime(hits: int, n_targets: int, false_alarms: int, n_distractors: int) -> float:
@@ -202,6 +206,39 @@ def fig_blocks(episodes: pd.DataFrame, block_visits: int):
             ax.legend(fontsize=8, loc="center right")
         axes[-1, 0].set_xlabel("visit")
     return fig
+
+
+def relearning_per_run(episodes: pd.DataFrame, modules: pd.DataFrame, swap_at: int, source: str) -> pd.DataFrame:
+    """Per condition and run of a synthetic world with a swap (a world event at frame ``swap_at``):
+    ``relearned`` (a module of ``source``, the swapped-in source, was stored after the swap) and
+    ``frames_to_relearn`` = that module's storing frame - ``swap_at``, censored at the frames the
+    run had after the swap when none was (the modules' ``source`` is the one shown when stored)."""
+    rows = []
+    for (condition, run), ep in _runs(episodes):
+        end = int(ep["step"].iloc[-1] + ep["n_frames"].iloc[-1])
+        mine = modules[(modules["condition"] == condition) & (modules["run"] == run)
+                       & (modules["source"] == source) & (modules["step"] >= swap_at)]
+        first = int(mine["step"].min()) if len(mine) else None
+        rows.append({"condition": condition, "run": run, "relearned": first is not None,
+                     "frames_to_relearn": (first if first is not None else end) - swap_at})
+    return pd.DataFrame(rows)
+
+
+def relearning_test(per_run: pd.DataFrame, a: str, b: str) -> dict:
+    """Condition ``a`` against ``b``, paired by run: the mean censored frames to re-learn with the
+    bootstrap 95% interval of the paired difference a - b (:func:`~.bootstrap.paired_bootstrap_ci`),
+    the Wilcoxon signed-rank p of that difference and McNemar's exact p of ``relearned``, both
+    Holm-adjusted as one family of two."""
+    x = per_run[per_run["condition"] == a].set_index("run")
+    y = per_run[per_run["condition"] == b].set_index("run").loc[x.index]
+    frames = wilcoxon_signed_rank(x["frames_to_relearn"], y["frames_to_relearn"])
+    learned = mcnemar_exact(x["relearned"], y["relearned"])
+    holm = multipletests([frames["p_value"], learned["p_value"]], method="holm")[1]
+    ci = paired_bootstrap_ci(x["frames_to_relearn"], y["frames_to_relearn"])["difference"]
+    return {"runs": len(x), "mean_frames_a": float(x["frames_to_relearn"].mean()),
+            "mean_frames_b": float(y["frames_to_relearn"].mean()),
+            "difference_ci": ci, "relearned_a": int(x["relearned"].sum()), "relearned_b": int(y["relearned"].sum()),
+            "p_frames_holm": float(holm[0]), "p_relearned_holm": float(holm[1])}
 
 
 def _world_table(results_dir) -> dict:
