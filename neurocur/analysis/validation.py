@@ -33,7 +33,7 @@ from .style import figure, save_figures, style
 
 __all__ = ["WORLD_TYPES", "d_prime", "vigilance_per_run", "conditioning_per_run", "blocks_per_run",
            "fig_vigilance", "fig_conditioning", "fig_blocks", "write_validation", "relearning_per_run",
-           "relearning_test"]
+           "relearning_test", "fig_relearning"]
 
 
 def d_prime(hits: int, n_targets: int, false_alarms: int, n_distractors: int) -> float:
@@ -132,7 +132,7 @@ def fig_vigilance(episodes: pd.DataFrame, per_run: pd.DataFrame):
             axes[0, 0].bar(x + (i - 1) * 0.27, means, width=0.27, label=label)
         axes[0, 0].set_xticks(x, conditions)
         axes[0, 0].set_ylabel("LC firing rate, clip(v, 0, 1)")
-        axes[0, 0].set_title("LC response (Gilzenrat et al. 2002, Fig. 5-6)")
+        axes[0, 0].set_title("LC response (Gilzenrat et al. 2002)")
         axes[0, 0].legend(fontsize=8)
         ax = axes[0, 1]
         for i, (column, label) in enumerate((("hit_rate", "hits"), ("false_alarm_rate", "false alarms"))):
@@ -239,6 +239,28 @@ def relearning_test(per_run: pd.DataFrame, a: str, b: str) -> dict:
             "mean_frames_b": float(y["frames_to_relearn"].mean()),
             "difference_ci": ci, "relearned_a": int(x["relearned"].sum()), "relearned_b": int(y["relearned"].sum()),
             "p_frames_holm": float(holm[0]), "p_relearned_holm": float(holm[1])}
+
+
+def fig_relearning(per_run: pd.DataFrame, a: str, b: str):
+    """Frames from the swap to the first module of the swapped-in source, per run, ``b`` and ``a``
+    side by side (a line joins the two runs of a seed; hollow markers: censored, not re-learned)."""
+    with style():
+        fig, axes = figure(1, 1, figsize=(4.5, 3.8))
+        ax = axes[0, 0]
+        x = per_run[per_run["condition"] == b].set_index("run")
+        y = per_run[per_run["condition"] == a].set_index("run").loc[x.index]
+        for run in x.index:
+            ax.plot([0, 1], [x.loc[run, "frames_to_relearn"] / 1e3, y.loc[run, "frames_to_relearn"] / 1e3],
+                    color="0.6", lw=0.8)
+        for i, t in enumerate((x, y)):
+            done = t["relearned"].astype(bool)
+            ax.plot(np.full(done.sum(), i), t["frames_to_relearn"][done] / 1e3, "o", color=f"C{i}")
+            ax.plot(np.full((~done).sum(), i), t["frames_to_relearn"][~done] / 1e3, "o", mfc="none", color=f"C{i}")
+        ax.set_xticks([0, 1], [b, a])
+        ax.set_xlim(-0.4, 1.4)
+        ax.set_ylabel("frames from the swap to re-learning (thousands)")
+        ax.set_title("re-learning after the world changes")
+    return fig
 
 
 def _world_table(results_dir) -> dict:

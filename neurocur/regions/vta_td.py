@@ -69,7 +69,7 @@ class TDTrialParams:
 @register("vta.td_csc")
 class TDTrialVTA(Region):
     """DA within a trial: the TD error of every time step over a complete serial compound
-    (Schultz, Dayan & Montague 1997, Science 275:1593, Fig. 4; Montague, Dayan & Sejnowski
+    (Schultz, Dayan & Montague 1997, Science 275:1593; Montague, Dayan & Sejnowski
     1996, J Neurosci 16:1936; Sutton & Barto 1990).
 
     The episode is one trial of time steps, one frame each, its columns those of
