@@ -43,7 +43,7 @@ class FHNTrialParams:
                               "well below the fast time constant)", repr(self.dt))
 
 
-@register("lc.fhn_trial")
+@register("lc_trial.fhn")
 class FHNTrialLC(Region):
     """The FitzHugh-Nagumo LC over a trial's time steps; emits the decision layer's gain per step.
 

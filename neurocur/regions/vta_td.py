@@ -66,7 +66,7 @@ class TDTrialParams:
         check_params(self)
 
 
-@register("vta.td_csc")
+@register("vta_trial.td_csc")
 class TDTrialVTA(Region):
     """DA within a trial: the TD error of every time step over a complete serial compound
     (Schultz, Dayan & Montague 1997, Science 275:1593; Montague, Dayan & Sejnowski
@@ -81,8 +81,8 @@ class TDTrialVTA(Region):
 
         delta(t) = r(t) + gamma V(t) - V(t - 1),    w_i(t-1) <- w_i(t-1) + alpha delta(t)
 
-    (the weight of the component active at t - 1), with r(t) = the episode's reward at the
-    steps where column 1 is set (shared among them) and V(-1) the last value of the previous
+    (the weight of the component active at t - 1), with r(t) = the trial's reward (input
+    ``reward``, what the world paid) at the steps where column 1 is set (shared among them) and V(-1) the last value of the previous
     trial (0 once learned: no component is active past the trial's end). Each delta(t) is the
     dopamine released (through the drugs, before it teaches the weights).
 
@@ -94,7 +94,10 @@ class TDTrialVTA(Region):
 
     Params = TDTrialParams
     modulator = "da"
-    inputs = (Signal("episode", "Episode", (), "one trial: cue, reward delivered, reward due (T, 3)"),)
+    inputs = (
+        Signal("episode", "Episode", (), "one trial: cue, reward delivered, reward due (T, 3)"),
+        Signal("reward", "float64", (), "the reward the world paid for the trial"),
+    )
     outputs = (Signal("da", "float64", (), "the trial's summed TD error", optional=True),)
     probes = (
         Probe("da", "float", "reward units", "sum of the TD errors of the trial"),
@@ -113,12 +116,12 @@ class TDTrialVTA(Region):
         self.last_component = -1
         self._rec = (0.0, 0.0, 0.0, 0.0, False)
 
-    def step(self, episode):
+    def step(self, episode, reward):
         p, frames = self.params, episode.frames
         cue_on = np.flatnonzero(frames[:, 0] > 0)
         onset = int(cue_on[0]) if len(cue_on) else len(frames)
         delivered = frames[:, 1] > 0
-        r = np.where(delivered, episode.reward / max(1, int(delivered.sum())), 0.0)
+        r = np.where(delivered, reward / max(1, int(delivered.sum())), 0.0)
         delta = np.empty(len(frames))
         for t in range(len(frames)):
             i = t - onset

@@ -75,7 +75,7 @@ def test_td_csc_reaches_its_fixed_point():
     vta.reset(np.random.default_rng(0))
     episode, _ = world.reset(seed=0)
     for _ in range(400):
-        vta.step(episode)
+        vta.step(episode, episode.reward)
         episode = world.step(0)[0]
     expected = np.zeros(world.n_states)
     expected[:5] = 2.0 * 0.9 ** (4 - np.arange(5))
@@ -90,7 +90,8 @@ def test_td_csc_first_trial_fires_at_the_reward_only():
     vta = TDTrialVTA("VTA")
     vta.bind(world)
     vta.reset(np.random.default_rng(0))
-    (total,) = vta.step(world.reset(seed=0)[0])
+    episode = world.reset(seed=0)[0]
+    (total,) = vta.step(episode, episode.reward)
     assert total == 1.5 and vta.record()[1:3] == (0.0, 1.5)
 
 
