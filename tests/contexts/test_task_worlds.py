@@ -3,6 +3,7 @@ rewards that change by blocks of visits; their frames, their draws and their one
 
 import numpy as np
 import pytest
+from gymnasium.utils.env_checker import check_env
 
 from neurocur.config import ConfigError
 from neurocur.contexts import build_world
@@ -62,3 +63,10 @@ def test_reward_blocks_pay_by_visits_over_every_context():
 def test_bad_world_tables_name_the_key(table, match):
     with pytest.raises(ConfigError, match=match):
         build_world(table)
+
+
+@pytest.mark.parametrize("table", [{"type": "vigilance"}, {"type": "conditioning"},
+                                   {"type": "reward_blocks", "contexts": ["S-A", "S-B"], "visit_length": 5,
+                                    "frame_shape": [3, 3], "blocks": [[1.0, 0.0]]}])
+def test_task_worlds_are_gymnasium_environments(table):
+    check_env(build_world(table).as_env(), skip_render_check=True)
