@@ -181,6 +181,10 @@ def _cmd_run(args) -> int:
 
         tables = ResultsStore(out).load()
         write_summary(out, tables=tables)
+        from neurocur.analysis.validation import write_validation  # the canonical tasks' figures (docs/validation.md)
+
+        for path in write_validation(out):
+            print(path)
     print(f"results: {out}")
     with pd.option_context("display.width", 200, "display.max_columns", None):
         print(order_tables(out, conditions=list(exp.conditions), tables=tables).to_string())

@@ -55,8 +55,9 @@ def replayed(circuit: Circuit, episodes, error_column: str) -> np.ndarray:
 
 def test_the_vta_reads_the_sensory_reward_in_every_shipped_circuit(circuits_dir):
     for path in sorted(circuits_dir.glob("*.toml")):
-        links = {(k.src, k.signal, k.dst) for k in Circuit.from_toml(path).links}
-        assert ("sensory", "reward", "VTA") in links, path.name
+        circuit = Circuit.from_toml(path)
+        links = {(k.src, k.signal, k.dst) for k in circuit.links}
+        assert "VTA" not in circuit.specs or ("sensory", "reward", "VTA") in links, path.name
 
 
 @pytest.mark.parametrize("name, type_name", CIRCUIT_FILES.items())
