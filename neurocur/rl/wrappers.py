@@ -36,18 +36,26 @@ DEFAULT_FRAMES = {"counts": 1, "slow_features": 32}
 class _Curiosity:
     """What both wrappers share: the model's circuit, checked once, and the sensory path built from a seed."""
 
-    def __init__(self, space, model, *, scale, decay, params, circuit, inputs, path, frames, contexts, bins,
-                 hash_bits, image_size, streams, source):
+    def __init__(self, space, *, model, scale, decay, params, circuit, inputs, overrides, path, frames, contexts,
+                 bins, hash_bits, image_size, streams, source):
         for key, value, ok in (("scale", scale, True), ("decay", decay, 0.0 < _number(decay) <= 1.0)):
             if not (isinstance(value, (int, float)) and not isinstance(value, bool) and np.isfinite(value) and ok):
                 raise ConfigError(source, key, "a finite number" + (" in (0, 1]" if key == "decay" else ""),
                                   repr(value))
-        self.space, self.scale, self.decay, self.streams, self.source = space, float(scale), float(decay), streams, source
+        self.space, self.streams, self.source = space, streams, source
+        self.scale, self.decay = float(scale), float(decay)
         self.circuit = model_circuit(model, params=params, circuit=circuit, inputs=inputs, source=source)
+        if overrides:
+            self.circuit = self.circuit.with_params(overrides, source=f"{source} overrides")
         self.path = path if path is not None else "counts" if model in COUNT_MODELS else "slow_features"
         self.frames = frames if frames is not None else DEFAULT_FRAMES.get(self.path, 1)
         self.coding = {"contexts": contexts, "bins": bins, "hash_bits": hash_bits, "image_size": image_size}
         self.build(np.random.SeedSequence(0))  # every argument is checked here, not at the first reset
+        n_pca = getattr(self.sensory.circuit.specs.get("EC", None), "params", None)
+        n_pca = getattr(n_pca, "n_pca", 0)
+        if n_pca > self.sensory.coder.n_pixels:
+            raise ConfigError(f"{source} overrides", "EC.n_pca", f"at most the {self.sensory.coder.n_pixels} values "
+                              "of an observation's frame (overrides={'EC.n_pca': ...})", repr(n_pca))
         self.sensory = None
 
     def build(self, seed: np.random.SeedSequence) -> None:
@@ -83,7 +91,8 @@ class IntrinsicReward(gym.Wrapper, gym.utils.RecordConstructorArgs):
       since the memory was built).
     - ``circuit``: the circuit whose sensory path is used (a Circuit, a shipped circuit's name or a
       file; by default the shipped circuit of the model, else ``cd_misfa``), ``inputs`` edges into
-      the model's extra inputs (``{"progress": "HPC.progress"}``).
+      the model's extra inputs (``{"progress": "HPC.progress"}``), ``overrides`` the circuit's
+      parameters (``{"EC.n_pca": 2}``; EC's ``n_pca`` may not exceed an observation's values).
     - ``path``: ``"slow_features"`` (EC and HPC) or ``"counts"`` (the VTA alone; the default for
       ``vta.novelty``); ``frames``: steps per pass (:data:`DEFAULT_FRAMES`).
     - ``contexts``, ``bins``, ``hash_bits``, ``image_size``: how observations become frames and
@@ -96,16 +105,12 @@ class IntrinsicReward(gym.Wrapper, gym.utils.RecordConstructorArgs):
 
     def __init__(self, env: gym.Env, model: str = "vta.learning_progress", *, scale: float = 1.0,
                  decay: float = 1.0, params: Mapping | None = None, circuit=None, inputs: Mapping | None = None,
-                 path: str | None = None, frames: int | None = None, contexts: str | None = None, bins: int = 8,
-                 hash_bits: int = 8, image_size: int = 16):
-        gym.utils.RecordConstructorArgs.__init__(
-            self, model=model, scale=scale, decay=decay, params=params, circuit=circuit, inputs=inputs, path=path,
-            frames=frames, contexts=contexts, bins=bins, hash_bits=hash_bits, image_size=image_size)
+                 overrides: Mapping | None = None, path: str | None = None, frames: int | None = None,
+                 contexts: str | None = None, bins: int = 8, hash_bits: int = 8, image_size: int = 16):
+        options = {k: v for k, v in locals().items() if k not in ("self", "env", "__class__")}
+        gym.utils.RecordConstructorArgs.__init__(self, **options)
         gym.Wrapper.__init__(self, env)
-        self.curiosity = _Curiosity(env.observation_space, model, scale=scale, decay=decay, params=params,
-                                    circuit=circuit, inputs=inputs, path=path, frames=frames, contexts=contexts,
-                                    bins=bins, hash_bits=hash_bits, image_size=image_size, streams=1,
-                                    source=type(self).__name__)
+        self.curiosity = _Curiosity(env.observation_space, streams=1, source=type(self).__name__, **options)
 
     @property
     def sensory(self) -> SensoryPath | None:
@@ -140,17 +145,15 @@ class IntrinsicRewardVector(VectorWrapper):
 
     def __init__(self, env: gym.vector.VectorEnv, model: str = "vta.learning_progress", *, scale: float = 1.0,
                  decay: float = 1.0, params: Mapping | None = None, circuit=None, inputs: Mapping | None = None,
-                 path: str | None = None, frames: int | None = None, contexts: str | None = None, bins: int = 8,
-                 hash_bits: int = 8, image_size: int = 16):
+                 overrides: Mapping | None = None, path: str | None = None, frames: int | None = None,
+                 contexts: str | None = None, bins: int = 8, hash_bits: int = 8, image_size: int = 16):
+        options = {k: v for k, v in locals().items() if k not in ("self", "env", "__class__")}
         super().__init__(env)
         source = type(self).__name__
         self.mode = env.metadata.get("autoreset_mode", AutoresetMode.NEXT_STEP)
         if self.mode not in (AutoresetMode.NEXT_STEP, AutoresetMode.SAME_STEP):
             raise ConfigError(source, "autoreset_mode", "AutoresetMode.NEXT_STEP or SAME_STEP", str(self.mode))
-        self.curiosity = _Curiosity(env.single_observation_space, model, scale=scale, decay=decay, params=params,
-                                    circuit=circuit, inputs=inputs, path=path, frames=frames, contexts=contexts,
-                                    bins=bins, hash_bits=hash_bits, image_size=image_size, streams=env.num_envs,
-                                    source=source)
+        self.curiosity = _Curiosity(env.single_observation_space, streams=env.num_envs, source=source, **options)
         self._restart = np.zeros(env.num_envs, dtype=bool)
 
     @property
