@@ -74,7 +74,7 @@ class ObservationCoder:
             bounded = np.isfinite(low) & np.isfinite(high)
             self.unbounded = np.flatnonzero(~bounded)
             self.low = np.where(bounded, low, 0.0)
-            self.scale = 1.0 / np.where(bounded & (high > low), high - low, 1.0)
+            self.span = np.where(bounded & (high > low), high - low, 1.0)
             self.n_pixels = space.shape[0]
         if contexts == "grid":
             self.bins = int(bins)
@@ -96,7 +96,7 @@ class ObservationCoder:
                 x = x[..., :3].mean(axis=3)
             return x.reshape(len(x), -1) / 255.0
         x = np.asarray(observations, dtype=np.float64)
-        z = (x - self.low) * self.scale
+        z = (x - self.low) / self.span
         if len(self.unbounded):
             z[:, self.unbounded] = 1.0 / (1.0 + np.exp(-x[:, self.unbounded]))
         return np.minimum(np.maximum(z, 0.0, out=z), 1.0, out=z)
