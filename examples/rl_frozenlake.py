@@ -116,7 +116,7 @@ def _figure(runs, steps: int, path: Path) -> None:
 
     names = list(CONDITIONS)
     fig, ax = plt.subplots(figsize=(6.5, 3.5))
-    for seed, group in runs.groupby("seed"):
+    for _seed, group in runs.groupby("seed"):
         ax.plot(range(len(names)), group.set_index("condition").loc[names, "first_goal"] / 1e3, color="0.8", lw=0.8)
     ax.plot(range(len(names)), runs.groupby("condition").first_goal.mean().loc[names] / 1e3, "o-", color="C0",
             label="mean over seeds")
