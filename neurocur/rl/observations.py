@@ -71,8 +71,8 @@ class ObservationCoder:
             self.n_pixels = len(range(0, h, self.stride[0])) * len(range(0, w, self.stride[1]))
         else:
             low, high = space.low.astype(np.float64), space.high.astype(np.float64)
-            bounded = np.isfinite(low) & np.isfinite(high)
-            self.unbounded = np.flatnonzero(~bounded)
+            self.bounded = bounded = np.isfinite(low) & np.isfinite(high)
+            self.unbounded = not bounded.all()
             self.low = np.where(bounded, low, 0.0)
             self.span = np.where(bounded & (high > low), high - low, 1.0)
             self.n_pixels = space.shape[0]
@@ -88,18 +88,18 @@ class ObservationCoder:
             self.n_contexts = 2 ** int(hash_bits)
             self.radix = 2 ** np.arange(int(hash_bits), dtype=np.int64)
 
-    def frames(self, observations) -> np.ndarray:
-        """Observations stacked along a first axis as frames: float64 rows in [0, 1]."""
+    def frames(self, observations: np.ndarray) -> np.ndarray:
+        """Observations stacked along a first axis (an array) as frames: float64 rows in [0, 1]."""
         if self.image:
-            x = np.asarray(observations)[:, :: self.stride[0], :: self.stride[1]]
+            x = observations[:, :: self.stride[0], :: self.stride[1]]
             if x.ndim == 4:
                 x = x[..., :3].mean(axis=3)
             return x.reshape(len(x), -1) / 255.0
-        x = np.asarray(observations, dtype=np.float64)
-        z = (x - self.low) / self.span
-        if len(self.unbounded):
-            z[:, self.unbounded] = 1.0 / (1.0 + np.exp(-x[:, self.unbounded]))
-        return np.minimum(np.maximum(z, 0.0, out=z), 1.0, out=z)
+        z = observations.astype(np.float64) - self.low
+        z /= self.span
+        if self.unbounded:  # the logistic function, 1 / (1 + exp(-x)) = (1 + tanh(x / 2)) / 2
+            z = np.where(self.bounded, z, 0.5 + 0.5 * np.tanh(0.5 * z))
+        return z.clip(0.0, 1.0, out=z)
 
     def contexts_of(self, frames: np.ndarray) -> np.ndarray:
         """The context of each frame (rows): its grid cell, or its SimHash code."""

@@ -181,7 +181,7 @@ class SensoryPath:
         """Add one step of ``stream``; when it closes a block, run the pass and return its DA, else None."""
         feed = self._feed
         if self._counts:  # a pass per step, on the observation's context alone
-            feed.context = int(self.coder.contexts_of(self.coder.frames([observation]))[0])
+            feed.context = int(self.coder.contexts_of(self.coder.frames(np.asarray(observation)[None]))[0])
             feed.reward = float(reward)
             self._run(1)
             return self._bonus.da
@@ -190,7 +190,7 @@ class SensoryPath:
         self._rewards[stream] += reward
         if len(block) <= self.frames:
             return None
-        frames = self.coder.frames(block)
+        frames = self.coder.frames(np.stack(block))
         if not (frames != frames[0]).any():  # a block that does not vary waits for a further step
             return None
         feed.context = int(self.coder.contexts_of(frames[-1:])[0])

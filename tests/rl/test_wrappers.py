@@ -66,7 +66,7 @@ def test_image_observations_pass_check_env():
     coder = wrapped.sensory.coder
     assert coder.contexts == "simhash" and coder.n_pixels == 7 * 8  # every 3rd pixel: at most 8 a side
     picture = np.random.default_rng(0).integers(0, 256, (20, 24, 3), dtype=np.uint8)
-    np.testing.assert_allclose(coder.frames([picture])[0], picture[::3, ::3].mean(axis=2).ravel() / 255.0)
+    np.testing.assert_allclose(coder.frames(picture[None])[0], picture[::3, ::3].mean(axis=2).ravel() / 255.0)
     bonuses = rollout(wrapped, [0] * 80, seed=2)[:, 1]
     assert np.count_nonzero(bonuses) > 0
 
@@ -175,7 +175,7 @@ def test_vector_wrapper_shares_one_count_memory_and_skips_the_autoreset_step():
             if restart[i]:
                 assert info["intrinsic_reward"][i] == 0.0
                 continue
-            key = int(coder.contexts_of(coder.frames([obs[i]]))[0])
+            key = int(coder.contexts_of(coder.frames(obs[i][None]))[0])
             counts[key] = counts.get(key, 0) + 1
             assert info["intrinsic_reward"][i] == pytest.approx(1.0 / np.sqrt(counts[key]), rel=1e-12)
         np.testing.assert_array_equal(reward, info["intrinsic_reward"] + info["extrinsic_reward"])
