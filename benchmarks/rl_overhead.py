@@ -1,6 +1,6 @@
 """The step time neurocur.rl's IntrinsicReward adds to a vector-observation environment (a script, not a test).
 
-    python benchmarks/rl_overhead.py [--env CartPole-v1] [--steps 5000] [--repeats 5] [--warmup 20000]
+    python benchmarks/rl_overhead.py [--env CartPole-v1] [--steps 5000] [--repeats 9] [--warmup 20000]
 
 Steps ``gym.make(env)`` with a fixed random action sequence, bare and wrapped, and prints µs per
 step, the ratio wrapped / bare and the time the wrapper adds as a multiple of the bare step, for
@@ -41,7 +41,7 @@ def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--env", default="CartPole-v1")
     parser.add_argument("--steps", type=int, default=5000)
-    parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--repeats", type=int, default=9)
     parser.add_argument("--warmup", type=int, default=20000)
     args = parser.parse_args(argv)
     warnings.filterwarnings("ignore", category=UserWarning)

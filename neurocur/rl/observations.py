@@ -99,7 +99,7 @@ class ObservationCoder:
         z /= self.span
         if self.unbounded:  # the logistic function, 1 / (1 + exp(-x)) = (1 + tanh(x / 2)) / 2
             z = np.where(self.bounded, z, 0.5 + 0.5 * np.tanh(0.5 * z))
-        return z.clip(0.0, 1.0, out=z)
+        return np.minimum(np.maximum(z, 0.0, out=z), 1.0, out=z)
 
     def contexts_of(self, frames: np.ndarray) -> np.ndarray:
         """The context of each frame (rows): its grid cell, or its SimHash code."""

@@ -235,3 +235,32 @@ def test_bad_input_is_a_one_line_error_naming_what_was_expected():
         IntrinsicReward(gym.make("CartPole-v1"), "vta.state_progress", path="counts")
     with pytest.raises(gym.error.ResetNeeded):
         IntrinsicReward(gym.make("CartPole-v1"), "vta.novelty").step(0)
+
+
+def test_vector_wrapper_same_step_autoreset_counts_the_final_observation():
+    from gymnasium.vector import AutoresetMode
+
+    envs = gym.make_vec("CartPole-v1", num_envs=2, vectorization_mode="sync",
+                        vector_kwargs={"autoreset_mode": AutoresetMode.SAME_STEP})
+    wrapped = IntrinsicRewardVector(envs, "vta.novelty", contexts="simhash", hash_bits=3)
+    wrapped.reset(seed=1)
+    coder, counts, ends = wrapped.sensory.coder, {}, 0
+    for t in range(120):
+        obs, _, terminated, truncated, info = wrapped.step(np.array([t % 2, (t // 3) % 2]))
+        for i in range(2):
+            done = terminated[i] or truncated[i]
+            last = info["final_obs"][i] if done else obs[i]
+            key = int(coder.contexts_of(coder.frames(np.asarray(last)[None]))[0])
+            counts[key] = counts.get(key, 0) + 1
+            assert info["intrinsic_reward"][i] == pytest.approx(1.0 / np.sqrt(counts[key]), rel=1e-12)
+            ends += done
+    assert ends >= 2
+
+
+def test_vector_wrapper_refuses_a_disabled_autoreset():
+    from gymnasium.vector import AutoresetMode
+
+    envs = gym.make_vec("CartPole-v1", num_envs=2, vectorization_mode="sync",
+                        vector_kwargs={"autoreset_mode": AutoresetMode.DISABLED})
+    with pytest.raises(ConfigError, match=r"autoreset_mode.*NEXT_STEP or SAME_STEP"):
+        IntrinsicRewardVector(envs, "vta.novelty")
