@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import numpy as np
 from gymnasium import spaces
+from scipy.special import expit
 
 from ..config import ConfigError
 
@@ -85,6 +86,7 @@ class ObservationCoder:
             self.radix = self.bins ** np.arange(self.n_pixels, dtype=np.int64)
         else:
             self.projection = rng.standard_normal((self.n_pixels, int(hash_bits)))
+            self.half_sums = 0.5 * self.projection.sum(axis=0)  # (x - 1/2) A > 0  <=>  x A > A's column sums / 2
             self.n_contexts = 2 ** int(hash_bits)
             self.radix = 2 ** np.arange(int(hash_bits), dtype=np.int64)
 
@@ -95,17 +97,17 @@ class ObservationCoder:
             if x.ndim == 4:
                 x = x[..., :3].mean(axis=3)
             return x.reshape(len(x), -1) / 255.0
-        z = observations.astype(np.float64) - self.low
+        z = observations - self.low  # float64 (low is)
         z /= self.span
-        if self.unbounded:  # the logistic function, 1 / (1 + exp(-x)) = (1 + tanh(x / 2)) / 2
-            z = np.where(self.bounded, z, 0.5 + 0.5 * np.tanh(0.5 * z))
+        if self.unbounded:  # low 0 and span 1 there: the logistic function of the observation
+            z = np.where(self.bounded, z, expit(z))
         return np.minimum(np.maximum(z, 0.0, out=z), 1.0, out=z)
 
     def contexts_of(self, frames: np.ndarray) -> np.ndarray:
         """The context of each frame (rows): its grid cell, or its SimHash code."""
         if self.contexts == "grid":
             return np.minimum((frames * self.bins).astype(np.int64), self.bins - 1) @ self.radix
-        return (((frames - 0.5) @ self.projection) > 0) @ self.radix
+        return ((frames @ self.projection) > self.half_sums) @ self.radix
 
 
 def _is_vector(space) -> bool:
