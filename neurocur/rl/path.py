@@ -157,10 +157,11 @@ class SensoryPath:
                  source: str = "IntrinsicReward"):
         if path not in PATHS:
             raise ConfigError(source, "path", f"one of {', '.join(PATHS)}", repr(path))
-        least = 1 if path == "counts" else 4
-        if isinstance(frames, bool) or not isinstance(frames, (int, np.integer)) or frames < least:
-            raise ConfigError(source, "frames", f"an integer >= {least} (steps per pass on the '{path}' path)",
-                              repr(frames))
+        counts = path == "counts"
+        whole = isinstance(frames, (int, np.integer)) and not isinstance(frames, bool)
+        if not whole or (frames != 1 if counts else frames < 4):
+            raise ConfigError(source, "frames", "1 on the 'counts' path (a pass per step)" if counts else
+                              "an integer >= 4 (steps per pass on the 'slow_features' path)", repr(frames))
         self.frames, self.coder = int(frames), coder
         self.circuit = cut(circuit, path, source=source)
         if "HPC" in self.circuit.specs and hasattr(self.circuit.specs["HPC"].params, "n_states"):

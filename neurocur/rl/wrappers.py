@@ -29,7 +29,7 @@ from .path import COUNT_MODELS, SensoryPath, model_circuit
 
 __all__ = ["IntrinsicReward", "IntrinsicRewardVector", "DEFAULT_FRAMES"]
 
-#: Steps per pass by path when ``frames`` is not given (docs/rl.md, "Blocks").
+#: Steps per pass by path when ``frames`` is not given (docs/rl.md, "Passes and blocks").
 DEFAULT_FRAMES = {"counts": 1, "slow_features": 32}
 
 
@@ -51,8 +51,8 @@ class _Curiosity:
         self.frames = frames if frames is not None else DEFAULT_FRAMES.get(self.path, 1)
         self.coding = {"contexts": contexts, "bins": bins, "hash_bits": hash_bits, "image_size": image_size}
         self.build(np.random.SeedSequence(0))  # every argument is checked here, not at the first reset
-        n_pca = getattr(self.sensory.circuit.specs.get("EC", None), "params", None)
-        n_pca = getattr(n_pca, "n_pca", 0)
+        ec = self.sensory.circuit.specs.get("EC")
+        n_pca = getattr(ec.params, "n_pca", 0) if ec is not None else 0
         if n_pca > self.sensory.coder.n_pixels:
             raise ConfigError(f"{source} overrides", "EC.n_pca", f"at most the {self.sensory.coder.n_pixels} values "
                               "of an observation's frame (overrides={'EC.n_pca': ...})", repr(n_pca))
@@ -141,7 +141,7 @@ class IntrinsicRewardVector(VectorWrapper):
     ``NEXT_STEP`` (gymnasium's default: the step after an episode's end only resets, and gets no
     bonus) and ``SAME_STEP`` (the last observation is ``info["final_obs"]``) are handled.
     ``info`` holds ``"intrinsic_reward"`` and ``"extrinsic_reward"`` as arrays, one entry per
-    sub-environment."""
+    sub-environment; ``decay`` applies once per step of the vector environment."""
 
     def __init__(self, env: gym.vector.VectorEnv, model: str = "vta.learning_progress", *, scale: float = 1.0,
                  decay: float = 1.0, params: Mapping | None = None, circuit=None, inputs: Mapping | None = None,

@@ -227,6 +227,8 @@ def test_bad_input_is_a_one_line_error_naming_what_was_expected():
         IntrinsicReward(gym.make("MountainCar-v0"), "vta.surprise")
     with pytest.raises(ConfigError, match=r"'frames'.*integer >= 4"):
         IntrinsicReward(gym.make("CartPole-v1"), "vta.surprise", frames=2)
+    with pytest.raises(ConfigError, match=r"'frames'.*1 on the 'counts' path"):
+        IntrinsicReward(gym.make("CartPole-v1"), "vta.novelty", frames=8)
     with pytest.raises(ConfigError, match=r"'contexts'.*'simhash'"):
         IntrinsicReward(gym.make("CartPole-v1"), "vta.novelty", contexts="grid")
     with pytest.raises(ConfigError, match=r"'decay'.*in \(0, 1\]"):
