@@ -5,7 +5,7 @@ of its input files and the code.
   recorded by its sha256 (:func:`file_hashes`); a folder is not an input file.
 * The code is recorded as the package version, a sha256 of the source of every module
   that can compute a run (the package's ``.py`` files except :mod:`neurocur.analysis`,
-  which only reads results folders) and, when the package runs from a git clone, the
+  which only reads results folders, and :mod:`neurocur.rl`, which no run imports) and, when the package runs from a git clone, the
   commit and whether the package has uncommitted changes (:func:`code_fingerprint`).
   Two fingerprints describe the same code when version and source hash agree.
 
@@ -24,8 +24,9 @@ from pathlib import Path
 __all__ = ["changed_input", "code_changed", "code_fingerprint", "file_hashes", "same_code"]
 
 PACKAGE = Path(__file__).resolve().parents[1]
-#: subpackages left out of the code fingerprint: they never compute a run
-NOT_RUN_CODE = ("analysis",)
+#: subpackages left out of the code fingerprint: they never compute a run (the analysis reads
+#: results folders; :mod:`neurocur.rl` wraps gymnasium environments for other agents)
+NOT_RUN_CODE = ("analysis", "rl")
 
 
 def file_hashes(paths: Iterable[str]) -> dict[str, str]:
