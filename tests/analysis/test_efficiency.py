@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 import pytest
-from neuro_tables import episodes_of, modules_of, runs_of
+from neuro_tables import episodes_of, modules_of, results_of, runs_of
 
 from neurocur.analysis import (
     compare_efficiency,
@@ -24,7 +24,7 @@ CYCLE = [c for c in range(5) for _ in range(3)] * 4   # conftest.py's context se
 
 
 def test_efficiency_per_run(tables):
-    table = efficiency_per_run(*tables).set_index(["condition", "run"])
+    table = efficiency_per_run(results_of(*tables)).set_index(["condition", "run"])
     curious = table.loc["curious"]
     # 60 episodes of 100 frames; the module completing S-A, S-B, S-C is stored at episode 50, 50, 40
     assert curious["learned_all"].tolist() == [True, True, True, False]
@@ -42,7 +42,7 @@ def test_efficiency_per_run(tables):
 
 def test_frames_to_learn_all_count_every_frame_up_to_the_storing_episode():
     frames = np.where(np.arange(60) % 2 == 0, 100, 250)              # 100, 250, 100, 250, ...
-    row = efficiency_per_run(episodes_of(CYCLE, frames), modules_of([(3, "S-A"), (7, "S-C"), (4, "S-B")])).iloc[0]
+    row = efficiency_per_run(results_of(episodes_of(CYCLE, frames), modules_of([(3, "S-A"), (7, "S-C"), (4, "S-B")]))).iloc[0]
     assert row["learned_all_episode"] == 7
     assert row["frames_to_learn_all"] == frames[:8].sum() == 4 * 100 + 4 * 250
 
@@ -53,10 +53,10 @@ def test_censoring_uses_one_horizon_so_censored_twins_tie():
         (episodes_of([0] * n, condition=condition, run=run),
          modules_of([(20 + 10 * run, "S-A")] if condition == "a" else [], condition=condition, run=run))
         for condition, n in (("a", 61), ("b", 60)) for run in range(3))      # a's runs end a visit later
-    table = efficiency_per_run(episodes, modules, spec)
+    table = efficiency_per_run(results_of(episodes, modules, spec))
     assert table.loc[table["condition"] == "a", "frames_to_learn_all"].tolist() == [2100, 3100, 4100]
     assert table.loc[table["condition"] == "b", "frames_to_learn_all_censored"].tolist() == [6000] * 3
-    late = efficiency_per_run(episodes, modules.assign(episode=60), spec)             # learned after the horizon
+    late = efficiency_per_run(results_of(episodes, modules.assign(episode=60), spec))             # learned after the horizon
     assert late.loc[late["condition"] == "a", "frames_to_learn_all"].tolist() == [6100] * 3
     assert late.loc[late["condition"] == "a", "frames_to_learn_all_censored"].tolist() == [6000] * 3
     assert compare_efficiency(late, "a", "b").set_index("metric").loc["frames_to_learn_all_censored",
@@ -64,7 +64,7 @@ def test_censoring_uses_one_horizon_so_censored_twins_tie():
 
 
 def test_compare_efficiency_is_paired_by_run(tables):
-    result = compare_efficiency(tables).set_index("metric")
+    result = compare_efficiency(efficiency_per_run(results_of(*tables)), "curious", "random_switching").set_index("metric")
     assert list(result.index) == ["frames_to_learn_all_censored", "learned_all", "frames_unlearnable",
                                   "modules_per_1e5"]
     frames = result.loc["frames_to_learn_all_censored"]
@@ -84,7 +84,7 @@ def test_eight_pairs_that_all_learn_sooner_give_the_exact_wilcoxon_p():
                       modules_of(stored, condition=condition, run=run))
                      for run in range(8)
                      for condition, stored in (("curious", [(5 + run, "S-A")]), ("random_switching", [])))
-    result = compare_efficiency(tables, spec=spec).set_index("metric")
+    result = compare_efficiency(efficiency_per_run(results_of(*tables, spec)), "curious", "random_switching").set_index("metric")
     assert result.loc["frames_to_learn_all_censored", "p_value"] == pytest.approx(2 / 2**8)
     assert result.loc["learned_all", "p_value"] == pytest.approx(2 / 2**8)       # 8 of 8 discordant one way
     low, high = result.loc["frames_to_learn_all_censored", ["ci_diff_low", "ci_diff_high"]]
@@ -92,7 +92,7 @@ def test_eight_pairs_that_all_learn_sooner_give_the_exact_wilcoxon_p():
 
 
 def test_efficiency_summary(tables):
-    table = efficiency_summary(tables).set_index(["condition", "metric"])
+    table = efficiency_summary(efficiency_per_run(results_of(*tables))).set_index(["condition", "metric"])
     learned = table.loc[("curious", "learned_all")]
     assert learned["n"] == 4 and learned["mean"] == 0.75
     assert (learned["ci_low"], learned["ci_high"]) == pytest.approx((0.194, 0.994), abs=1e-3)   # Clopper–Pearson 3/4
@@ -108,18 +108,18 @@ def test_efficiency_summary(tables):
 def test_bad_input_is_named(tables):
     episodes, modules = tables
     with pytest.raises(ValueError, match="'source'"):
-        efficiency_per_run(episodes, modules.drop(columns="source"))
-    with pytest.raises(ValueError, match="efficiency_per_run\\(\\) DataFrame or an \\(episodes, modules\\) pair"):
-        compare_efficiency("results")
-    with pytest.raises(ValueError, match="'learned_all'"):
-        compare_efficiency(efficiency_per_run(*tables).drop(columns="learned_all"))
+        efficiency_per_run(results_of(episodes, modules.drop(columns="source")))
+    with pytest.raises(ValueError, match="compare_efficiency needs the column\\(s\\) 'learned_all'"):
+        compare_efficiency(efficiency_per_run(results_of(*tables)).drop(columns="learned_all"), "curious", "random_switching")
+    with pytest.raises(ValueError, match="efficiency_summary needs the column\\(s\\) 'learned_all'"):
+        efficiency_summary(efficiency_per_run(results_of(*tables)).drop(columns="learned_all"))
 
 
 FRAMES_ROW = "frames to learn all (censored at the run length) vs curious: Wilcoxon signed-rank p (paired; Holm, 4 tests)"
 
 
 def test_the_order_table_reports_the_efficiency(tables, results_dir):
-    table = order_table(*tables, reference="curious")
+    table = order_table(results_of(*tables), reference="curious")
     assert table.loc["all learnable sources learned", "curious"] == "3/4"
     assert table.loc["frames to learn all (runs that did): median (range)", "curious"] == "5.1k (4.1k–5.1k; n=3)"
     assert table.loc["frames to learn all (runs that did): median (range)", "random_switching"] == "—"
@@ -131,7 +131,7 @@ def test_the_order_table_reports_the_efficiency(tables, results_dir):
 
 
 def test_the_summary_reports_the_efficiency(tables):
-    result = json.loads(json.dumps(summary(*tables), allow_nan=False))["efficiency"]
+    result = json.loads(json.dumps(summary(results_of(*tables)), allow_nan=False))["efficiency"]
     restricted = next(r for r in result["summary"]
                       if r["condition"] == "curious" and r["metric"] == "frames_to_learn_all_censored")
     assert restricted["mean"] == pytest.approx((14300 + 6000) / 4)

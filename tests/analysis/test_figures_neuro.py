@@ -7,7 +7,7 @@ import pandas as pd
 import pytest
 from matplotlib.collections import PathCollection
 from matplotlib.figure import Figure
-from neuro_tables import episodes_of
+from neuro_tables import episodes_of, results_of
 
 from neurocur.analysis import (
     efficiency_per_run,
@@ -76,8 +76,8 @@ def test_tonic_phasic_scatter(tables):
 
 
 def test_efficiency_paired_by_run(tables):
-    table = efficiency_per_run(*tables)
-    fig = fig_efficiency(table)
+    table = efficiency_per_run(results_of(*tables))
+    fig = fig_efficiency(table, "curious", "random_switching")
     left, right = fig.axes
     assert "Wilcoxon signed-rank p = 1 (Holm; n = 3 pairs)" in left.get_title()
     hollow = [c for c in left.collections if isinstance(c, PathCollection) and len(c.get_offsets())
