@@ -35,3 +35,16 @@ def test_dir_and_an_unknown_name_do_not_import_matplotlib():
             "sorted(m for m in ('matplotlib', 'seaborn', 'statsmodels.api') if m in sys.modules))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "True False []"
+
+
+def test_no_import_circle_in_the_analysis():
+    """No module of the analysis imports, through others, itself; imports inside functions count
+    (grimp reads every import statement)."""
+    import grimp
+    import networkx as nx
+
+    graph = grimp.build_graph("neurocur")
+    edges = nx.DiGraph([(m, n) for m in graph.modules if m.startswith("neurocur.analysis")
+                        for n in graph.find_modules_directly_imported_by(m) if n.startswith("neurocur.analysis")])
+    assert list(nx.simple_cycles(edges)) == []
+    assert ("neurocur.analysis.figures.sets", "neurocur.analysis.figures.icub") not in edges.edges  # sets know no world
