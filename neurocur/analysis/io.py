@@ -16,6 +16,7 @@ from neurocur.contexts.base import SourceSpec
 from neurocur.results import ResultsStore, load, run_dirs
 
 from .results import Results, source_specs
+from .stats.efficiency import censoring_horizon
 from .stats.report import order_table, paired_test_rows, summary
 
 __all__ = ["load", "run_dirs", "source_specs", "order_tables", "throughput", "write_summary"]
@@ -32,16 +33,20 @@ def order_tables(
     paired tests of ``reference`` (default: the first condition of the folder's
     ``config.toml`` that has runs) against every other shown condition with the same world's
     sources, the efficiency metrics and the order metrics each Holm-adjusted as one family;
-    each row names its test and adjustment. ``tables``: the folder's ``(episodes, modules)``
-    when already loaded (:func:`load`), so that they are not read again.
+    each row names its test and adjustment. The frames to learn all of every shown condition and
+    their tests are censored at one cut-off, the shortest run of the shown conditions.
+    ``tables``: the folder's ``(episodes, modules)`` when already loaded (:func:`load`), so that
+    they are not read again.
     """
     results = Results.load(results_dir, tables=tables)
     specs = {c: s for c, s in results.specs.items() if conditions is None or c in conditions}
-    table = pd.concat([order_table(results.select([condition])) for condition in specs], axis=1)
+    horizon = censoring_horizon(results.select(specs))
+    table = pd.concat([order_table(results.select([condition]), horizon=horizon) for condition in specs], axis=1)
     table = table.loc[:, ~table.columns.duplicated()]
     reference = next(iter(specs), None) if reference is None else reference
     if tests and reference in specs:
-        rows = paired_test_rows(results.select([c for c, s in specs.items() if s == specs[reference]]), reference)
+        group = results.select([c for c, s in specs.items() if s == specs[reference]])
+        rows = paired_test_rows(group, reference, horizon=horizon)
         if len(rows):
             table = pd.concat([table, rows.reindex(columns=table.columns, fill_value="—")])
     return table

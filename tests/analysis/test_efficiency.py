@@ -11,6 +11,7 @@ import pytest
 from neuro_tables import episodes_of, modules_of, results_of, runs_of
 
 from neurocur.analysis import (
+    Results,
     compare_efficiency,
     efficiency_per_run,
     efficiency_summary,
@@ -115,7 +116,7 @@ def test_bad_input_is_named(tables):
         efficiency_summary(efficiency_per_run(results_of(*tables)).drop(columns="learned_all"))
 
 
-FRAMES_ROW = "frames to learn all (censored at the run length) vs curious: Wilcoxon signed-rank p (paired; Holm, 4 tests)"
+FRAMES_ROW = "frames to learn all (censored at 6.0k frames, the shortest run) vs curious: Wilcoxon signed-rank p (paired; Holm, 4 tests)"
 
 
 def test_the_order_table_reports_the_efficiency(tables, results_dir):
@@ -137,3 +138,35 @@ def test_the_summary_reports_the_efficiency(tables):
     assert restricted["mean"] == pytest.approx((14300 + 6000) / 4)
     frames = next(r for r in result["comparisons"] if r["metric"] == "frames_to_learn_all_censored")
     assert frames["p_value"] == pytest.approx(0.25) and frames["n_tests"] == 4 and frames["b"] == "random_switching"
+
+
+def _uneven_folder(write_folder, path):
+    """Three runs per condition: ``a`` learns S-A, S-B and S-C by episode 20, 30, 40 of its runs, which
+    end at 6000 frames; ``b`` learns nothing and its runs end one visit later, at 6100 frames."""
+    runs = {}
+    for condition, n in (("a", 60), ("b", 61)):
+        runs[condition] = []
+        for run in range(3):
+            episodes = episodes_of(CYCLE[:n] if n <= len(CYCLE) else CYCLE + CYCLE[:n - len(CYCLE)],
+                                   familiar=False, module_learned=False, n_modules=0, error=1.0, da=0.0)
+            stored = [(10 + 10 * run, "S-A"), (15 + 10 * run, "S-B"), (20 + 10 * run, "S-C")] if condition == "a" else []
+            modules = modules_of(stored).assign(gates="")
+            runs[condition].append((episodes.drop(columns=["condition", "run"]),
+                                    modules.drop(columns=["condition", "run"])))
+    return write_folder(path, runs, alphas={}, control="b")
+
+
+def test_the_printed_table_censors_every_condition_at_one_cut_off(write_folder, tmp_path):
+    """The cells of each condition and the test between them use the same cut-off, the shortest run
+    of the conditions compared (6000 frames), which the rows name."""
+    folder = _uneven_folder(write_folder, tmp_path / "uneven")
+    table = order_tables(folder)
+    row = "frames to learn all (censored at 6.0k frames, the shortest run): mean ± sd"
+    assert table.loc[row, "b"] == "6.0k ± 0.0k"           # b's own runs are 6.1k long: censored at a's 6.0k
+    assert table.loc[row, "a"] == "3.1k ± 1.0k"
+    tests = [label for label in table.index if label.startswith("frames to learn all (censored at 6.0k frames")]
+    assert len(tests) == 2                                    # the cells and the test name the same cut-off
+    efficiency = efficiency_per_run(Results.load(folder))
+    assert set(efficiency["horizon"]) == {6000.0}
+    with pytest.raises(ValueError, match="horizon 6100 is past the shortest run"):
+        efficiency_per_run(Results.load(folder), horizon=6100)

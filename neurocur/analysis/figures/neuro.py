@@ -184,16 +184,16 @@ def fig_efficiency(table: pd.DataFrame, a: str, b: str) -> Figure:
     """How efficiently ``a`` and ``b`` learn, paired by run (:func:`~neurocur.analysis.stats.efficiency.efficiency_per_run`).
 
     Left: frames until every learnable source is learned; a run that did not is drawn hollow
-    at the horizon (the dashed line), where it is censored. Right: frames in the unlearnable
+    at the table's cut-off (its ``horizon``, the dashed line), where it is censored. Right: frames in the unlearnable
     contexts. A grey line joins the two runs of a seed. Each title gives the paired test of
     :func:`~neurocur.analysis.stats.efficiency.compare_efficiency` (Holm-adjusted p).
     """
-    require_columns(table, ["condition", "run", "learned_all", "frames_to_learn_all_censored", "frames_unlearnable"],
-                    needed_by="fig_efficiency")
+    require_columns(table, ["condition", "run", "learned_all", "frames_to_learn_all_censored", "frames_unlearnable",
+                            "horizon"], needed_by="fig_efficiency")
     tests = compare_efficiency(table, a, b).set_index("metric")
     pairs = table[table["condition"].isin([a, b])].pivot(index="run", columns="condition")
     pairs = pairs.dropna(subset=[("frames_to_learn_all_censored", a), ("frames_to_learn_all_censored", b)])
-    horizon = table["frames_to_learn_all_censored"].max()
+    horizon = table["horizon"].iloc[0]
     with style():
         fig, axes = figure(1, 2, figsize=(9.0, 4.0))
         for ax, metric, label in ((axes[0, 0], "frames_to_learn_all_censored", "frames to learn all learnable sources"),

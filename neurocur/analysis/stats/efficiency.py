@@ -14,9 +14,10 @@ Definitions, per run (:func:`efficiency_per_run`):
   episode that stored the module completing the learnable sources; NaN when the run ended
   first (``learned_all`` false: the time is right-censored at the run length).
 * **Censored rule.** ``frames_to_learn_all_censored`` is min(frames to learn all, T), and T
-  when not all were learned, where the horizon T is the shortest run of the table (a run
-  ends at the first visit boundary past the requested frames, so runs differ by less than a
-  visit). Every run is censored at the same T, so the sign of each paired difference is
+  when not all were learned, where the horizon T is the shortest run of the conditions compared
+  (:func:`censoring_horizon`; a run ends at the first visit boundary past the requested frames,
+  so runs differ by less than a visit). Every run is censored at the same T, in every table and
+  figure that compares them (the order table names it), so the sign of each paired difference is
   right (a run that learned all beats its twin that did not) and two censored twins tie
   (difference 0, dropped by the Wilcoxon signed-rank test: the paired form of Gehan's 1965
   generalised Wilcoxon test). The magnitude of a difference with a censored twin is a lower
@@ -48,7 +49,7 @@ from .comparison import compare
 from .dwell import run_keys
 from .order import clopper_pearson
 
-__all__ = ["EFFICIENCY_TESTS", "efficiency_per_run", "efficiency_summary", "compare_efficiency"]
+__all__ = ["EFFICIENCY_TESTS", "censoring_horizon", "efficiency_per_run", "efficiency_summary", "compare_efficiency"]
 
 #: The per-run metrics of :func:`efficiency_per_run` that :func:`compare_efficiency` tests, in order.
 EFFICIENCY_TESTS = ("frames_to_learn_all_censored", "learned_all", "frames_unlearnable", "modules_per_1e5")
@@ -93,14 +94,24 @@ def _run_row(eps: pd.DataFrame, mods: pd.DataFrame | None, spec: SourceSpec) -> 
             "n_modules": len(stored), "modules_per_1e5": len(stored) / n_steps * 1e5 if n_steps else math.nan}
 
 
-def efficiency_per_run(results: Results) -> pd.DataFrame:
+def censoring_horizon(results: Results) -> float:
+    """The frames of the shortest run of ``results``: the common cut-off T of the censored times."""
+    frames = results.episodes.groupby(["condition", "run"])["n_frames"].sum()
+    return float(frames.min()) if len(frames) else math.nan
+
+
+def efficiency_per_run(results: Results, *, horizon: float | None = None) -> pd.DataFrame:
     """One row per (condition, run): how efficiently the run learned (see the module docstring).
+
+    ``horizon``: the cut-off T of ``frames_to_learn_all_censored`` (default: the shortest run of
+    ``results``, :func:`censoring_horizon`; never past it: a shorter run cannot say whether it
+    would have learned all by then); it is the ``horizon`` column.
 
     Every run of the episodes table has a row. Columns: condition, run, the swept keys of a
     sweep, n_steps (frames), n_learned (learnable sources learned), learned_all (bool),
     learned_all_episode (the storing episode; NaN), frames_to_learn_all (NaN when not all),
-    frames_to_learn_all_censored (censored at the table's shortest run), frames_unlearnable,
-    share_unlearnable, n_modules, modules_per_1e5.
+    frames_to_learn_all_censored (censored at ``horizon``), frames_unlearnable,
+    share_unlearnable, n_modules, modules_per_1e5, horizon.
     """
     episodes, modules = results.episodes, results.modules
     require_efficiency_columns(episodes, modules, needed_by="efficiency_per_run")
@@ -112,10 +123,15 @@ def efficiency_per_run(results: Results) -> pd.DataFrame:
         rows.append({**row, **_run_row(eps, by_run.get((condition, run)), results.spec_of(condition))})
     columns = [*keys, "n_steps", "n_learned", "learned_all", "learned_all_episode", "frames_to_learn_all",
                "frames_to_learn_all_censored", "frames_unlearnable", "share_unlearnable", "n_modules",
-               "modules_per_1e5"]
-    table = pd.DataFrame(rows, columns=[c for c in columns if c != "frames_to_learn_all_censored"])
-    horizon = float(table["n_steps"].min()) if len(table) else math.nan
+               "modules_per_1e5", "horizon"]
+    table = pd.DataFrame(rows, columns=[c for c in columns if c not in ("frames_to_learn_all_censored", "horizon")])
+    shortest = float(table["n_steps"].min()) if len(table) else math.nan
+    if horizon is None:
+        horizon = shortest
+    elif not horizon <= shortest:
+        raise ValueError(f"efficiency_per_run: the horizon {horizon:g} is past the shortest run ({shortest:g} frames)")
     table["frames_to_learn_all_censored"] = table["frames_to_learn_all"].clip(upper=horizon).fillna(horizon)
+    table["horizon"] = float(horizon)
     return table[columns].astype({"learned_all": bool})
 
 

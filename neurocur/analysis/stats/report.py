@@ -25,7 +25,7 @@ from neurocur.contexts.synthetic import SYNTHETIC
 from .bootstrap import BOOTSTRAP_SEED, N_BOOT
 from .comparison import ADJUSTMENT_NAMES, adjustment, compare_conditions
 from .dwell import engagement_summary
-from .efficiency import EFFICIENCY_LABELS, EFFICIENCY_TESTS, efficiency_per_run, efficiency_summary
+from .efficiency import EFFICIENCY_LABELS, EFFICIENCY_TESTS, censoring_horizon, efficiency_per_run, efficiency_summary
 from .learning_time import learning_time_summary, require_learning_columns
 from .order import condition_summary, order_counts, outcome_labels, per_run, require_order_columns
 from .significance import TESTS
@@ -48,8 +48,10 @@ def _frames(value: float) -> str:
     return "—" if math.isnan(value) else f"{value / 1000:.1f}k"
 
 
-def _efficiency_labels(spec: SourceSpec) -> dict[str, str]:
+def _efficiency_labels(spec: SourceSpec, horizon: float | None = None) -> dict[str, str]:
     labels = dict(EFFICIENCY_LABELS)
+    if horizon is not None:
+        labels["frames_to_learn_all_censored"] = f"frames to learn all (censored at {_frames(horizon)} frames, the shortest run)"
     if spec.unlearnable:
         labels["frames_unlearnable"] += f" ({'/'.join(spec.unlearnable)})"
     return labels
@@ -57,7 +59,7 @@ def _efficiency_labels(spec: SourceSpec) -> dict[str, str]:
 
 def _efficiency_cells(runs: pd.DataFrame, spec: SourceSpec) -> dict[str, str]:
     """The order table's efficiency cells of one condition's :func:`efficiency_per_run` rows, by label."""
-    labels = _efficiency_labels(spec)
+    labels = _efficiency_labels(spec, runs["horizon"].iloc[0] if len(runs) else None)
     did = runs["frames_to_learn_all"].dropna()
     censored, unlearnable = runs["frames_to_learn_all_censored"], runs["frames_unlearnable"].astype(float)
     return {
@@ -100,7 +102,8 @@ def comparison_rows(
     if reference not in conditions or len(conditions) < 2:
         return pd.DataFrame(columns=conditions, dtype=object)
     tests = compare_conditions(runs, reference, metric=list(metrics), adjust=adjust)
-    labels = {**_NUMERIC_LABELS, **_efficiency_labels(spec), **outcome_labels(spec)}
+    horizon = runs["horizon"].iloc[0] if "horizon" in runs and len(runs) else None
+    labels = {**_NUMERIC_LABELS, **_efficiency_labels(spec, horizon), **outcome_labels(spec)}
     adjusted = ADJUSTMENT_NAMES[adjustment(adjust) or "none"][0]
     n_tests = int(tests["n_tests"].iloc[0])
     out: dict[str, dict[str, str]] = {}
@@ -123,12 +126,15 @@ def paired_test_rows(
     reference: str,
     *,
     adjust: str | None = "holm",
+    horizon: float | None = None,
 ) -> pd.DataFrame:
     """The order table's test rows (:func:`comparison_rows`) against ``reference``, two families
-    each adjusted on its own: the efficiency metrics (:data:`~neurocur.analysis.stats.efficiency.EFFICIENCY_TESTS`),
-    then the order metrics (:data:`TABLE_TESTS`)."""
+    each adjusted on its own: the efficiency metrics (:data:`~neurocur.analysis.stats.efficiency.EFFICIENCY_TESTS`,
+    censored at ``horizon``, by default the shortest run of ``results``), then the order metrics
+    (:data:`TABLE_TESTS`)."""
     spec = results.spec
-    blocks = [comparison_rows(efficiency_per_run(results), reference, spec, metrics=EFFICIENCY_TESTS, adjust=adjust),
+    efficiency = efficiency_per_run(results, horizon=horizon)
+    blocks = [comparison_rows(efficiency, reference, spec, metrics=EFFICIENCY_TESTS, adjust=adjust),
               comparison_rows(per_run(results), reference, spec, adjust=adjust)]
     return pd.concat(blocks)
 
@@ -138,6 +144,7 @@ def order_table(
     *,
     reference: str | None = None,
     adjust: str | None = "holm",
+    horizon: float | None = None,
 ) -> pd.DataFrame:
     """The compact per-condition table printed by the CLI, beside the paper's numbers.
 
@@ -146,7 +153,10 @@ def order_table(
     learned every learnable source, frames until then, frames in the unlearnable contexts,
     modules per 10⁵ frames), learning time per learnable source (epochs, mean ± sd); with a
     ``reference`` condition, then the paired tests against it (:func:`paired_test_rows`: the
-    efficiency metrics, then :data:`TABLE_TESTS`; each row names its test and adjustment).
+    efficiency metrics, then :data:`TABLE_TESTS`; each row names its test and adjustment). The
+    frames to learn all of every condition and their test are censored at one cut-off, named in
+    the rows: ``horizon``, by default the shortest run of ``results``
+    (:func:`~neurocur.analysis.stats.efficiency.censoring_horizon`).
     The conditions must share one world's sources (:attr:`~neurocur.analysis.results.Results.spec`).
     Columns: "paper" (curious agent, :data:`~neurocur.analysis.paper.SYNTHETIC_CURIOUS`),
     "paper (random)" (:data:`~neurocur.analysis.paper.SYNTHETIC_RANDOM`), then one column
@@ -159,6 +169,7 @@ def order_table(
     means = condition_summary(results).set_index(["condition", "metric"])
     times = learning_time_summary(results).set_index(["condition", "source"])
     conditions = results.conditions
+    horizon = censoring_horizon(results) if horizon is None else horizon
     table: dict[str, dict[str, str]] = {}
     for row in counts.itertuples(index=False):
         table.setdefault(row.outcome, {})[row.condition] = f"{row.k}/{row.n}"
@@ -167,7 +178,7 @@ def order_table(
         for condition in conditions:
             m = means.loc[(condition, metric)]
             table.setdefault(label, {})[condition] = _mean_sd(m["mean"], m["sd"])
-    efficiency = efficiency_per_run(results)
+    efficiency = efficiency_per_run(results, horizon=horizon)
     for condition in conditions:
         for label, cell in _efficiency_cells(efficiency[efficiency["condition"] == condition], spec).items():
             table.setdefault(label, {})[condition] = cell
@@ -179,7 +190,7 @@ def order_table(
                 cell if cell == "—" else f"{cell} (n={int(t['n'])})")
     curious, random = (paper.SYNTHETIC_CURIOUS, paper.SYNTHETIC_RANDOM) if spec == SYNTHETIC else ({}, {})
     if reference is not None:
-        table.update(paired_test_rows(results, reference, adjust=adjust).to_dict("index"))
+        table.update(paired_test_rows(results, reference, adjust=adjust, horizon=horizon).to_dict("index"))
     out = pd.DataFrame(
         [{"paper": _paper_cell(curious, label), "paper (random)": _paper_cell(random, label), **cells}
          for label, cells in table.items()],
@@ -217,7 +228,8 @@ def summary(
 
     Keys: ``n_runs`` (per condition), ``order_counts``, ``metrics`` (mean/sd per condition),
     ``learning_time`` (epochs per learnable source), ``efficiency`` (per condition and metric:
-    :func:`~neurocur.analysis.stats.efficiency.efficiency_summary`; and ``comparisons``, ``reference``
+    :func:`~neurocur.analysis.stats.efficiency.efficiency_summary`, the censored frames to learn all
+    cut at ``horizon``, the shortest run; and ``comparisons``, ``reference``
     against every other condition on :data:`~neurocur.analysis.stats.efficiency.EFFICIENCY_TESTS`,
     adjusted as their own family), ``engagement`` (per condition and context: share of frames
     and mean dwell per visit, :func:`~neurocur.analysis.stats.dwell.engagement_summary`),
@@ -247,7 +259,8 @@ def summary(
         "order_counts": order_counts(results).to_dict("records"),
         "metrics": condition_summary(results).to_dict("records"),
         "learning_time": learning_time_summary(results).to_dict("records"),
-        "efficiency": {"summary": efficiency_summary(efficiency, n_boot=n_boot, seed=seed).to_dict("records"),
+        "efficiency": {"horizon": censoring_horizon(results),
+                       "summary": efficiency_summary(efficiency, n_boot=n_boot, seed=seed).to_dict("records"),
                        "comparisons": efficiency_tests.to_dict("records")},
         "engagement": engagement_summary(results.episodes, results.spec, n_boot=n_boot, seed=seed).to_dict("records"),
         "comparisons": comparisons.to_dict("records"),
