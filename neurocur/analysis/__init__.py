@@ -19,6 +19,8 @@ tables (through :class:`neurocur.results.ResultsStore`), each condition's source
 - :mod:`~neurocur.analysis.stats.sweeps` — every sweep point against a reference point, every
   condition against a reference condition at each point;
 - :mod:`~neurocur.analysis.stats.report` — the order table beside the paper's numbers, and the summary;
+- :mod:`~neurocur.analysis.stats.degenerate` — conditions whose runs repeat another's, left out of
+  the comparisons;
 - :mod:`~neurocur.analysis.stats.dwell` — visits, dwell per context, occupancy over time, the share
   of frames in chosen contexts after an event;
 - :mod:`~neurocur.analysis.stats.efficiency` — frames until every learnable source is learned, frames
@@ -59,6 +61,7 @@ from neurocur.analysis.stats import (
     bootstrap,
     comparison,
     cycles,
+    degenerate,
     dwell,
     efficiency,
     event_locked,
@@ -71,6 +74,7 @@ from neurocur.analysis.stats import (
 from neurocur.analysis.stats.bootstrap import *  # noqa: F403
 from neurocur.analysis.stats.comparison import *  # noqa: F403
 from neurocur.analysis.stats.cycles import *  # noqa: F403
+from neurocur.analysis.stats.degenerate import *  # noqa: F403
 from neurocur.analysis.stats.dwell import *  # noqa: F403
 from neurocur.analysis.stats.efficiency import *  # noqa: F403
 from neurocur.analysis.stats.event_locked import *  # noqa: F403
@@ -85,7 +89,7 @@ from neurocur.contexts.synthetic import SYNTHETIC as SYNTHETIC
 _EAGER = ["load", "order_tables", "run_dirs", "source_specs", "throughput", "write_summary", "Results", "SourceSpec",
           "SYNTHETIC", *order.__all__, *learning_time.__all__, *comparison.__all__, *significance.__all__,
           *bootstrap.__all__, *sweeps.__all__, *report.__all__, *dwell.__all__, *efficiency.__all__,
-          *event_locked.__all__, *cycles.__all__]
+          *event_locked.__all__, *cycles.__all__, *degenerate.__all__]
 
 #: Re-exported, but imported on first use (PEP 562): they import matplotlib, seaborn or
 #: statsmodels' full API (about 1.5 s), which loading results and writing a summary do not need.

@@ -24,7 +24,7 @@ __all__ = ["load", "run_dirs", "source_specs", "order_tables", "throughput", "wr
 
 def order_tables(
     results_dir: str | Path, conditions=None, *, reference: str | None = None, tests: bool = True,
-    tables: tuple[pd.DataFrame, pd.DataFrame] | None = None,
+    tables: tuple[pd.DataFrame, pd.DataFrame] | None = None, exclude_degenerate: bool = True,
 ) -> pd.DataFrame:
     """The order table (:func:`~neurocur.analysis.stats.report.order_table`) of every condition
     (or of ``conditions``), each with its own world's sources, side by side.
@@ -33,7 +33,8 @@ def order_tables(
     paired tests of ``reference`` (default: the first condition of the folder's
     ``config.toml`` that has runs) against every other shown condition with the same world's
     sources, the efficiency metrics and the order metrics each Holm-adjusted as one family;
-    each row names its test and adjustment. The frames to learn all of every shown condition and
+    each row names its test and adjustment; a degenerate condition (its runs repeat another's) is
+    left out of them unless ``exclude_degenerate`` is false, and a row says so. The frames to learn all of every shown condition and
     their tests are censored at one cut-off, the shortest run of the shown conditions.
     ``tables``: the folder's ``(episodes, modules)`` when already loaded (:func:`load`), so that
     they are not read again.
@@ -46,7 +47,7 @@ def order_tables(
     reference = next(iter(specs), None) if reference is None else reference
     if tests and reference in specs:
         group = results.select([c for c, s in specs.items() if s == specs[reference]])
-        rows = paired_test_rows(group, reference, horizon=horizon)
+        rows = paired_test_rows(group, reference, horizon=horizon, exclude_degenerate=exclude_degenerate)
         if len(rows):
             table = pd.concat([table, rows.reindex(columns=table.columns, fill_value="—")])
     return table

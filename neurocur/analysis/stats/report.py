@@ -24,16 +24,19 @@ from neurocur.contexts.synthetic import SYNTHETIC
 
 from .bootstrap import BOOTSTRAP_SEED, N_BOOT
 from .comparison import ADJUSTMENT_NAMES, adjustment, compare_conditions
+from .degenerate import degenerate_conditions
 from .dwell import engagement_summary
 from .efficiency import EFFICIENCY_LABELS, EFFICIENCY_TESTS, censoring_horizon, efficiency_per_run, efficiency_summary
 from .learning_time import learning_time_summary, require_learning_columns
 from .order import condition_summary, order_counts, outcome_labels, per_run, require_order_columns
 from .significance import TESTS
 
-__all__ = ["TABLE_TESTS", "order_table", "comparison_rows", "paired_test_rows", "summary"]
+__all__ = ["TABLE_TESTS", "DEGENERATE_NOTE", "order_table", "comparison_rows", "paired_test_rows", "summary"]
 
 #: The per-run metrics whose paired test against the reference condition the order table shows.
 TABLE_TESTS = ("exact_order", "gated_sources")
+#: The order table's row that names the degenerate conditions left out of its tests.
+DEGENERATE_NOTE = "left out of the tests: its runs repeat another condition's, run for run"
 _NUMERIC_LABELS = {"n_modules": "modules per run", "n_learned": "learnable sources learned",
                    "gated_sources": "learnable sources gated", "kendall_tau": "Kendall τ vs Ω"}
 
@@ -86,10 +89,11 @@ def comparison_rows(
     *,
     metrics=TABLE_TESTS,
     adjust: str | None = "holm",
+    leave_out=(),
 ) -> pd.DataFrame:
     """The order table's test rows: ``reference`` against every other condition of the
-    :func:`~neurocur.analysis.stats.order.per_run` table ``runs``, paired by run, one row per metric;
-    ``spec``: the sources of their world, which name the metrics.
+    :func:`~neurocur.analysis.stats.order.per_run` table ``runs`` but those of ``leave_out``, paired
+    by run, one row per metric; ``spec``: the sources of their world, which name the metrics.
 
     A row's label names the metric, the reference, the test and the adjustment, e.g.
     "learnable sources gated vs A: Wilcoxon signed-rank p (paired; Holm, 4 tests)";
@@ -99,9 +103,10 @@ def comparison_rows(
     conditions of ``runs``. Empty without ``reference`` or another condition.
     """
     conditions = sorted(runs["condition"].unique())
-    if reference not in conditions or len(conditions) < 2:
+    others = [c for c in conditions if c != reference and c not in leave_out]
+    if reference not in conditions or not others:
         return pd.DataFrame(columns=conditions, dtype=object)
-    tests = compare_conditions(runs, reference, metric=list(metrics), adjust=adjust)
+    tests = compare_conditions(runs, reference, others, metric=list(metrics), adjust=adjust)
     horizon = runs["horizon"].iloc[0] if "horizon" in runs and len(runs) else None
     labels = {**_NUMERIC_LABELS, **_efficiency_labels(spec, horizon), **outcome_labels(spec)}
     adjusted = ADJUSTMENT_NAMES[adjustment(adjust) or "none"][0]
@@ -127,15 +132,23 @@ def paired_test_rows(
     *,
     adjust: str | None = "holm",
     horizon: float | None = None,
+    exclude_degenerate: bool = True,
 ) -> pd.DataFrame:
     """The order table's test rows (:func:`comparison_rows`) against ``reference``, two families
     each adjusted on its own: the efficiency metrics (:data:`~neurocur.analysis.stats.efficiency.EFFICIENCY_TESTS`,
     censored at ``horizon``, by default the shortest run of ``results``), then the order metrics
-    (:data:`TABLE_TESTS`)."""
+    (:data:`TABLE_TESTS`). With ``exclude_degenerate`` (the default), a condition whose runs repeat
+    another's (:func:`~neurocur.analysis.stats.degenerate.degenerate_conditions`) is left out of
+    both families, and a last row, :data:`DEGENERATE_NOTE`, names the condition it repeats."""
     spec = results.spec
+    degenerate = degenerate_conditions(results) if exclude_degenerate else {}
     efficiency = efficiency_per_run(results, horizon=horizon)
-    blocks = [comparison_rows(efficiency, reference, spec, metrics=EFFICIENCY_TESTS, adjust=adjust),
-              comparison_rows(per_run(results), reference, spec, adjust=adjust)]
+    blocks = [comparison_rows(efficiency, reference, spec, metrics=EFFICIENCY_TESTS, adjust=adjust,
+                              leave_out=degenerate),
+              comparison_rows(per_run(results), reference, spec, adjust=adjust, leave_out=degenerate)]
+    if degenerate:
+        note = {c: f"= {degenerate[c]}" if c in degenerate else "—" for c in results.conditions}
+        blocks.append(pd.DataFrame([note], index=pd.Index([DEGENERATE_NOTE], name="outcome")))
     return pd.concat(blocks)
 
 
@@ -145,6 +158,7 @@ def order_table(
     reference: str | None = None,
     adjust: str | None = "holm",
     horizon: float | None = None,
+    exclude_degenerate: bool = True,
 ) -> pd.DataFrame:
     """The compact per-condition table printed by the CLI, beside the paper's numbers.
 
@@ -153,7 +167,8 @@ def order_table(
     learned every learnable source, frames until then, frames in the unlearnable contexts,
     modules per 10⁵ frames), learning time per learnable source (epochs, mean ± sd); with a
     ``reference`` condition, then the paired tests against it (:func:`paired_test_rows`: the
-    efficiency metrics, then :data:`TABLE_TESTS`; each row names its test and adjustment). The
+    efficiency metrics, then :data:`TABLE_TESTS`; each row names its test and adjustment; a
+    degenerate condition is left out of them unless ``exclude_degenerate`` is false, with a note). The
     frames to learn all of every condition and their test are censored at one cut-off, named in
     the rows: ``horizon``, by default the shortest run of ``results``
     (:func:`~neurocur.analysis.stats.efficiency.censoring_horizon`).
@@ -190,7 +205,8 @@ def order_table(
                 cell if cell == "—" else f"{cell} (n={int(t['n'])})")
     curious, random = (paper.SYNTHETIC_CURIOUS, paper.SYNTHETIC_RANDOM) if spec == SYNTHETIC else ({}, {})
     if reference is not None:
-        table.update(paired_test_rows(results, reference, adjust=adjust, horizon=horizon).to_dict("index"))
+        table.update(paired_test_rows(results, reference, adjust=adjust, horizon=horizon,
+                                      exclude_degenerate=exclude_degenerate).to_dict("index"))
     out = pd.DataFrame(
         [{"paper": _paper_cell(curious, label), "paper (random)": _paper_cell(random, label), **cells}
          for label, cells in table.items()],
@@ -218,6 +234,7 @@ def summary(
     results: Results,
     *,
     reference: str | None = None,
+    exclude_degenerate: bool = True,
     paired: bool = True,
     adjust: str | None = "holm",
     n_boot: int = N_BOOT,
@@ -234,11 +251,13 @@ def summary(
     adjusted as their own family), ``engagement`` (per condition and context: share of frames
     and mean dwell per visit, :func:`~neurocur.analysis.stats.dwell.engagement_summary`),
     ``comparisons`` (``reference`` against
-    every other condition, when both exist: :func:`~neurocur.analysis.stats.comparison.compare_conditions`,
+    every other condition but the degenerate ones (unless ``exclude_degenerate`` is false), when both exist: :func:`~neurocur.analysis.stats.comparison.compare_conditions`,
     each row with its ``test``, raw ``p_value``, ``p_adjusted`` and ``adjustment``) and
     ``statistics`` (how the comparisons were made: pairing, the tests by ``method`` code
     with their references, the adjustment with its reference and family size, the
-    bootstrap). NaN and infinities are written as null.
+    bootstrap, and ``degenerate``: each condition left out of the comparisons because its runs repeat
+    another's, :func:`~neurocur.analysis.stats.degenerate.degenerate_conditions`, with that other).
+    NaN and infinities are written as null.
     """
     require_order_columns(results.episodes, results.modules, needed_by="summary")
     require_learning_columns(results.episodes, results.modules, needed_by="summary")
@@ -247,10 +266,12 @@ def summary(
     conditions = sorted(runs["condition"].unique())
     efficiency = efficiency_per_run(results)
     comparisons, efficiency_tests = pd.DataFrame(), pd.DataFrame()
-    if reference in conditions and len(conditions) > 1:
-        comparisons = compare_conditions(runs, reference, paired=paired, adjust=adjust,
+    degenerate = degenerate_conditions(results) if exclude_degenerate else {}
+    others = [c for c in conditions if c != reference and c not in degenerate]
+    if reference in conditions and others:
+        comparisons = compare_conditions(runs, reference, others, paired=paired, adjust=adjust,
                                          n_boot=n_boot, seed=seed)
-        efficiency_tests = compare_conditions(efficiency, reference, metric=list(EFFICIENCY_TESTS),
+        efficiency_tests = compare_conditions(efficiency, reference, others, metric=list(EFFICIENCY_TESTS),
                                               paired=paired, adjust=adjust, n_boot=n_boot, seed=seed)
     adjusted = adjustment(adjust) or "none"
     methods = sorted(set(comparisons["method"])) if len(comparisons) else []
@@ -273,6 +294,7 @@ def summary(
                            "n_tests": int(comparisons["n_tests"].iloc[0]) if len(comparisons) else 0},
             "bootstrap": {"interval": "percentile (Efron & Tibshirani 1993)", "n_boot": n_boot,
                           "confidence": 0.95, "seed": seed},
+            "degenerate": degenerate,
         },
     }
     return _json_safe(result)
