@@ -9,6 +9,7 @@ runs and steps, the root seed, parameter overrides and, optionally, conditions::
     runs = 25
     steps = 350000                            # frames per run
     seed = 2013
+    control = "random_switching"              # optional: the conditions' control (see below)
 
     [world]                                   # neurocur.contexts.synthetic.SyntheticWorld
     contexts = ["S-A", "S-A", "S-B", "S-C", "S-D"]
@@ -18,7 +19,6 @@ runs and steps, the root seed, parameter overrides and, optionally, conditions::
     [params]                                  # "REGION.param" overrides of the circuit
     "HPC.threshold" = 0.3
 
-    control = "random_switching"              # optional: the conditions' control (see below)
     [conditions.curious]                      # a condition: overrides and/or a circuit variant
     [conditions.random_switching]
     circuit = "lesion_lc_random"
