@@ -1,7 +1,7 @@
 """The ``neurocur`` command: run experiments, draw their figures, measure Ω, show invariance.
 
 A thin layer: it parses arguments and calls :mod:`neurocur.experiments`,
-:mod:`neurocur.analysis` (and :mod:`neurocur.analysis.invariance`) and
+:mod:`neurocur.analysis` (and :mod:`neurocur.experiments.invariance`) and
 :mod:`neurocur.learn.omega`.
 Every user-facing error (arguments, configuration, a results folder that cannot be
 written or resumed, unreadable files) is printed as one line naming what was wrong and
@@ -181,10 +181,11 @@ def _cmd_run(args) -> int:
 
         tables = ResultsStore(out).load()
         write_summary(out, tables=tables)
-        from neurocur.analysis.validation import write_validation  # the canonical tasks' figures (docs/validation.md)
+        if any(condition.world_class.figures_after_run for condition in exp.conditions.values()):
+            from neurocur.analysis.figures import write_all  # a small task's figures (docs/validation.md)
 
-        for path in write_validation(out):
-            print(path)
+            for path in write_all(out):
+                print(path)
     print(f"results: {out}")
     with pd.option_context("display.width", 200, "display.max_columns", None):
         print(order_tables(out, conditions=list(exp.conditions), tables=tables).to_string())
@@ -192,7 +193,7 @@ def _cmd_run(args) -> int:
 
 
 def _cmd_figures(args) -> int:
-    from neurocur.analysis.write import write_all
+    from neurocur.analysis.figures.sets import write_all
 
     if args.out is not None:
         _check_writable_folder(Path(args.out), "--out")
@@ -245,15 +246,16 @@ def _cmd_omega(args) -> int:
 
 
 def _cmd_invariance(args) -> int:
-    from neurocur.analysis.invariance import load_invariance, write_invariance
+    from neurocur.analysis.figures.invariance import save_invariance
+    from neurocur.experiments.invariance import load_invariance, write_invariance
     from neurocur.experiments.spec import resolve_experiment
 
     spec = load_invariance(resolve_experiment(args.experiment))
     out = Path(args.out) if args.out else Path("results") / spec.name
-    demo, paths = write_invariance(spec, out)
+    demo, result = write_invariance(spec, out)
     print(f"{spec.source}: corr = {demo.corr:.5f} (first feature before/after the swap), "
           f"quality = {demo.quality:.5f} (|corr| with the slow source dimension)")
-    for path in paths:
+    for path in (save_invariance(demo, out), result):
         print(path)
     return 0
 

@@ -219,6 +219,10 @@ class World(ABC):
     #: world checks what it renders, once): :meth:`reset`, :meth:`step` and :meth:`visits` then
     #: skip :func:`conform_frames`, a pass over every episode's frames.
     frames_conform: ClassVar[bool] = False
+    #: True for a small task whose experiments are read through their figures (the canonical tasks of
+    #: docs/validation.md): ``neurocur run`` then draws the folder's figures after its runs, as
+    #: ``neurocur figures`` would.
+    figures_after_run: ClassVar[bool] = False
     #: The extrinsic reward of each visit (:mod:`.rewards`); None pays 0.0. Subclasses set it
     #: from their parameters' ``rewards`` (``Rewards.of(params.rewards)``).
     rewards: Rewards | None = None

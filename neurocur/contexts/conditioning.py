@@ -53,6 +53,8 @@ class ConditioningParams:
 class ConditioningWorld(World):
     """Trials of Pavlovian conditioning with a delayed reward (module docstring)."""
 
+    figures_after_run = True
+
     Params = ConditioningParams
     frames_conform = True
     frame_shape = (1, 3)

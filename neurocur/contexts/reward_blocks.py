@@ -47,6 +47,8 @@ class RewardBlocksParams(SyntheticParams):
 class RewardBlocksWorld(SyntheticWorld):
     """The synthetic world whose contexts pay by blocks of visits (module docstring)."""
 
+    figures_after_run = True
+
     Params = RewardBlocksParams
 
     @classmethod

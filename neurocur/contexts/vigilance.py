@@ -51,6 +51,8 @@ class VigilanceParams:
 class VigilanceWorld(World):
     """Trials of a target-detection task (module docstring); ``source_names`` = ("target task",)."""
 
+    figures_after_run = True
+
     Params = VigilanceParams
     frames_conform = True
     frame_shape = (1, 2)

@@ -26,7 +26,8 @@ from neurocur.tables import check_keys, load_toml, require, resolve_file
 
 __all__ = ["Layer", "OWN_KEYS", "last_with", "read_layers"]
 
-TOP_KEYS = ("extends", "name", "description", "circuit", "runs", "steps", "seed", "world", "params", "sweep", "conditions")
+TOP_KEYS = ("extends", "name", "description", "circuit", "runs", "steps", "seed", "world", "params", "sweep", "conditions",
+            "control")
 #: keys that describe one file and are not inherited from the file it extends
 OWN_KEYS = ("name", "description")
 

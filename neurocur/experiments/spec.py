@@ -9,6 +9,7 @@ runs and steps, the root seed, parameter overrides and, optionally, conditions::
     runs = 25
     steps = 350000                            # frames per run
     seed = 2013
+    control = "random_switching"              # optional: the conditions' control (see below)
 
     [world]                                   # neurocur.contexts.synthetic.SyntheticWorld
     contexts = ["S-A", "S-A", "S-B", "S-C", "S-D"]
@@ -37,7 +38,13 @@ of a circuit shipped in ``neurocur/circuits/`` (:func:`neurocur.tables.resolve_f
 A file may extend another, ``extends = "synthetic"``, and state only what differs
 (:mod:`neurocur.experiments.files`: what is inherited, merged or replaced).
 
-Without a ``[conditions]`` table there is one condition, ``default``. Command-line
+Without a ``[conditions]`` table there is one condition, ``default``. ``control`` names the
+condition the others are a test against (e.g. random switching, section 4.3); it goes with the
+``[conditions]`` table: a file that extends another inherits its control with its conditions (and
+may name another of them), a file with conditions of its own has only the control it names. It is
+recorded in ``config.toml``, where the analysis reads it (the efficiency figure of the first
+condition against the control, :mod:`neurocur.analysis.figures.sets`). The first condition is the
+reference of every comparison. Command-line
 ``--set KEY=VALUE`` settings (values are TOML literals; a bare word is a string) win
 over the file and over every condition: ``runs``, ``steps``, ``seed``, ``circuit``,
 ``world.KEY`` or ``REGION.param``.
@@ -119,6 +126,7 @@ class Experiment:
     steps: int
     seed: int | None
     conditions: dict[str, Condition]
+    control: str | None = None
 
     def run_seed(self, run: int) -> np.random.SeedSequence:
         """The seed of run ``run`` (the same for every condition: paired comparison)."""
@@ -167,6 +175,7 @@ class Experiment:
                 "spawn_keys": [list(self.run_seed(i).spawn_key) for i in range(self.runs)],
             },
             "conditions": conditions,
+            **({"control": self.control} if self.control is not None else {}),
         }
 
 
@@ -215,6 +224,12 @@ def load_experiment(path, *, sets: Sequence[str] = (), runs: int | None = None, 
                              expected="a table of condition tables", default={})
     if not raw_conditions:
         raw_conditions = {DEFAULT_CONDITION: {}}
+    control_layer = next(layer for layer in reversed(layers) if layer is conditions_layer or "control" in layer.raw)
+    control = require(control_layer.raw, "control", str, source=control_layer.path, default=None,
+                      expected="the name of one of the conditions")
+    if control is not None and control not in raw_conditions:
+        raise ConfigError(control_layer.path, "control", f"one of the conditions {', '.join(raw_conditions)}",
+                          describe(control))
     conditions = {}
     for name, table in raw_conditions.items():
         prefix = f"conditions.{name}"
@@ -257,6 +272,7 @@ def load_experiment(path, *, sets: Sequence[str] = (), runs: int | None = None, 
         steps=scalars["steps"],
         seed=scalars.get("seed"),
         conditions=conditions,
+        control=control,
     )
 
 

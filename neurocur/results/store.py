@@ -64,8 +64,10 @@ _HEADER = """Resolved experiment written by neurocur; do not edit (resuming into
 Seeds: run i of every condition uses numpy SeedSequence(seeds.entropy, spawn_key=seeds.spawn_keys[i]);
 each region's generator is that seed's child keyed by the region's name (the sensory region's seeds the world).
 conditions.<name>.inputs: the sha256 of each input file; code: every code version that wrote runs into this folder."""
-#: top-level keys compared on resume by their own rules (the code fingerprint), not as configuration
-_NOT_COMPARED = ("code", "neurocur_version", "runs")
+#: top-level keys compared on resume by their own rules (the code fingerprint), not as configuration;
+#: ``control`` names the condition the analysis compares against and changes no run, so a folder
+#: written before experiment files named it resumes
+_NOT_COMPARED = ("code", "neurocur_version", "runs", "control")
 
 
 class ResultsError(ValueError):

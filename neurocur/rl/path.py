@@ -107,7 +107,7 @@ def model_circuit(model: str, *, params: Mapping | None = None, circuit=None, in
         raise ConfigError(source, "model", "a VTA model (a region type with a 'da' output)", repr(model))
     if circuit is None:
         circuit = next((path for path in shipped_files("circuit").values()
-                        if Circuit.from_toml(path).specs["VTA"].type_name == model), "cd_misfa")
+                        if getattr(Circuit.from_toml(path).specs.get("VTA"), "type_name", None) == model), "cd_misfa")
     base = circuit if isinstance(circuit, Circuit) else Circuit.from_toml(circuit)
     if "VTA" not in base.specs:
         raise ConfigError(base.source, "regions", "a region named 'VTA'", f"regions {', '.join(base.specs)}")

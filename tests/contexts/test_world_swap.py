@@ -45,7 +45,7 @@ def test_a_swap_of_the_wrong_length_names_the_key():
 
 
 def test_relearning_statistics_read_the_credited_sources():
-    from neurocur.analysis.validation import relearning_per_run, relearning_test
+    from neurocur.analysis.stats.validation import relearning_per_run, relearning_test
 
     episodes = pd.DataFrame({"condition": ["a"] * 2 + ["b"] * 2, "run": [0, 1, 0, 1], "step": [900, 900, 900, 900],
                              "n_frames": [100] * 4})

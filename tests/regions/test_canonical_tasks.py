@@ -8,7 +8,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from neurocur.analysis.validation import blocks_per_run, conditioning_per_run, d_prime, vigilance_per_run
+from neurocur.analysis.stats.validation import blocks_per_run, conditioning_per_run, d_prime, vigilance_per_run
 from neurocur.contexts.conditioning import ConditioningWorld
 from neurocur.experiments import load_experiment
 from neurocur.experiments.run import run_one

@@ -13,7 +13,7 @@ comparison tests the run-paired differences:
   discordant pairs ``n_ab / n_ba``.
 
 For data that are not paired, :func:`mann_whitney` (Mann & Whitney 1947) and
-:func:`fisher_exact` (Fisher 1922) are the tests :func:`~neurocur.analysis.comparison.compare`
+:func:`fisher_exact` (Fisher 1922) are the tests :func:`~neurocur.analysis.stats.comparison.compare`
 used before pairing was the default; their numbers are unchanged.
 
 Every function returns a dict with the keys ``method`` (a short code), ``test`` (what was

@@ -1,7 +1,7 @@
 """In which order the sources were learned: per-run order outcomes and their counts.
 
-Every function takes the tidy ``episodes`` and ``modules`` tables of
-:func:`neurocur.analysis.io.load` and returns a tidy DataFrame (one observation per row),
+Every function takes a :class:`~neurocur.analysis.results.Results` (the tidy episodes and modules
+tables and each condition's sources) and returns a tidy DataFrame (one observation per row),
 except :func:`clopper_pearson` (a pair).
 
 Definitions (paper section 4.1.4, Figure 4F):
@@ -30,11 +30,12 @@ import numpy as np
 import pandas as pd
 from scipy import stats as sps
 
+from neurocur.analysis.results import Results
 from neurocur.contexts.base import SourceSpec
-from neurocur.contexts.synthetic import SYNTHETIC
 from neurocur.contract import require_columns
 
-__all__ = ["clopper_pearson", "per_run", "sweep_columns", "order_counts", "position_counts", "condition_summary"]
+__all__ = ["clopper_pearson", "ordinal_columns", "outcome_labels", "per_run", "sweep_columns", "order_counts",
+           "position_counts", "condition_summary"]
 
 _ORDINALS = ("first", "second", "third", "fourth", "fifth", "sixth", "seventh", "eighth")
 
@@ -70,14 +71,13 @@ def clopper_pearson(k: int, n: int, confidence: float = 0.95) -> tuple[float, fl
     return (float(ci.low), float(ci.high))
 
 
-def ordinal_columns(spec: SourceSpec) -> list[str]:
-    """The yes/no columns ``first_ok``, ``second_ok``, ... of :func:`per_run`, one per learnable source."""
-    if len(spec.learnable) > len(_ORDINALS):
-        raise ValueError(f"the order statistics support at most {len(_ORDINALS)} learnable sources")
-    return [f"{_ORDINALS[k]}_ok" for k in range(len(spec.learnable))]
+def ordinal_columns(runs: pd.DataFrame) -> list[str]:
+    """The yes/no columns ``first_ok``, ``second_ok``, ... of a :func:`per_run` table, one per learnable source."""
+    return [f"{o}_ok" for o in _ORDINALS if f"{o}_ok" in runs]
 
 
-def _outcome_labels(spec: SourceSpec) -> dict[str, str]:
+def outcome_labels(spec: SourceSpec) -> dict[str, str]:
+    """The row label of each yes/no column of :func:`per_run` ("S-A first", "exact S-A→S-B→S-C", "S-D stored")."""
     labels = {f"{_ORDINALS[k]}_ok": f"{s} {_ORDINALS[k]}" for k, s in enumerate(spec.learnable)}
     labels["exact_order"] = "exact " + "→".join(spec.learnable)
     if spec.unlearnable:
@@ -87,6 +87,8 @@ def _outcome_labels(spec: SourceSpec) -> dict[str, str]:
 
 def _run_row(order: list[str], gates: list[str], spec: SourceSpec) -> dict:
     n = len(spec.learnable)
+    if n > len(_ORDINALS):
+        raise ValueError(f"the order statistics support at most {len(_ORDINALS)} learnable sources")
     row = {"n_modules": len(order), "order": ",".join(order)}
     for k in range(n):
         row[_ORDINALS[k]] = order[k] if k < len(order) else ""
@@ -120,8 +122,8 @@ def sweep_columns(table: pd.DataFrame) -> list[str]:
     return [c for c in table.columns if isinstance(c, str) and "." in c]
 
 
-def per_run(episodes: pd.DataFrame, modules: pd.DataFrame, spec: SourceSpec = SYNTHETIC) -> pd.DataFrame:
-    """One row per (condition, run): module order and the per-run metrics.
+def per_run(results: Results) -> pd.DataFrame:
+    """One row per (condition, run) of ``results``: module order and the per-run metrics.
 
     Every run of the episodes table has a row, also a run that stored no module.
     Columns: condition, run, the swept keys of a sweep (:func:`sweep_columns`, the run's
@@ -130,6 +132,7 @@ def per_run(episodes: pd.DataFrame, modules: pd.DataFrame, spec: SourceSpec = SY
     learnable source of that Ω rank), exact_order, unlearnable_stored, n_learned (distinct
     learnable sources with a module), gated_sources, kendall_tau. See the module docstring.
     """
+    episodes, modules = results.episodes, results.modules
     require_order_columns(episodes, modules, needed_by="per_run")
     steps = episodes.groupby(["condition", "run"])["n_frames"].sum()
     by_run = {key: g.sort_values("module") for key, g in modules.groupby(["condition", "run"])}
@@ -140,7 +143,7 @@ def per_run(episodes: pd.DataFrame, modules: pd.DataFrame, spec: SourceSpec = SY
         gates = [] if table is None else table["gates"].fillna("").astype(str).tolist()
         rows.append(
             {"condition": condition, "run": run, "n_steps": int(steps[(condition, run)]),
-             **_run_row(order, gates, spec)}
+             **_run_row(order, gates, results.spec_of(condition))}
         )
     table = pd.DataFrame(rows)
     swept = sweep_columns(episodes)
@@ -151,21 +154,18 @@ def per_run(episodes: pd.DataFrame, modules: pd.DataFrame, spec: SourceSpec = SY
     return table
 
 
-def order_counts(
-    episodes: pd.DataFrame, modules: pd.DataFrame, spec: SourceSpec = SYNTHETIC, confidence: float = 0.95
-) -> pd.DataFrame:
+def order_counts(results: Results, confidence: float = 0.95) -> pd.DataFrame:
     """Counts of the module-order outcomes per condition with Clopper–Pearson intervals.
 
     Columns: condition, outcome (e.g. "S-A first", "exact S-A→S-B→S-C", "S-D stored"),
     k, n (runs), proportion, ci_low, ci_high.
     """
-    require_order_columns(episodes, modules, needed_by="order_counts")
-    runs = per_run(episodes, modules, spec)
-    labels = _outcome_labels(spec)
+    require_order_columns(results.episodes, results.modules, needed_by="order_counts")
+    runs = per_run(results)
     rows = []
     for condition, table in runs.groupby("condition", sort=True):
         n = len(table)
-        for column, label in labels.items():
+        for column, label in outcome_labels(results.spec_of(condition)).items():
             k = int(table[column].sum())
             low, high = clopper_pearson(k, n, confidence)
             rows.append({"condition": condition, "outcome": label, "k": k, "n": n,
@@ -173,16 +173,17 @@ def order_counts(
     return pd.DataFrame(rows)
 
 
-def position_counts(episodes: pd.DataFrame, modules: pd.DataFrame, spec: SourceSpec = SYNTHETIC) -> pd.DataFrame:
+def position_counts(results: Results) -> pd.DataFrame:
     """How often each source was stored k-th (k = 1..number of learnable sources).
 
     Columns: condition, position (1-based), source, k (runs), n (runs of the condition).
     Every (condition, position, source) combination of the world's sources appears, with
     k = 0 where it never happened; "none" counts runs with fewer modules than the position.
     """
-    require_order_columns(episodes, modules, needed_by="position_counts")
-    runs = per_run(episodes, modules, spec)
-    sources = list(dict.fromkeys([*spec.context_sources, *modules["source"]]))
+    require_order_columns(results.episodes, results.modules, needed_by="position_counts")
+    runs = per_run(results)
+    spec = results.spec
+    sources = list(dict.fromkeys([*spec.context_sources, *results.modules["source"]]))
     rows = []
     for condition, table in runs.groupby("condition", sort=True):
         for k in range(len(spec.learnable)):
@@ -193,14 +194,14 @@ def position_counts(episodes: pd.DataFrame, modules: pd.DataFrame, spec: SourceS
     return pd.DataFrame(rows)
 
 
-def condition_summary(episodes: pd.DataFrame, modules: pd.DataFrame, spec: SourceSpec = SYNTHETIC) -> pd.DataFrame:
+def condition_summary(results: Results) -> pd.DataFrame:
     """Mean and sd over runs of the per-run numeric metrics, per condition.
 
     Columns: condition, metric (n_modules, n_learned, gated_sources, kendall_tau), n (runs
     with a defined value), mean, sd (ddof=1; NaN for a single run).
     """
-    require_order_columns(episodes, modules, needed_by="condition_summary")
-    runs = per_run(episodes, modules, spec)
+    require_order_columns(results.episodes, results.modules, needed_by="condition_summary")
+    runs = per_run(results)
     rows = []
     for condition, table in runs.groupby("condition", sort=True):
         for metric in NUMERIC_METRICS:

@@ -1,7 +1,8 @@
 """Seaborn figures of a results folder (paper Figures 4D–G and more).
 
 Every function returns a :class:`matplotlib.figure.Figure` in the style of
-:mod:`neurocur.analysis.style`; :func:`write_all` saves them as PNG. Each checks on entry
+:mod:`neurocur.analysis.figures.style`; :func:`~neurocur.analysis.figures.sets.write_all` saves
+them as PNG. Each checks on entry
 that its tables have the columns it reads (:func:`neurocur.contract.require_columns`), so
 a table without, say, an LC's columns gives an error naming them and the role producing
 them; a column that only some region models record (``epsilon``) is drawn when present.
@@ -14,18 +15,19 @@ import pandas as pd
 import seaborn as sns
 from matplotlib.figure import Figure
 
-from neurocur.analysis.bootstrap import bootstrap_ci
-from neurocur.analysis.cycles import error_cycles
-from neurocur.analysis.learning_time import learning_times, require_learning_columns
-from neurocur.analysis.order import position_counts, require_order_columns
-from neurocur.analysis.style import figure, style
+from neurocur.analysis.results import Results
+from neurocur.analysis.stats.bootstrap import bootstrap_ci
+from neurocur.analysis.stats.cycles import error_cycles
+from neurocur.analysis.stats.learning_time import learning_times, require_learning_columns
+from neurocur.analysis.stats.order import position_counts, require_order_columns
 from neurocur.config import ConfigError
-from neurocur.contexts.base import SourceSpec
-from neurocur.contexts.synthetic import SYNTHETIC
 from neurocur.contract import require_columns
-from neurocur.regions.pfc import SAMPLE_AVERAGE, PFCParams, eq14_rate, reward_update
+from neurocur.regions.pfc import PFCLSPI, SAMPLE_AVERAGE, PFCParams, eq14_rate, reward_update
+
+from .style import figure, style
 
 __all__ = [
+    "condition_of",
     "fig_cumulative_error",
     "fig_intrinsic_reward",
     "fig_learning_time",
@@ -39,19 +41,20 @@ __all__ = [
 EVENT_GID = "module_learned"
 
 
-def _condition(episodes: pd.DataFrame, condition: str | None) -> str:
-    conditions = sorted(episodes["condition"].unique())
+def condition_of(table: pd.DataFrame, condition: str | None) -> str:
+    """``condition``, checked to be in ``table``; by default the table's first condition in name order."""
+    conditions = sorted(table["condition"].unique())
     if not conditions:
         raise ValueError("the episodes table is empty")
     if condition is None:
-        return "curious" if "curious" in conditions else conditions[0]
+        return conditions[0]
     if condition not in conditions:
         raise ValueError(f"condition {condition!r} not in the results; have {conditions}")
     return condition
 
 
 def _one_run(episodes: pd.DataFrame, condition: str | None, run: int | None) -> tuple[str, int, pd.DataFrame]:
-    condition = _condition(episodes, condition)
+    condition = condition_of(episodes, condition)
     table = episodes[episodes["condition"] == condition]
     runs = sorted(table["run"].unique())
     if run is None:
@@ -96,15 +99,15 @@ def fig_cumulative_error(
     Left: one run (``run``, default the first) per episode against the global step, each
     module storage marked (dashed, gid ``"module_learned"``). Right: the error of every
     learning cycle aligned to the storage that ends it
-    (:func:`~neurocur.analysis.cycles.error_cycles`: per run, the mean over bins of
+    (:func:`~neurocur.analysis.stats.cycles.error_cycles`: per run, the mean over bins of
     ``bin_steps`` frames before storage), one line per cycle (the first ``max_cycles``), the
     mean over runs with its 95 % percentile bootstrap interval over runs
-    (:func:`~neurocur.analysis.bootstrap.bootstrap_ci`, Efron & Tibshirani 1993; never below
+    (:func:`~neurocur.analysis.stats.bootstrap.bootstrap_ci`, Efron & Tibshirani 1993; never below
     zero for a non-negative error), where at least ``min_runs`` runs had the cycle that long.
     """
     require_columns(episodes, ["condition", "run", "episode", "step", "n_frames", "module_learned", column],
                     needed_by="fig_cumulative_error")
-    condition = _condition(episodes, condition)
+    condition = condition_of(episodes, condition)
     table = episodes[episodes["condition"] == condition]
     _, run, single = _one_run(episodes, condition, run)
     cycles = error_cycles(table, column, bin_steps)
@@ -160,7 +163,7 @@ def fig_intrinsic_reward(
     if window < 1:
         raise ValueError(f"window must be a positive number of bins, got {window}")
     require_columns(episodes, ["condition", "run", "step", "da", "familiar"], needed_by="fig_intrinsic_reward")
-    condition = _condition(episodes, condition)
+    condition = condition_of(episodes, condition)
     table = episodes[episodes["condition"] == condition]
     if not include_boredom:
         table = table[~table["familiar"].astype(bool)]
@@ -183,27 +186,21 @@ def fig_intrinsic_reward(
     return fig
 
 
-def fig_learning_time(
-    episodes: pd.DataFrame,
-    modules: pd.DataFrame,
-    condition: str | None = None,
-    *,
-    spec: SourceSpec = SYNTHETIC,
-    since: str = "previous",
-) -> Figure:
+def fig_learning_time(results: Results, condition: str | None = None, *, since: str = "previous") -> Figure:
     """Figure 4F: learning time per learnable source in epochs, median and interquartile range over runs
     (learning times are skewed: a source learned late in a run can take ten times the median).
 
     One bar per (source, condition) — all conditions unless ``condition`` is given — with
-    the runs as points. Learning time as in :func:`neurocur.analysis.learning_time.learning_times`
+    the runs as points. Learning time as in :func:`neurocur.analysis.stats.learning_time.learning_times`
     (first module of each source).
     """
-    require_learning_columns(episodes, modules, needed_by="fig_learning_time")
-    times = learning_times(episodes, modules, spec, since=since)
+    require_learning_columns(results.episodes, results.modules, needed_by="fig_learning_time")
+    times = learning_times(results, since=since)
     times = times[times["learnable"] & times["first_of_source"]]
-    conditions = sorted(episodes["condition"].unique())
+    conditions = results.conditions
     if condition is not None:
-        conditions = [_condition(episodes, condition)]
+        conditions = [condition_of(results.episodes, condition)]
+    learnable = list(dict.fromkeys(s for c in conditions for s in results.spec_of(c).learnable))
     times = times[times["condition"].isin(conditions)]
     with style():
         fig, axes = figure()
@@ -212,7 +209,7 @@ def fig_learning_time(
             ax.text(0.5, 0.5, "no learnable source was learned", ha="center", va="center",
                     transform=ax.transAxes)
         else:
-            kwargs = dict(data=times, x="source", y="epochs", hue="condition", order=list(spec.learnable),
+            kwargs = dict(data=times, x="source", y="epochs", hue="condition", order=learnable,
                           hue_order=conditions, ax=ax)
             sns.barplot(**kwargs, estimator="median", errorbar=("pi", 50), capsize=0.15, alpha=0.7)
             sns.stripplot(**kwargs, dodge=True, palette=["0.2"] * len(conditions), size=3, legend=False)
@@ -249,13 +246,12 @@ def reward_estimates(run: pd.DataFrame, n_contexts: int, alpha: float | str) -> 
 
 
 def fig_reward_function(
-    episodes: pd.DataFrame,
+    results: Results,
     run: int | None = None,
     condition: str | None = None,
     *,
-    alpha: float | str = PFCParams().alpha,
+    alpha: float | str | None = None,
     symlog: bool = True,
-    spec: SourceSpec = SYNTHETIC,
 ) -> Figure:
     """Figure 4G: the reward function per context over time, for one run.
 
@@ -266,16 +262,20 @@ def fig_reward_function(
     plotted R_c (:func:`reward_estimates`) applies the same updates, with the same DA, in
     the same order, to one value per context ``c = o'``: it is the reward model the PFC
     would have if it pooled its entries ``R[., ., c]`` over the previous context and action,
-    starting from 0. ``alpha`` is eq 14's learning rate: pass the run's PFC ``alpha``
-    (:func:`write_all` reads it from the results folder's config.toml with
-    :func:`pfc_alphas`); the default is the PFC's default, ``PFCParams().alpha``. One line
+    starting from 0. ``alpha`` is eq 14's learning rate; by default the condition's own: the ``alpha`` of its
+    circuit's :class:`~neurocur.regions.pfc.PFCLSPI` region in the results folder's config.toml
+    (:meth:`~neurocur.analysis.results.Results.region_param`), else ``PFCParams().alpha``. One line
     per context of the world, a step after each episode. With ``symlog`` the y-axis is
     linear only near zero (as in :func:`fig_neuromodulators`), so the rise of the
     learning-progress reward shows beside the boredom-driven drop.
     """
-    require_columns(episodes, ["condition", "run", "episode", "step", "n_frames", "context", "da", "familiar"],
+    require_columns(results.episodes, ["condition", "run", "episode", "step", "n_frames", "context", "da", "familiar"],
                     needed_by="fig_reward_function")
-    condition, run, table = _one_run(episodes, condition, run)
+    condition, run, table = _one_run(results.episodes, condition, run)
+    if alpha is None:
+        alpha = results.region_param(PFCLSPI, "alpha").get(condition, PFCParams().alpha)
+    alpha = alpha if isinstance(alpha, str) else float(alpha)  # a rate, or "sample_average"
+    spec = results.spec_of(condition)
     n_contexts = len(spec.context_names)
     if table["context"].max() >= n_contexts:
         raise ValueError(f"episodes visit context {table['context'].max()} but the world has {n_contexts}")
@@ -295,22 +295,11 @@ def fig_reward_function(
     return fig
 
 
-def fig_order_counts(
-    modules: pd.DataFrame,
-    episodes: pd.DataFrame | None = None,
-    *,
-    spec: SourceSpec = SYNTHETIC,
-) -> Figure:
-    """Which source was stored 1st/2nd/3rd, counted over runs; one panel per condition.
-
-    Pass ``episodes`` so that runs without any module are counted (as "none"); without it
-    the runs are those of the modules table.
-    """
-    if episodes is None:
-        require_columns(modules, ["condition", "run"], needed_by="fig_order_counts (modules table)")
-        episodes = modules[["condition", "run"]].drop_duplicates().assign(n_frames=0)
-    require_order_columns(episodes, modules, needed_by="fig_order_counts")
-    counts = position_counts(episodes, modules, spec)
+def fig_order_counts(results: Results) -> Figure:
+    """Which source was stored 1st/2nd/3rd, counted over runs; one panel per condition
+    (runs without any module count as "none")."""
+    require_order_columns(results.episodes, results.modules, needed_by="fig_order_counts")
+    counts = position_counts(results)
     conditions = sorted(counts["condition"].unique())
     sources = list(dict.fromkeys(counts["source"]))
     with style():

@@ -11,7 +11,7 @@ and ``(1 + confidence)/2`` quantiles of the ``n_boot`` resampled means.
 ``seed`` always give the same interval, whatever else was computed before it.
 
 A percentile interval of a proportion observed at 0/n or n/n collapses to that point;
-:func:`~neurocur.analysis.order.clopper_pearson` (the order counts' interval) is exact there.
+:func:`~neurocur.analysis.stats.order.clopper_pearson` (the order counts' interval) is exact there.
 NaN values are dropped (pairs with a NaN on either side); no values give ``(nan, nan)``.
 """
 

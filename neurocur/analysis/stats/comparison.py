@@ -1,10 +1,10 @@
-"""Whether conditions differ: tests on the per-run metrics of :func:`~neurocur.analysis.order.per_run`.
+"""Whether conditions differ: tests on the per-run metrics of :func:`~neurocur.analysis.stats.order.per_run`.
 
 Run *i* of every condition and sweep point uses the same seed, hence the same world, so
 :func:`compare` pairs the runs of two conditions by ``run`` and tests the paired
-differences (:mod:`~neurocur.analysis.significance`: Wilcoxon signed-rank, Wilcoxon 1945,
+differences (:mod:`~neurocur.analysis.stats.significance`: Wilcoxon signed-rank, Wilcoxon 1945,
 for numbers; McNemar's exact test, McNemar 1947, for yes/no outcomes), with percentile
-bootstrap intervals over the pairs (:mod:`~neurocur.analysis.bootstrap`, Efron &
+bootstrap intervals over the pairs (:mod:`~neurocur.analysis.stats.bootstrap`, Efron &
 Tibshirani 1993). ``paired=False`` keeps the unpaired tests for data that are not paired
 (Mann–Whitney U, Fisher's exact test).
 
@@ -24,14 +24,12 @@ import numpy as np
 import pandas as pd
 from statsmodels.stats.multitest import multipletests
 
-from neurocur.contexts.base import SourceSpec
-from neurocur.contexts.synthetic import SYNTHETIC
-
 from .bootstrap import BOOTSTRAP_SEED, N_BOOT, paired_bootstrap_ci, unpaired_bootstrap_ci
-from .order import BINARY_METRICS, NUMERIC_METRICS, ordinal_columns, per_run, require_order_columns
+from .order import BINARY_METRICS, NUMERIC_METRICS, ordinal_columns
 from .significance import fisher_exact, mann_whitney, mcnemar_exact, wilcoxon_signed_rank
 
-__all__ = ["COMPARE_COLUMNS", "ADJUSTMENTS", "ADJUSTMENT_NAMES", "compare", "compare_conditions", "adjust_pvalues"]
+__all__ = ["COMPARE_COLUMNS", "ADJUSTMENTS", "ADJUSTMENT_NAMES", "adjustment", "compare", "compare_conditions",
+           "adjust_pvalues"]
 
 #: The columns of :func:`compare` (and of every table built from it), in order.
 COMPARE_COLUMNS = [
@@ -47,16 +45,8 @@ ADJUSTMENT_NAMES = {"holm": ("Holm", "Holm 1979"), "fdr_bh": ("Benjamini–Hochb
                     "none": ("unadjusted", "")}
 
 
-def _per_run_table(stats_or_tables, spec: SourceSpec, needed_by: str) -> pd.DataFrame:
-    if isinstance(stats_or_tables, pd.DataFrame):
-        return stats_or_tables
-    if isinstance(stats_or_tables, Sequence) and len(stats_or_tables) == 2:
-        require_order_columns(*stats_or_tables, needed_by=needed_by)
-        return per_run(*stats_or_tables, spec)
-    raise ValueError(f"{needed_by} expected a per_run() DataFrame or an (episodes, modules) pair")
-
-
-def _adjustment(method: str | None) -> str | None:
+def adjustment(method: str | None) -> str | None:
+    """statsmodels' name of the adjustment ``method`` (a key of :data:`ADJUSTMENTS`; None: no adjustment)."""
     key = "none" if method is None else str(method).lower()
     if key not in ADJUSTMENTS:
         raise ValueError(f"unknown p-value adjustment {method!r}; use one of {list(ADJUSTMENTS)} or None")
@@ -72,7 +62,7 @@ def adjust_pvalues(table: pd.DataFrame, method: str | None = "holm") -> pd.DataF
     = p_value); ``adjustment`` names statsmodels' method (``"holm"``, ``"fdr_bh"``, ``"none"``).
     Adjusted p-values are never below the raw ones.
     """
-    name = _adjustment(method)
+    name = adjustment(method)
     out = table.copy()
     p = out["p_value"].to_numpy(dtype=float)
     ok = ~np.isnan(p)
@@ -129,11 +119,10 @@ def _one(runs: pd.DataFrame, a: str, b: str, metric: str, paired: bool, boot: di
 
 
 def compare(
-    stats_or_tables,
-    a: str = "curious",
-    b: str = "random_switching",
+    runs: pd.DataFrame,
+    a: str,
+    b: str,
     metric: str | Sequence[str] | None = None,
-    spec: SourceSpec = SYNTHETIC,
     *,
     paired: bool = True,
     adjust: str | None = "holm",
@@ -143,9 +132,10 @@ def compare(
 ) -> pd.DataFrame:
     """Test condition ``a`` against ``b`` on per-run metrics; one row per metric (:data:`COMPARE_COLUMNS`).
 
-    ``stats_or_tables`` is a :func:`~neurocur.analysis.order.per_run` table or an
-    ``(episodes, modules)`` pair. ``metric`` defaults to every numeric and yes/no metric
-    of :func:`~neurocur.analysis.order.per_run`.
+    ``runs`` is a table of per-run metrics, one row per (condition, run): e.g.
+    :func:`~neurocur.analysis.stats.order.per_run` or
+    :func:`~neurocur.analysis.stats.efficiency.efficiency_per_run`. ``metric`` defaults to every
+    numeric and yes/no metric of :func:`~neurocur.analysis.stats.order.per_run`.
 
     **Paired** (the default): the runs of ``a`` and ``b`` are paired by ``run``; a run present
     in only one condition (or, for numbers, NaN in either) is dropped, ``n_pairs`` counts the
@@ -153,7 +143,7 @@ def compare(
 
     * numbers (n_modules, gated_sources, kendall_tau, ...): two-sided Wilcoxon signed-rank
       test of the differences a − b (zero differences dropped, ``n_nonzero`` kept; all zero
-      gives p = 1; see :func:`~neurocur.analysis.significance.wilcoxon_signed_rank`);
+      gives p = 1; see :func:`~neurocur.analysis.stats.significance.wilcoxon_signed_rank`);
       effect = matched-pairs rank-biserial correlation, +1 when ``a`` is higher on every
       pair that differs;
     * yes/no (exact_order, unlearnable_stored, first_ok, ...): McNemar's exact test on the
@@ -172,7 +162,6 @@ def compare(
     ``p_adjusted`` adjusts ``p_value`` over the metrics of this call (``adjust``: Holm by
     default, see :func:`adjust_pvalues`).
     """
-    runs = _per_run_table(stats_or_tables, spec, "compare")
     conditions = sorted(runs["condition"].unique())
     for name in (a, b):
         if name not in conditions:
@@ -180,7 +169,7 @@ def compare(
     if paired:
         _check_pairable(runs, a, b)
     if metric is None:
-        metrics = [*NUMERIC_METRICS, *ordinal_columns(spec), *BINARY_METRICS]
+        metrics = [*NUMERIC_METRICS, *ordinal_columns(runs), *BINARY_METRICS]
     else:
         metrics = [metric] if isinstance(metric, str) else list(metric)
     boot = {"n_boot": n_boot, "confidence": confidence, "seed": seed}
@@ -193,11 +182,10 @@ def compare(
 
 
 def compare_conditions(
-    stats_or_tables,
+    runs: pd.DataFrame,
     reference: str,
     others: Sequence[str] | None = None,
     metric: str | Sequence[str] | None = None,
-    spec: SourceSpec = SYNTHETIC,
     *,
     paired: bool = True,
     adjust: str | None = "holm",
@@ -210,12 +198,11 @@ def compare_conditions(
 
     Columns: :data:`COMPARE_COLUMNS`; empty (with those columns) when there is nothing to compare.
     """
-    runs = _per_run_table(stats_or_tables, spec, "compare_conditions")
     conditions = sorted(runs["condition"].unique())
     if reference not in conditions:
         raise ValueError(f"compare_conditions: condition {reference!r} not in the results; have {conditions}")
     others = [c for c in conditions if c != reference] if others is None else list(others)
-    tables = [compare(runs, reference, other, metric, spec, paired=paired, adjust=None, n_boot=n_boot,
+    tables = [compare(runs, reference, other, metric, paired=paired, adjust=None, n_boot=n_boot,
                       confidence=confidence, seed=seed) for other in others]
     if not tables:
         return pd.DataFrame(columns=COMPARE_COLUMNS)

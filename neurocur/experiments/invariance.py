@@ -1,4 +1,4 @@
-"""The invariance demonstration of section 4.1.5 (paper Figure 5), from a TOML file to a figure.
+"""The invariance demonstration of section 4.1.5 (paper Figure 5), from a TOML file to its result.
 
 An invariance file (``neurocur/experiments_data/invariance.toml``)::
 
@@ -12,23 +12,20 @@ An invariance file (``neurocur/experiments_data/invariance.toml``)::
     mca_rate = 0.05
 
 :func:`load_invariance` validates it (a :class:`~neurocur.config.ConfigError` names the
-file and key), :meth:`InvarianceSpec.run` calls
-:func:`invariance_demo`, :func:`fig_invariance` draws
-Figure 5 A–F and :func:`write_invariance` saves ``invariance.png`` and
-``invariance.json`` (the spec, ``corr`` and ``quality``).
+file and key), :meth:`InvarianceSpec.run` calls :func:`invariance_demo`, and
+:func:`write_invariance` runs it and saves ``invariance.json`` (the spec, ``corr`` and
+``quality``). Figure 5 A–F is :func:`neurocur.analysis.figures.invariance.fig_invariance`
+(``neurocur invariance`` draws it beside the JSON).
 """
 
 from __future__ import annotations
 
 import json
-import math
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
 import numpy as np
-from matplotlib.figure import Figure
 
-from neurocur.analysis.style import figure, style
 from neurocur.config import ConfigError, describe
 from neurocur.config.checks import check_positive_int
 from neurocur.contexts.sources import LEARNABLE, SLOW_DIM, UNLEARNABLE
@@ -37,12 +34,11 @@ from neurocur.learn.correlation import abs_corr
 from neurocur.learn.incsfa import IncSFA
 from neurocur.tables import check_keys, load_toml, require
 
-__all__ = ["InvarianceDemo", "InvarianceSpec", "invariance_demo", "load_invariance", "fig_invariance",
-           "write_invariance"]
+__all__ = ["InvarianceDemo", "InvarianceSpec", "invariance_demo", "load_invariance", "write_invariance"]
 
 KEYS = ("name", "description", "source", "epochs", "seed", "normalise", "incsfa")
 INCSFA_KEYS = tuple(k for k in IncSFA().get_params() if k != "random_state")
-FIGURE, RESULT = "invariance.png", "invariance.json"
+RESULT = "invariance.json"
 
 
 @dataclass(frozen=True)
@@ -160,61 +156,12 @@ def load_invariance(path) -> InvarianceSpec:
     return InvarianceSpec(name, description, source, epochs, seed, normalise, dict(incsfa))
 
 
-def fig_invariance(demo: InvarianceDemo, *, frame_shape=None, n_frames: int = 4) -> Figure:
-    """Figure 5 A–F: source, frames, first feature; noisy source, noisy frames, feature after the swap.
-
-    ``frame_shape`` (height, width) defaults to the square the frames' pixel count
-    makes; ``n_frames`` evenly spaced frames are shown side by side in B and E.
-    """
-    T, n_pixels = demo.frames.shape
-    if frame_shape is None:
-        side = math.isqrt(n_pixels)
-        if side * side != n_pixels:
-            raise ValueError(f"frames of {n_pixels} pixels are not square; give frame_shape=(height, width)")
-        frame_shape = (side, side)
-    if int(np.prod(frame_shape)) != n_pixels:
-        raise ValueError(f"frame_shape {tuple(frame_shape)} does not hold {n_pixels} pixels")
-    if not 1 <= n_frames <= T:
-        raise ValueError(f"n_frames must be between 1 and {T}; got {n_frames}")
-    shown = np.linspace(0, T - 1, n_frames + 2).round().astype(int)[1:-1]
-    t = np.arange(T)
-    with style():
-        fig, axes = figure(2, 3, figsize=(11.0, 5.5), gridspec_kw={"width_ratios": [1.0, 1.2, 1.0]})
-        for row, (source, frames, output, label) in enumerate((
-            (demo.source, demo.frames, demo.output, "learned"),
-            (demo.noisy_source, demo.noisy_frames, demo.noisy_output, "dimension 1 replaced by noise"),
-        )):
-            ax_s, ax_f, ax_y = axes[row]
-            ax_s.plot(t, source[:, 0], color="tab:blue", lw=1.0, label="dimension 0 (slow)")
-            ax_s.plot(t, source[:, 1], color="tab:red", lw=0.8, ls=":", label="dimension 1")
-            ax_s.set_title(f"{'AD'[row]}  source ({label})", loc="left")
-            tiles = [np.pad(frames[i].reshape(frame_shape), ((0, 0), (0, 1)), constant_values=np.nan) for i in shown]
-            ax_f.imshow(np.hstack(tiles)[:, :-1], cmap="gray", vmin=0.0, vmax=1.0, interpolation="nearest")
-            ax_f.set_xticks([(i + 0.5) * (frame_shape[1] + 1) - 1 for i in range(n_frames)], [f"t={i}" for i in shown])
-            ax_f.set_yticks([])
-            ax_f.grid(False)
-            ax_f.set_title(f"{'BE'[row]}  frames", loc="left")
-            if row == 1:
-                ax_y.plot(t, demo.output, color="0.6", lw=2.5, label="before the swap (C)")
-            ax_y.plot(t, output, color="tab:green", lw=1.0, label="first feature")
-            ax_y.set_title(f"{'CF'[row]}  first (slowest) feature", loc="left")
-        axes[0, 0].legend(loc="upper right", fontsize="x-small")
-        axes[1, 2].legend(loc="upper right", fontsize="x-small")
-        axes[0, 2].text(0.02, 0.04, f"|corr| with source dim {SLOW_DIM}: {demo.quality:.4f}", fontsize="small",
-                        transform=axes[0, 2].transAxes)
-        axes[1, 2].text(0.02, 0.04, f"corr with C: {demo.corr:.4f}", fontsize="small", transform=axes[1, 2].transAxes)
-        for ax in (axes[1, 0], axes[1, 2]):
-            ax.set_xlabel("local time step")
-    return fig
-
-
-def write_invariance(spec: InvarianceSpec, out_dir, *, dpi: int = 120) -> tuple[InvarianceDemo, list[Path]]:
-    """Run ``spec`` and write ``invariance.png`` (Figure 5) and ``invariance.json`` into ``out_dir``."""
+def write_invariance(spec: InvarianceSpec, out_dir) -> tuple[InvarianceDemo, Path]:
+    """Run ``spec`` and write ``invariance.json`` (the spec, ``corr`` and ``quality``) into ``out_dir``."""
     demo = spec.run()
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    png, result = out / FIGURE, out / RESULT
-    fig_invariance(demo).savefig(png, dpi=dpi)
+    result = out / RESULT
     payload = {**asdict(spec), "corr": demo.corr, "quality": demo.quality}
     result.write_text(json.dumps(payload, indent=2) + "\n", encoding="utf-8")
-    return demo, [png, result]
+    return demo, result

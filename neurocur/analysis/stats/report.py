@@ -1,8 +1,8 @@
 """The summaries of a results folder: the order table beside the paper's numbers, and ``summary.json``.
 
-Both gather the statistics of :mod:`~neurocur.analysis.order`,
-:mod:`~neurocur.analysis.learning_time`, :mod:`~neurocur.analysis.efficiency` and
-:mod:`~neurocur.analysis.comparison`;
+Both gather the statistics of :mod:`~neurocur.analysis.stats.order`,
+:mod:`~neurocur.analysis.stats.learning_time`, :mod:`~neurocur.analysis.stats.efficiency` and
+:mod:`~neurocur.analysis.stats.comparison`;
 :func:`order_table` sets the paper's numbers (:mod:`~neurocur.analysis.paper`) beside them.
 Every p-value they show is named by its test (paired by run: Wilcoxon 1945 signed-rank,
 McNemar 1947 exact) and its multiple-comparison adjustment (Holm 1979 by default, or
@@ -17,22 +17,26 @@ from collections.abc import Mapping
 import numpy as np
 import pandas as pd
 
+from neurocur.analysis import paper
+from neurocur.analysis.results import Results
 from neurocur.contexts.base import SourceSpec
 from neurocur.contexts.synthetic import SYNTHETIC
 
-from . import paper
 from .bootstrap import BOOTSTRAP_SEED, N_BOOT
-from .comparison import ADJUSTMENT_NAMES, _adjustment, compare_conditions
+from .comparison import ADJUSTMENT_NAMES, adjustment, compare_conditions
+from .degenerate import degenerate_conditions
 from .dwell import engagement_summary
-from .efficiency import EFFICIENCY_LABELS, EFFICIENCY_TESTS, efficiency_per_run, efficiency_summary
+from .efficiency import EFFICIENCY_LABELS, EFFICIENCY_TESTS, censoring_horizon, efficiency_per_run, efficiency_summary
 from .learning_time import learning_time_summary, require_learning_columns
-from .order import _outcome_labels, condition_summary, order_counts, per_run, require_order_columns
+from .order import condition_summary, order_counts, outcome_labels, per_run, require_order_columns
 from .significance import TESTS
 
-__all__ = ["TABLE_TESTS", "order_table", "comparison_rows", "paired_test_rows", "summary"]
+__all__ = ["TABLE_TESTS", "DEGENERATE_NOTE", "order_table", "comparison_rows", "paired_test_rows", "summary"]
 
 #: The per-run metrics whose paired test against the reference condition the order table shows.
 TABLE_TESTS = ("exact_order", "gated_sources")
+#: The order table's row that names the degenerate conditions left out of its tests.
+DEGENERATE_NOTE = "left out of the tests: its runs repeat another condition's, run for run"
 _NUMERIC_LABELS = {"n_modules": "modules per run", "n_learned": "learnable sources learned",
                    "gated_sources": "learnable sources gated", "kendall_tau": "Kendall τ vs Ω"}
 
@@ -47,8 +51,10 @@ def _frames(value: float) -> str:
     return "—" if math.isnan(value) else f"{value / 1000:.1f}k"
 
 
-def _efficiency_labels(spec: SourceSpec) -> dict[str, str]:
+def _efficiency_labels(spec: SourceSpec, horizon: float | None = None) -> dict[str, str]:
     labels = dict(EFFICIENCY_LABELS)
+    if horizon is not None:
+        labels["frames_to_learn_all_censored"] = f"frames to learn all (censored at {_frames(horizon)} frames, the shortest run)"
     if spec.unlearnable:
         labels["frames_unlearnable"] += f" ({'/'.join(spec.unlearnable)})"
     return labels
@@ -56,7 +62,7 @@ def _efficiency_labels(spec: SourceSpec) -> dict[str, str]:
 
 def _efficiency_cells(runs: pd.DataFrame, spec: SourceSpec) -> dict[str, str]:
     """The order table's efficiency cells of one condition's :func:`efficiency_per_run` rows, by label."""
-    labels = _efficiency_labels(spec)
+    labels = _efficiency_labels(spec, runs["horizon"].iloc[0] if len(runs) else None)
     did = runs["frames_to_learn_all"].dropna()
     censored, unlearnable = runs["frames_to_learn_all_censored"], runs["frames_unlearnable"].astype(float)
     return {
@@ -79,32 +85,36 @@ def _paper_cell(numbers: Mapping[str, paper.Reported], label: str) -> str:
 def comparison_rows(
     runs: pd.DataFrame,
     reference: str,
-    spec: SourceSpec = SYNTHETIC,
+    spec: SourceSpec,
     *,
     metrics=TABLE_TESTS,
     adjust: str | None = "holm",
+    leave_out=(),
 ) -> pd.DataFrame:
     """The order table's test rows: ``reference`` against every other condition of the
-    :func:`~neurocur.analysis.order.per_run` table ``runs``, paired by run, one row per metric.
+    :func:`~neurocur.analysis.stats.order.per_run` table ``runs`` but those of ``leave_out``, paired
+    by run, one row per metric; ``spec``: the sources of their world, which name the metrics.
 
     A row's label names the metric, the reference, the test and the adjustment, e.g.
-    "learnable sources gated vs curious: Wilcoxon signed-rank p (paired; Holm, 4 tests)";
+    "learnable sources gated vs A: Wilcoxon signed-rank p (paired; Holm, 4 tests)";
     the family adjusted together is every p-value of these rows. A cell is the adjusted
     p-value with the pairs it rests on ("0.0023 (n=25)"; McNemar: "0.031 (7 of 25
     discordant)"); "—" for the reference and where nothing could be tested. Columns: the
     conditions of ``runs``. Empty without ``reference`` or another condition.
     """
     conditions = sorted(runs["condition"].unique())
-    if reference not in conditions or len(conditions) < 2:
+    others = [c for c in conditions if c != reference and c not in leave_out]
+    if reference not in conditions or not others:
         return pd.DataFrame(columns=conditions, dtype=object)
-    tests = compare_conditions(runs, reference, metric=list(metrics), spec=spec, adjust=adjust)
-    labels = {**_NUMERIC_LABELS, **_efficiency_labels(spec), **_outcome_labels(spec)}
-    adjustment = ADJUSTMENT_NAMES[_adjustment(adjust) or "none"][0]
+    tests = compare_conditions(runs, reference, others, metric=list(metrics), adjust=adjust)
+    horizon = runs["horizon"].iloc[0] if "horizon" in runs and len(runs) else None
+    labels = {**_NUMERIC_LABELS, **_efficiency_labels(spec, horizon), **outcome_labels(spec)}
+    adjusted = ADJUSTMENT_NAMES[adjustment(adjust) or "none"][0]
     n_tests = int(tests["n_tests"].iloc[0])
     out: dict[str, dict[str, str]] = {}
     for metric, rows in tests.groupby("metric", sort=False):
         test = TESTS[rows["method"].iloc[0]][0]
-        label = f"{labels.get(metric, metric)} vs {reference}: {test} p (paired; {adjustment}, {n_tests} tests)"
+        label = f"{labels.get(metric, metric)} vs {reference}: {test} p (paired; {adjusted}, {n_tests} tests)"
         cells = dict.fromkeys(conditions, "—")
         for row in rows.itertuples(index=False):
             if math.isnan(row.p_adjusted):
@@ -117,48 +127,64 @@ def comparison_rows(
 
 
 def paired_test_rows(
-    episodes: pd.DataFrame,
-    modules: pd.DataFrame,
+    results: Results,
     reference: str,
-    spec: SourceSpec = SYNTHETIC,
     *,
     adjust: str | None = "holm",
+    horizon: float | None = None,
+    exclude_degenerate: bool = True,
 ) -> pd.DataFrame:
     """The order table's test rows (:func:`comparison_rows`) against ``reference``, two families
-    each adjusted on its own: the efficiency metrics (:data:`~neurocur.analysis.efficiency.EFFICIENCY_TESTS`),
-    then the order metrics (:data:`TABLE_TESTS`)."""
-    blocks = [comparison_rows(efficiency_per_run(episodes, modules, spec), reference, spec,
-                              metrics=EFFICIENCY_TESTS, adjust=adjust),
-              comparison_rows(per_run(episodes, modules, spec), reference, spec, adjust=adjust)]
+    each adjusted on its own: the efficiency metrics (:data:`~neurocur.analysis.stats.efficiency.EFFICIENCY_TESTS`,
+    censored at ``horizon``, by default the shortest run of ``results``), then the order metrics
+    (:data:`TABLE_TESTS`). With ``exclude_degenerate`` (the default), a condition whose runs repeat
+    another's (:func:`~neurocur.analysis.stats.degenerate.degenerate_conditions`) is left out of
+    both families, and a last row, :data:`DEGENERATE_NOTE`, names the condition it repeats."""
+    spec = results.spec
+    degenerate = degenerate_conditions(results) if exclude_degenerate else {}
+    efficiency = efficiency_per_run(results, horizon=horizon)
+    blocks = [comparison_rows(efficiency, reference, spec, metrics=EFFICIENCY_TESTS, adjust=adjust,
+                              leave_out=degenerate),
+              comparison_rows(per_run(results), reference, spec, adjust=adjust, leave_out=degenerate)]
+    if degenerate:
+        note = {c: f"= {degenerate[c]}" if c in degenerate else "—" for c in results.conditions}
+        blocks.append(pd.DataFrame([note], index=pd.Index([DEGENERATE_NOTE], name="outcome")))
     return pd.concat(blocks)
 
 
 def order_table(
-    episodes: pd.DataFrame,
-    modules: pd.DataFrame,
-    spec: SourceSpec = SYNTHETIC,
+    results: Results,
     *,
     reference: str | None = None,
     adjust: str | None = "holm",
+    horizon: float | None = None,
+    exclude_degenerate: bool = True,
 ) -> pd.DataFrame:
     """The compact per-condition table printed by the CLI, beside the paper's numbers.
 
     Rows: the order outcomes ("k/n"), modules per run, learnable sources gated per run and
-    Kendall τ (mean ± sd), the efficiency (:mod:`~neurocur.analysis.efficiency`: runs that
+    Kendall τ (mean ± sd), the efficiency (:mod:`~neurocur.analysis.stats.efficiency`: runs that
     learned every learnable source, frames until then, frames in the unlearnable contexts,
     modules per 10⁵ frames), learning time per learnable source (epochs, mean ± sd); with a
     ``reference`` condition, then the paired tests against it (:func:`paired_test_rows`: the
-    efficiency metrics, then :data:`TABLE_TESTS`; each row names its test and adjustment).
+    efficiency metrics, then :data:`TABLE_TESTS`; each row names its test and adjustment; a
+    degenerate condition is left out of them unless ``exclude_degenerate`` is false, with a note). The
+    frames to learn all of every condition and their test are censored at one cut-off, named in
+    the rows: ``horizon``, by default the shortest run of ``results``
+    (:func:`~neurocur.analysis.stats.efficiency.censoring_horizon`).
+    The conditions must share one world's sources (:attr:`~neurocur.analysis.results.Results.spec`).
     Columns: "paper" (curious agent, :data:`~neurocur.analysis.paper.SYNTHETIC_CURIOUS`),
     "paper (random)" (:data:`~neurocur.analysis.paper.SYNTHETIC_RANDOM`), then one column
     per condition. The paper columns are filled only for the synthetic world.
     """
-    require_order_columns(episodes, modules, needed_by="order_table")
-    require_learning_columns(episodes, modules, needed_by="order_table")
-    counts = order_counts(episodes, modules, spec)
-    means = condition_summary(episodes, modules, spec).set_index(["condition", "metric"])
-    times = learning_time_summary(episodes, modules, spec).set_index(["condition", "source"])
-    conditions = sorted(episodes["condition"].unique())
+    require_order_columns(results.episodes, results.modules, needed_by="order_table")
+    require_learning_columns(results.episodes, results.modules, needed_by="order_table")
+    spec = results.spec
+    counts = order_counts(results)
+    means = condition_summary(results).set_index(["condition", "metric"])
+    times = learning_time_summary(results).set_index(["condition", "source"])
+    conditions = results.conditions
+    horizon = censoring_horizon(results) if horizon is None else horizon
     table: dict[str, dict[str, str]] = {}
     for row in counts.itertuples(index=False):
         table.setdefault(row.outcome, {})[row.condition] = f"{row.k}/{row.n}"
@@ -167,7 +193,7 @@ def order_table(
         for condition in conditions:
             m = means.loc[(condition, metric)]
             table.setdefault(label, {})[condition] = _mean_sd(m["mean"], m["sd"])
-    efficiency = efficiency_per_run(episodes, modules, spec)
+    efficiency = efficiency_per_run(results, horizon=horizon)
     for condition in conditions:
         for label, cell in _efficiency_cells(efficiency[efficiency["condition"] == condition], spec).items():
             table.setdefault(label, {})[condition] = cell
@@ -179,7 +205,8 @@ def order_table(
                 cell if cell == "—" else f"{cell} (n={int(t['n'])})")
     curious, random = (paper.SYNTHETIC_CURIOUS, paper.SYNTHETIC_RANDOM) if spec == SYNTHETIC else ({}, {})
     if reference is not None:
-        table.update(paired_test_rows(episodes, modules, reference, spec, adjust=adjust).to_dict("index"))
+        table.update(paired_test_rows(results, reference, adjust=adjust, horizon=horizon,
+                                      exclude_degenerate=exclude_degenerate).to_dict("index"))
     out = pd.DataFrame(
         [{"paper": _paper_cell(curious, label), "paper (random)": _paper_cell(random, label), **cells}
          for label, cells in table.items()],
@@ -204,62 +231,70 @@ def _json_safe(value):
 
 
 def summary(
-    episodes: pd.DataFrame,
-    modules: pd.DataFrame,
-    spec: SourceSpec = SYNTHETIC,
+    results: Results,
     *,
-    reference: str = "curious",
+    reference: str | None = None,
+    exclude_degenerate: bool = True,
     paired: bool = True,
     adjust: str | None = "holm",
     n_boot: int = N_BOOT,
     seed: int = BOOTSTRAP_SEED,
 ) -> dict:
-    """A JSON-serialisable summary of a results folder (written as ``summary.json``).
+    """A JSON-serialisable summary of a results folder (written as ``summary.json``), its conditions
+    sharing one world's sources; ``reference`` defaults to :attr:`~neurocur.analysis.results.Results.reference`.
 
     Keys: ``n_runs`` (per condition), ``order_counts``, ``metrics`` (mean/sd per condition),
     ``learning_time`` (epochs per learnable source), ``efficiency`` (per condition and metric:
-    :func:`~neurocur.analysis.efficiency.efficiency_summary`; and ``comparisons``, ``reference``
-    against every other condition on :data:`~neurocur.analysis.efficiency.EFFICIENCY_TESTS`,
+    :func:`~neurocur.analysis.stats.efficiency.efficiency_summary`, the censored frames to learn all
+    cut at ``horizon``, the shortest run; and ``comparisons``, ``reference``
+    against every other condition on :data:`~neurocur.analysis.stats.efficiency.EFFICIENCY_TESTS`,
     adjusted as their own family), ``engagement`` (per condition and context: share of frames
-    and mean dwell per visit, :func:`~neurocur.analysis.dwell.engagement_summary`),
+    and mean dwell per visit, :func:`~neurocur.analysis.stats.dwell.engagement_summary`),
     ``comparisons`` (``reference`` against
-    every other condition, when both exist: :func:`~neurocur.analysis.comparison.compare_conditions`,
+    every other condition but the degenerate ones (unless ``exclude_degenerate`` is false), when both exist: :func:`~neurocur.analysis.stats.comparison.compare_conditions`,
     each row with its ``test``, raw ``p_value``, ``p_adjusted`` and ``adjustment``) and
     ``statistics`` (how the comparisons were made: pairing, the tests by ``method`` code
     with their references, the adjustment with its reference and family size, the
-    bootstrap). NaN and infinities are written as null.
+    bootstrap, and ``degenerate``: each condition left out of the comparisons because its runs repeat
+    another's, :func:`~neurocur.analysis.stats.degenerate.degenerate_conditions`, with that other).
+    NaN and infinities are written as null.
     """
-    require_order_columns(episodes, modules, needed_by="summary")
-    require_learning_columns(episodes, modules, needed_by="summary")
-    runs = per_run(episodes, modules, spec)
+    require_order_columns(results.episodes, results.modules, needed_by="summary")
+    require_learning_columns(results.episodes, results.modules, needed_by="summary")
+    reference = results.reference if reference is None else reference
+    runs = per_run(results)
     conditions = sorted(runs["condition"].unique())
-    efficiency = efficiency_per_run(episodes, modules, spec)
+    efficiency = efficiency_per_run(results)
     comparisons, efficiency_tests = pd.DataFrame(), pd.DataFrame()
-    if reference in conditions and len(conditions) > 1:
-        comparisons = compare_conditions(runs, reference, spec=spec, paired=paired, adjust=adjust,
+    degenerate = degenerate_conditions(results) if exclude_degenerate else {}
+    others = [c for c in conditions if c != reference and c not in degenerate]
+    if reference in conditions and others:
+        comparisons = compare_conditions(runs, reference, others, paired=paired, adjust=adjust,
                                          n_boot=n_boot, seed=seed)
-        efficiency_tests = compare_conditions(efficiency, reference, metric=list(EFFICIENCY_TESTS), spec=spec,
+        efficiency_tests = compare_conditions(efficiency, reference, others, metric=list(EFFICIENCY_TESTS),
                                               paired=paired, adjust=adjust, n_boot=n_boot, seed=seed)
-    adjustment = _adjustment(adjust) or "none"
+    adjusted = adjustment(adjust) or "none"
     methods = sorted(set(comparisons["method"])) if len(comparisons) else []
     result = {
         "n_runs": runs.groupby("condition").size().to_dict(),
-        "order_counts": order_counts(episodes, modules, spec).to_dict("records"),
-        "metrics": condition_summary(episodes, modules, spec).to_dict("records"),
-        "learning_time": learning_time_summary(episodes, modules, spec).to_dict("records"),
-        "efficiency": {"summary": efficiency_summary(efficiency, spec, n_boot=n_boot, seed=seed).to_dict("records"),
+        "order_counts": order_counts(results).to_dict("records"),
+        "metrics": condition_summary(results).to_dict("records"),
+        "learning_time": learning_time_summary(results).to_dict("records"),
+        "efficiency": {"horizon": censoring_horizon(results),
+                       "summary": efficiency_summary(efficiency, n_boot=n_boot, seed=seed).to_dict("records"),
                        "comparisons": efficiency_tests.to_dict("records")},
-        "engagement": engagement_summary(episodes, spec, n_boot=n_boot, seed=seed).to_dict("records"),
+        "engagement": engagement_summary(results.episodes, results.spec, n_boot=n_boot, seed=seed).to_dict("records"),
         "comparisons": comparisons.to_dict("records"),
         "statistics": {
             "reference": reference if comparisons.size else None,
             "paired": paired, "pairing": "run" if paired else None,
             "tests": {m: {"name": TESTS[m][0], "reference": TESTS[m][1]} for m in methods},
-            "adjustment": {"method": adjustment, "name": ADJUSTMENT_NAMES[adjustment][0],
-                           "reference": ADJUSTMENT_NAMES[adjustment][1],
+            "adjustment": {"method": adjusted, "name": ADJUSTMENT_NAMES[adjusted][0],
+                           "reference": ADJUSTMENT_NAMES[adjusted][1],
                            "n_tests": int(comparisons["n_tests"].iloc[0]) if len(comparisons) else 0},
             "bootstrap": {"interval": "percentile (Efron & Tibshirani 1993)", "n_boot": n_boot,
                           "confidence": 0.95, "seed": seed},
+            "degenerate": degenerate,
         },
     }
     return _json_safe(result)

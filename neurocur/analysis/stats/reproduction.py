@@ -5,7 +5,7 @@ exact A→B→C, S-D stored), modules and gated learnable sources per run, Kenda
 against the Ω order, then the curious-versus-random comparison on gated sources for
 every condition that has a random-switching twin: the Wilcoxon signed-rank test
 (Wilcoxon 1945) of the run-paired differences (run *i* of every condition has the same
-seed, hence the same world; see :func:`~neurocur.analysis.comparison.compare`), its
+seed, hence the same world; see :func:`~neurocur.analysis.stats.comparison.compare`), its
 p-value raw and Holm-adjusted (Holm 1979) over the table's comparisons, and the
 matched-pairs rank-biserial effect (+ when curiosity gates more). A condition's twin is
 ``<name>_random``; a condition that differs from another only in what the random LC
@@ -21,11 +21,11 @@ import math
 
 import pandas as pd
 
-from neurocur.results import load
+from neurocur.analysis.paper import SYNTHETIC_CURIOUS
+from neurocur.analysis.results import Results
 
 from .comparison import adjust_pvalues, compare
 from .order import per_run
-from .paper import SYNTHETIC_CURIOUS
 from .report import order_table
 
 __all__ = ["SHARED_CONTROLS", "COLUMNS", "study_table", "markdown"]
@@ -46,9 +46,9 @@ COLUMNS = [*_ORDER_ROWS, _P, _P_ADJUSTED, _EFFECT]
 
 def study_table(results_dir) -> pd.DataFrame:
     """Conditions × :data:`COLUMNS` of the synthetic world, the paper's row first (cells are text)."""
-    episodes, modules = load(results_dir)
-    table = order_table(episodes, modules).drop(columns=["paper", "paper (random)"]).T
-    runs = per_run(episodes, modules)
+    results = Results.load(results_dir)
+    table = order_table(results).drop(columns=["paper", "paper (random)"]).T
+    runs = per_run(results)
     conditions = list(table.index)
     tests = [compare(runs, a=name, b=twin, metric="gated_sources", adjust=None)
              for name in conditions if (twin := SHARED_CONTROLS.get(name, f"{name}_random")) in conditions]

@@ -3,7 +3,7 @@ in chosen contexts after an event.
 
 Every function takes the tidy episodes table of :func:`neurocur.analysis.io.load` (one row
 per episode, with ``condition`` and ``run``) and returns a tidy DataFrame. The swept keys of
-a sweep (:func:`~neurocur.analysis.order.sweep_columns`) are carried as columns.
+a sweep (:func:`~neurocur.analysis.stats.order.sweep_columns`) are carried as columns.
 
 Definitions:
 
@@ -18,7 +18,7 @@ Definitions:
   straddles a bin boundary is split exactly.
 * **Share after an event**: the frames spent in a set of contexts after an episode (e.g.
   the episode whose module completed the learnable sources,
-  :func:`~neurocur.analysis.efficiency.efficiency_per_run`), over all frames after it.
+  :func:`~neurocur.analysis.stats.efficiency.efficiency_per_run`), over all frames after it.
 * **A signal over time** (:func:`signal_over_time`): the mean of a recorded signal (DA, NE) per
   bin of global frames, over the episodes in chosen contexts (DA in a noise context over time).
 
@@ -217,7 +217,7 @@ def share_after(
 
     ``contexts``: context indices or names (names need ``spec``). ``events``: one row per
     (condition, run) with the column ``episode``: frames of the episodes *after* it count
-    (e.g. :func:`~neurocur.analysis.efficiency.efficiency_per_run`'s ``learned_all_episode``,
+    (e.g. :func:`~neurocur.analysis.stats.efficiency.efficiency_per_run`'s ``learned_all_episode``,
     renamed ``episode``); a run without a row or with NaN has no event, and its share is
     NaN. ``events=None`` counts the whole run.
 

@@ -4,7 +4,7 @@ Does a curious agent spend its time where there is something left to learn, neit
 what is trivially easy nor in what cannot be learned? A world of contexts of graded
 learnability (``neurocur/experiments_data/goldilocks.toml``) is run with one condition per
 dopamine model, and each context's **engagement** (the share of the run's frames spent in
-it and the mean dwell per visit, :func:`~neurocur.analysis.dwell.engagement`) is set
+it and the mean dwell per visit, :func:`~neurocur.analysis.stats.dwell.engagement`) is set
 against the context's **learnability level** (:func:`neurocur.contexts.learnability.learnability`:
 the dense rank of Ω, eq 40, a redrawn source counting as Ω = 1).
 
@@ -12,13 +12,13 @@ the dense rank of Ω, eq 40, a redrawn source counting as Ω = 1).
   builds the world from the folder's ``config.toml`` to render its frames; it runs no circuit);
 - :func:`engagement_by_learnability` — engagement per run and context, with Ω and level;
 - :func:`goldilocks_tests` — the two-lines test of an interior peak
-  (:func:`~neurocur.analysis.inverted_u.inverted_u_test`, Simonsohn 2018) of each outcome
+  (:func:`~neurocur.analysis.stats.inverted_u.inverted_u_test`, Simonsohn 2018) of each outcome
   over the levels, per condition, runs as covariates (every context of a run is seen by one
   agent). An interior peak needs both slopes significant, so its p-value is the larger of
   the two one-sided ones (an intersection–union test, Berger & Hsu 1996); these are
   Holm-adjusted over the conditions, separately per outcome;
-- :func:`fig_goldilocks` — engagement (mean and 95 % t interval over runs) against level,
-  one line per condition.
+- :func:`~neurocur.analysis.figures.goldilocks.fig_goldilocks` — engagement (mean and 95 % t
+  interval over runs) against level, one line per condition.
 """
 
 from __future__ import annotations
@@ -28,7 +28,6 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-from matplotlib.figure import Figure
 
 from neurocur.contexts import build_world
 from neurocur.contexts.learnability import learnability
@@ -37,10 +36,9 @@ from neurocur.results import ResultsStore
 
 from .comparison import adjust_pvalues
 from .dwell import Spec, engagement
-from .inverted_u import inverted_u_test, level_means
-from .style import figure, style
+from .inverted_u import inverted_u_test
 
-__all__ = ["OUTCOMES", "world_learnability", "engagement_by_learnability", "goldilocks_tests", "fig_goldilocks"]
+__all__ = ["OUTCOMES", "world_learnability", "engagement_by_learnability", "goldilocks_tests"]
 
 #: The engagement outcomes, with their axis labels.
 OUTCOMES = {"share": "share of frames", "mean_dwell_frames": "mean dwell per visit (frames)"}
@@ -66,7 +64,7 @@ def world_learnability(results_dir: str | Path, condition: str | None = None, *,
 
 
 def engagement_by_learnability(episodes: pd.DataFrame, levels: pd.DataFrame, spec: Spec = None) -> pd.DataFrame:
-    """Engagement per run and context (:func:`~neurocur.analysis.dwell.engagement`) with the
+    """Engagement per run and context (:func:`~neurocur.analysis.stats.dwell.engagement`) with the
     context's ``omega``, ``redrawn`` and ``level`` from ``levels`` (a learnability table),
     joined on the context index."""
     require_columns(levels, ["context", "omega", "redrawn", "level"], needed_by="engagement_by_learnability (levels)")
@@ -79,7 +77,7 @@ def engagement_by_learnability(episodes: pd.DataFrame, levels: pd.DataFrame, spe
 def goldilocks_tests(table: pd.DataFrame, outcomes: Sequence[str] = tuple(OUTCOMES), *,
                      method: str | None = "holm", **kwargs) -> pd.DataFrame:
     """The two-lines test of each outcome over ``level``, one row per (outcome, condition):
-    :func:`~neurocur.analysis.inverted_u.inverted_u_test`'s columns, then ``p_value`` (the
+    :func:`~neurocur.analysis.stats.inverted_u.inverted_u_test`'s columns, then ``p_value`` (the
     larger one-sided p of the two slopes: the test of an interior peak), ``p_adjusted``
     (``method`` over the conditions of each outcome), ``adjustment`` and ``n_tests``.
     ``kwargs`` go to ``inverted_u_test`` (``alpha``, ``n_boot``, ...)."""
@@ -90,31 +88,3 @@ def goldilocks_tests(table: pd.DataFrame, outcomes: Sequence[str] = tuple(OUTCOM
         rows["p_value"] = np.fmax(rows["p1"], rows["p2"]).where(rows[["p1", "p2"]].notna().all(axis=1))
         blocks.append(adjust_pvalues(rows, method))
     return pd.concat(blocks, ignore_index=True)
-
-
-def fig_goldilocks(table: pd.DataFrame, outcomes: Sequence[str] = tuple(OUTCOMES)) -> Figure:
-    """Each outcome per context, the contexts in order of learnability level: per condition the
-    mean over runs with its 95 % t interval (one panel per outcome); the x ticks name each
-    context's source and Ω (or "redrawn")."""
-    require_columns(table, ["condition", "context", "level", "omega", "redrawn", *outcomes], needed_by="fig_goldilocks")
-    contexts = table.drop_duplicates("context").sort_values(["level", "context"])
-    position = pd.Series(np.arange(len(contexts)), index=contexts["context"].to_numpy())
-    table = table.assign(position=table["context"].map(position))
-    labels = [f"{row.source if 'source' in contexts else row.context}\n"
-              + ("redrawn" if row.redrawn else f"Ω {row.omega:.5f}") for row in contexts.itertuples()]
-    conditions = list(dict.fromkeys(table["condition"]))
-    width = 0.6 / max(len(conditions), 1)
-    with style():
-        fig, axes = figure(len(outcomes), 1, figsize=(9.0, 3.2 * len(outcomes)), sharex=True)
-        for ax, outcome in zip(axes[:, 0], outcomes):
-            means = level_means(table, "position", outcome, by="condition")
-            for i, condition in enumerate(conditions):
-                rows = means[means["condition"] == condition]
-                x = rows["position"] + (i - (len(conditions) - 1) / 2) * width
-                ax.errorbar(x, rows["mean"], yerr=[rows["mean"] - rows["ci_low"], rows["ci_high"] - rows["mean"]],
-                            marker="o", markersize=4, capsize=2, linewidth=1.2, label=condition)
-            ax.set_ylabel(OUTCOMES.get(outcome, outcome))
-        axes[-1, 0].set_xticks(position.to_numpy(), labels, fontsize=8)
-        axes[-1, 0].set_xlabel("context, in order of learnability (Ω, eq 40; easiest left)")
-        axes[0, 0].legend(fontsize=7, ncols=min(len(conditions), 4), loc="upper left")
-    return fig

@@ -2,11 +2,11 @@
 
 A sweep runs every condition at every point of its grid, each point as a condition named
 ``<condition>@KEY=value,KEY=value`` (the point's *label*), with one column per swept key in
-every results table (:func:`~neurocur.analysis.order.sweep_columns`, carried into
-:func:`~neurocur.analysis.order.per_run`). Run *i* of every condition and point uses the
+every results table (:func:`~neurocur.analysis.stats.order.sweep_columns`, carried into
+:func:`~neurocur.analysis.stats.order.per_run`). Run *i* of every condition and point uses the
 same seed, so two points (or two conditions at one point) are compared run by run
-(:func:`~neurocur.analysis.comparison.compare`, paired by default), and the p-values of the
-whole output table are adjusted together (:func:`~neurocur.analysis.comparison.adjust_pvalues`:
+(:func:`~neurocur.analysis.stats.comparison.compare`, paired by default), and the p-values of the
+whole output table are adjusted together (:func:`~neurocur.analysis.stats.comparison.adjust_pvalues`:
 Holm 1979 by default, or Benjamini & Hochberg 1995).
 
 * :func:`compare_to_point`: every point of a condition against a reference point of the same
@@ -14,10 +14,9 @@ Holm 1979 by default, or Benjamini & Hochberg 1995).
 * :func:`compare_to_condition`: every condition against a reference condition at the same
   point ("at each LC.gain, is curiosity better than random switching?").
 
-Both take a :func:`~neurocur.analysis.order.per_run` table (or an ``(episodes, modules)``
-pair) and return a tidy table: ``condition`` (the base name of ``b``), ``point`` (the label of
+Both take a per-run table (:func:`~neurocur.analysis.stats.order.per_run`) and return a tidy table: ``condition`` (the base name of ``b``), ``point`` (the label of
 ``b``'s point, "" without a sweep), the swept keys (``b``'s values), then
-:data:`~neurocur.analysis.comparison.COMPARE_COLUMNS`. The reference is always ``a``:
+:data:`~neurocur.analysis.stats.comparison.COMPARE_COLUMNS`. The reference is always ``a``:
 ``difference`` and the effects are positive when the reference is higher.
 """
 
@@ -27,18 +26,15 @@ from collections.abc import Mapping, Sequence
 
 import pandas as pd
 
-from neurocur.contexts.base import SourceSpec
-from neurocur.contexts.synthetic import SYNTHETIC
-
 from .bootstrap import BOOTSTRAP_SEED, N_BOOT
-from .comparison import COMPARE_COLUMNS, _per_run_table, adjust_pvalues, compare
+from .comparison import COMPARE_COLUMNS, adjust_pvalues, compare
 from .order import sweep_columns
 
 __all__ = ["split_condition", "sweep_points", "compare_to_point", "compare_to_condition"]
 
 
 def split_condition(name: str) -> tuple[str, str]:
-    """``"curious@LC.gain=0.5"`` → ``("curious", "LC.gain=0.5")``; ``"curious"`` → ``("curious", "")``."""
+    """``"A@LC.gain=0.5"`` → ``("A", "LC.gain=0.5")``; ``"A"`` → ``("A", "")``."""
     base, _, label = str(name).partition("@")
     return base, label
 
@@ -68,8 +64,8 @@ def _finish(tables: list[pd.DataFrame], swept: list[str], adjust) -> pd.DataFram
     return adjust_pvalues(pd.concat(tables, ignore_index=True), adjust)[columns]
 
 
-def _compare_rows(runs, a, b_row, swept, metric, spec, options) -> pd.DataFrame:
-    table = compare(runs, a, b_row["condition"], metric, spec, adjust=None, **options)
+def _compare_rows(runs, a, b_row, swept, metric, options) -> pd.DataFrame:
+    table = compare(runs, a, b_row["condition"], metric, adjust=None, **options)
     table.insert(0, "condition", b_row["base"])
     table.insert(1, "point", b_row["point"])
     for i, key in enumerate(swept):
@@ -78,12 +74,11 @@ def _compare_rows(runs, a, b_row, swept, metric, spec, options) -> pd.DataFrame:
 
 
 def compare_to_point(
-    stats_or_tables,
+    runs: pd.DataFrame,
     reference: Mapping | str,
     metric: str | Sequence[str] | None = None,
     *,
     conditions: Sequence[str] | None = None,
-    spec: SourceSpec = SYNTHETIC,
     paired: bool = True,
     adjust: str | None = "holm",
     n_boot: int = N_BOOT,
@@ -98,7 +93,6 @@ def compare_to_point(
     with exactly one reference point). One row per (condition, point, metric), adjusted
     together (``adjust``); see the module docstring for the columns.
     """
-    runs = _per_run_table(stats_or_tables, spec, "compare_to_point")
     swept = sweep_columns(runs)
     if isinstance(reference, Mapping) and (missing := [k for k in reference if k not in swept]):
         raise ValueError(f"compare_to_point: {missing} not swept; the swept columns are {swept}")
@@ -118,7 +112,7 @@ def compare_to_point(
                              f"its points are {mine['point'].tolist()}")
         matched += 1
         a = ref["condition"].iloc[0]
-        tables += [_compare_rows(runs, a, row, swept, metric, spec, options)
+        tables += [_compare_rows(runs, a, row, swept, metric, options)
                    for _, row in mine.iterrows() if row["condition"] != a]
     if not matched:
         raise ValueError(f"compare_to_point: no condition has the point {reference!r}; "
@@ -127,12 +121,11 @@ def compare_to_point(
 
 
 def compare_to_condition(
-    stats_or_tables,
+    runs: pd.DataFrame,
     reference: str,
     metric: str | Sequence[str] | None = None,
     *,
     others: Sequence[str] | None = None,
-    spec: SourceSpec = SYNTHETIC,
     paired: bool = True,
     adjust: str | None = "holm",
     n_boot: int = N_BOOT,
@@ -147,7 +140,6 @@ def compare_to_condition(
     One row per (condition, point, metric), adjusted together (``adjust``); see the module
     docstring for the columns.
     """
-    runs = _per_run_table(stats_or_tables, spec, "compare_to_condition")
     swept = sweep_columns(runs)
     points = sweep_points(runs)
     if reference not in set(points["base"]):
@@ -159,5 +151,5 @@ def compare_to_condition(
     tables = []
     for _, ref in points[points["base"] == reference].iterrows():
         at = points[(points["point"] == ref["point"]) & points["base"].isin(bases)]
-        tables += [_compare_rows(runs, ref["condition"], row, swept, metric, spec, options) for _, row in at.iterrows()]
+        tables += [_compare_rows(runs, ref["condition"], row, swept, metric, options) for _, row in at.iterrows()]
     return _finish(tables, swept, adjust)

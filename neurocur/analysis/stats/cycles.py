@@ -25,11 +25,11 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from neurocur.analysis.results import Results
 from neurocur.contexts.base import SourceSpec
-from neurocur.contexts.synthetic import SYNTHETIC
 from neurocur.contract import require_columns
 
-from .dwell import Spec, run_keys, spec_of
+from .dwell import run_keys
 
 __all__ = ["error_cycles", "cycle_behaviour"]
 
@@ -72,22 +72,22 @@ def error_cycles(episodes: pd.DataFrame, column: str = "error", bin_frames: int 
     return out[columns]
 
 
-def cycle_behaviour(episodes: pd.DataFrame, modules: pd.DataFrame, spec: Spec = SYNTHETIC) -> pd.DataFrame:
+def cycle_behaviour(results: Results) -> pd.DataFrame:
     """How the agent behaved in each learning cycle, one row per stored module.
 
     Over the cycle's unfamiliar episodes (those the adaptive module learned from): the frames
     (``learning_frames``), the frames in contexts of the stored module's source
     (``source_frames``; ``/ 1000`` is its learning time in epochs, as
-    :func:`~neurocur.analysis.learning_time.learning_times`), their share (``source_share``), the
+    :func:`~neurocur.analysis.stats.learning_time.learning_times`), their share (``source_share``), the
     frames of the uninterrupted run of such episodes that ends the cycle (``final_stay``), the
     changes of source between consecutive ones (``source_switches``) and
     ``frames_per_switch`` = learning_frames / (source_switches + 1). Over all the cycle's
-    decisions: the share that disengaged (``p_disengage``). ``spec``: a
-    :class:`~neurocur.contexts.base.SourceSpec` or one per condition.
+    decisions: the share that disengaged (``p_disengage``).
 
     Columns: condition, run, the swept keys, cycle (1 = ended by the first module), module,
     source, then the numbers above.
     """
+    episodes, modules = results.episodes, results.modules
     require_columns(episodes, ["condition", "run", "episode", "context", "n_frames", "familiar", "action"],
                     needed_by="cycle_behaviour")
     require_columns(modules, ["condition", "run", "module", "episode", "source"], needed_by="cycle_behaviour")
@@ -98,7 +98,7 @@ def cycle_behaviour(episodes: pd.DataFrame, modules: pd.DataFrame, spec: Spec = 
     for (condition, run), eps in table.groupby(["condition", "run"], sort=True):
         if (condition, run) not in stored.groups:
             continue
-        source_of: SourceSpec = spec_of(spec, condition)
+        source_of: SourceSpec = results.spec_of(condition)
         sources = np.asarray(source_of.context_sources, dtype=object)[eps["context"].to_numpy()]
         episode, n_frames = eps["episode"].to_numpy(), eps["n_frames"].to_numpy()
         unfamiliar = ~eps["familiar"].astype(bool).to_numpy()

@@ -15,11 +15,9 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from neurocur.contexts.synthetic import SYNTHETIC
+from neurocur.analysis.results import Results
 from neurocur.contract import require_columns
-from neurocur.regions.pfc import ACTIONS, DISENGAGE, ENGAGE, RewardModel
-
-from .dwell import Spec, spec_of
+from neurocur.regions.pfc import ACTIONS, DISENGAGE, ENGAGE, PFCLSPI, RewardModel
 
 __all__ = ["replay_reward_model", "decision_rewards"]
 
@@ -44,13 +42,13 @@ def replay_reward_model(run: pd.DataFrame, n_contexts: int, alpha: float | str) 
     return out
 
 
-def decision_rewards(episodes: pd.DataFrame, alphas, spec: Spec = SYNTHETIC, *, last_episode=None) -> pd.DataFrame:
+def decision_rewards(results: Results, alphas=None, *, last_episode=None) -> pd.DataFrame:
     """Per run: the rewards after each kind of decision against the estimates decided on.
 
-    ``alphas``: eq 14's rate per condition (``{condition: alpha}``, e.g.
-    :func:`neurocur.analysis.write.pfc_alphas`), or one for all. ``spec``: the world's
-    :class:`~neurocur.contexts.base.SourceSpec`, or one per condition; its number of contexts
-    sizes the model (eqs 12-13 spread a disengage over all the other contexts, visited or not). ``last_episode``: a Series
+    ``alphas``: eq 14's rate per condition (``{condition: alpha}``), or one for all; by default
+    each condition's value estimator's own (the ``alpha`` of its :class:`~neurocur.regions.pfc.PFCLSPI`
+    region, :meth:`~neurocur.analysis.results.Results.region_param`). Each condition's number of
+    contexts sizes the model (eqs 12-13 spread a disengage over all the other contexts, visited or not). ``last_episode``: a Series
     indexed by (condition, run) of the last episode to include (e.g. the first module's storing
     episode, for the first cycle); runs without one are left out; None takes every episode.
 
@@ -60,12 +58,14 @@ def decision_rewards(episodes: pd.DataFrame, alphas, spec: Spec = SYNTHETIC, *, 
     decisions at which R(o, engage) < R(o, disengage)) and greedy_disengage (the share at which
     the recorded Q_disengage > Q_engage).
     """
+    episodes = results.episodes
+    alphas = results.region_param(PFCLSPI, "alpha") if alphas is None else alphas
     require_columns(episodes, ["condition", "run", "episode", "context", "da", "action", "q_engage", "q_disengage"],
                     needed_by="decision_rewards")
     rows = []
     for (condition, run), table in episodes.sort_values(["condition", "run", "episode"]).groupby(["condition", "run"]):
         alpha = alphas[condition] if isinstance(alphas, dict) else alphas
-        estimates = replay_reward_model(table, len(spec_of(spec, condition).context_names), alpha)
+        estimates = replay_reward_model(table, len(results.spec_of(condition).context_names), alpha)
         keep = np.ones(len(table), dtype=bool)
         if last_episode is not None:
             if (condition, run) not in last_episode.index:

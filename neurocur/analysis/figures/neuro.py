@@ -1,26 +1,26 @@
 """Seaborn figures of the neuromodulator and behaviour analyses.
 
 Each function draws the tidy output of one analysis module and returns a
-:class:`matplotlib.figure.Figure` in the style of :mod:`neurocur.analysis.style`:
+:class:`matplotlib.figure.Figure` in the style of :mod:`neurocur.analysis.figures.style`:
 
 * :func:`fig_inverted_u` — performance against a level, runs as points, level means with
   Student's t intervals, and the two lines of Simonsohn's (2018) test
-  (:mod:`~neurocur.analysis.inverted_u`);
+  (:mod:`~neurocur.analysis.stats.inverted_u`);
 * :func:`fig_occupancy` — the share of frames in chosen contexts over time (the noisy TV;
-  :func:`~neurocur.analysis.dwell.occupancy`), and :func:`fig_over_time` for any binned signal
-  (DA in the noise context, :func:`~neurocur.analysis.dwell.signal_over_time`);
+  :func:`~neurocur.analysis.stats.dwell.occupancy`), and :func:`fig_over_time` for any binned signal
+  (DA in the noise context, :func:`~neurocur.analysis.stats.dwell.signal_over_time`);
 * :func:`fig_event_locked` — event-locked DA and NE with intervals across runs
-  (:func:`~neurocur.analysis.event_locked.event_locked_average`);
+  (:func:`~neurocur.analysis.stats.event_locked.event_locked_average`);
 * :func:`fig_tonic_phasic` — phasic against tonic NE per run and context
-  (:func:`~neurocur.analysis.event_locked.tonic_phasic`);
+  (:func:`~neurocur.analysis.stats.event_locked.tonic_phasic`);
 * :func:`fig_efficiency` — frames until every learnable source is learned and frames in the
-  unlearnable contexts, two conditions paired by run (:mod:`~neurocur.analysis.efficiency`).
+  unlearnable contexts, two conditions paired by run (:mod:`~neurocur.analysis.stats.efficiency`).
 
 Engagement against learnability (the Goldilocks curve) is
-:func:`~neurocur.analysis.goldilocks.fig_goldilocks`.
+:func:`~neurocur.analysis.figures.goldilocks.fig_goldilocks`.
 
 Intervals of means over runs are 95 % percentile bootstrap intervals (Efron & Tibshirani
-1993; seaborn's, seeded with :data:`~neurocur.analysis.bootstrap.BOOTSTRAP_SEED`) unless a
+1993; seaborn's, seeded with :data:`~neurocur.analysis.stats.bootstrap.BOOTSTRAP_SEED`) unless a
 function says otherwise.
 """
 
@@ -31,13 +31,13 @@ import pandas as pd
 import seaborn as sns
 from matplotlib.figure import Figure
 
+from neurocur.analysis.stats.bootstrap import BOOTSTRAP_SEED, N_BOOT
+from neurocur.analysis.stats.dwell import context_indices, spec_of
+from neurocur.analysis.stats.efficiency import compare_efficiency
+from neurocur.analysis.stats.inverted_u import level_means, two_lines
+from neurocur.analysis.stats.significance import TESTS
 from neurocur.contract import require_columns
 
-from .bootstrap import BOOTSTRAP_SEED, N_BOOT
-from .dwell import context_indices, spec_of
-from .efficiency import compare_efficiency
-from .inverted_u import level_means, two_lines
-from .significance import TESTS
 from .style import figure, style
 
 __all__ = ["fig_inverted_u", "fig_occupancy", "fig_over_time", "fig_event_locked", "fig_tonic_phasic",
@@ -66,8 +66,8 @@ def fig_inverted_u(
     """Performance ``y`` against a level ``x``: one panel per group of ``by`` (e.g. per model).
 
     Each panel: the runs as grey points (jittered by 2 % of the level range), the level means
-    with Student's t 95 % intervals (:func:`~neurocur.analysis.inverted_u.level_means`), the
-    two lines of :func:`~neurocur.analysis.inverted_u.two_lines` (each drawn with its slope
+    with Student's t 95 % intervals (:func:`~neurocur.analysis.stats.inverted_u.level_means`), the
+    two lines of :func:`~neurocur.analysis.stats.inverted_u.two_lines` (each drawn with its slope
     through the mean of its side) and the break (dotted); the title gives both slopes, their
     one-sided p-values and the verdict.
     """
@@ -103,7 +103,7 @@ def fig_inverted_u(
 def fig_occupancy(table: pd.DataFrame, contexts, spec=None, *, hue: str = "condition") -> Figure:
     """The share of frames spent in ``contexts`` (indices or names; names need ``spec``) per time bin.
 
-    ``table``: :func:`~neurocur.analysis.dwell.occupancy`. The shares of the chosen contexts
+    ``table``: :func:`~neurocur.analysis.stats.dwell.occupancy`. The shares of the chosen contexts
     are summed per run and bin; one line per ``hue`` (the mean over runs, 95 % bootstrap
     interval).
     """
@@ -123,7 +123,7 @@ def fig_occupancy(table: pd.DataFrame, contexts, spec=None, *, hue: str = "condi
 
 def fig_over_time(table: pd.DataFrame, column: str, *, hue: str = "condition", ylabel: str | None = None,
                   title: str | None = None) -> Figure:
-    """A binned per-run quantity against time, e.g. :func:`~neurocur.analysis.dwell.signal_over_time`
+    """A binned per-run quantity against time, e.g. :func:`~neurocur.analysis.stats.dwell.signal_over_time`
     (DA in a noise context): one line per ``hue``, the mean over runs with its 95 % bootstrap interval."""
     require_columns(table, ["run", "step", column, hue], needed_by="fig_over_time")
     with style():
@@ -138,7 +138,7 @@ def fig_over_time(table: pd.DataFrame, column: str, *, hue: str = "condition", y
 def fig_event_locked(table: pd.DataFrame, *, hue: str = "condition") -> Figure:
     """Event-locked averages: one panel per (signal, event), one line per ``hue`` with its band.
 
-    ``table``: :func:`~neurocur.analysis.event_locked.event_locked_average` (its ``ci_low`` and
+    ``table``: :func:`~neurocur.analysis.stats.event_locked.event_locked_average` (its ``ci_low`` and
     ``ci_high`` are the bands; pass ``by_context=True`` output with ``hue="context"`` for one
     condition at a time).
     """
@@ -171,7 +171,7 @@ def fig_event_locked(table: pd.DataFrame, *, hue: str = "condition") -> Figure:
 
 def fig_tonic_phasic(table: pd.DataFrame, tonic: str = "ne_tonic", phasic: str = "ne_phasic", *,
                      hue: str = "condition") -> Figure:
-    """Phasic against tonic NE, one point per run and context (:func:`~neurocur.analysis.event_locked.tonic_phasic`)."""
+    """Phasic against tonic NE, one point per run and context (:func:`~neurocur.analysis.stats.event_locked.tonic_phasic`)."""
     require_columns(table, [tonic, phasic, hue], needed_by="fig_tonic_phasic")
     with style():
         fig, axes = figure(figsize=(5.0, 4.0))
@@ -180,20 +180,20 @@ def fig_tonic_phasic(table: pd.DataFrame, tonic: str = "ne_tonic", phasic: str =
     return fig
 
 
-def fig_efficiency(table: pd.DataFrame, a: str = "curious", b: str = "random_switching") -> Figure:
-    """How efficiently ``a`` and ``b`` learn, paired by run (:func:`~neurocur.analysis.efficiency.efficiency_per_run`).
+def fig_efficiency(table: pd.DataFrame, a: str, b: str) -> Figure:
+    """How efficiently ``a`` and ``b`` learn, paired by run (:func:`~neurocur.analysis.stats.efficiency.efficiency_per_run`).
 
     Left: frames until every learnable source is learned; a run that did not is drawn hollow
-    at the horizon (the dashed line), where it is censored. Right: frames in the unlearnable
+    at the table's cut-off (its ``horizon``, the dashed line), where it is censored. Right: frames in the unlearnable
     contexts. A grey line joins the two runs of a seed. Each title gives the paired test of
-    :func:`~neurocur.analysis.efficiency.compare_efficiency` (Holm-adjusted p).
+    :func:`~neurocur.analysis.stats.efficiency.compare_efficiency` (Holm-adjusted p).
     """
-    require_columns(table, ["condition", "run", "learned_all", "frames_to_learn_all_censored", "frames_unlearnable"],
-                    needed_by="fig_efficiency")
+    require_columns(table, ["condition", "run", "learned_all", "frames_to_learn_all_censored", "frames_unlearnable",
+                            "horizon"], needed_by="fig_efficiency")
     tests = compare_efficiency(table, a, b).set_index("metric")
     pairs = table[table["condition"].isin([a, b])].pivot(index="run", columns="condition")
     pairs = pairs.dropna(subset=[("frames_to_learn_all_censored", a), ("frames_to_learn_all_censored", b)])
-    horizon = table["frames_to_learn_all_censored"].max()
+    horizon = table["horizon"].iloc[0]
     with style():
         fig, axes = figure(1, 2, figsize=(9.0, 4.0))
         for ax, metric, label in ((axes[0, 0], "frames_to_learn_all_censored", "frames to learn all learnable sources"),

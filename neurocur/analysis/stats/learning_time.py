@@ -15,8 +15,7 @@ import math
 import numpy as np
 import pandas as pd
 
-from neurocur.contexts.base import SourceSpec
-from neurocur.contexts.synthetic import SYNTHETIC
+from neurocur.analysis.results import Results
 from neurocur.contract import require_columns
 
 __all__ = ["learning_times", "learning_time_summary"]
@@ -34,9 +33,7 @@ def require_learning_columns(episodes: pd.DataFrame, modules: pd.DataFrame, *, n
 
 
 def learning_times(
-    episodes: pd.DataFrame,
-    modules: pd.DataFrame,
-    spec: SourceSpec = SYNTHETIC,
+    results: Results,
     *,
     since: str = "previous",
     epoch: int = 1000,
@@ -56,6 +53,7 @@ def learning_times(
         raise ValueError(f"learning_times: since must be 'previous' or 'start', got {since!r}")
     if epoch <= 0:
         raise ValueError(f"learning_times: epoch must be a positive number of frames, got {epoch}")
+    episodes, modules = results.episodes, results.modules
     require_learning_columns(episodes, modules, needed_by="learning_times")
     by_run = {key: g for key, g in episodes.groupby(["condition", "run"])}
     rows = []
@@ -64,7 +62,7 @@ def learning_times(
         if eps is None:
             raise ValueError(f"modules of condition {condition!r} run {run} have no episodes")
         ep, ctx, frames = (eps[c].to_numpy() for c in ("episode", "context", "n_frames"))
-        previous, seen = -1, set()
+        previous, seen, spec = -1, set(), results.spec_of(condition)
         for module in table.sort_values("module").itertuples(index=False):
             contexts = spec.contexts_of(module.source)
             lower = previous if since == "previous" else -1
@@ -84,20 +82,18 @@ def learning_times(
     return pd.DataFrame(rows, columns=columns)
 
 
-def learning_time_summary(
-    episodes: pd.DataFrame, modules: pd.DataFrame, spec: SourceSpec = SYNTHETIC, *, since: str = "previous"
-) -> pd.DataFrame:
+def learning_time_summary(results: Results, *, since: str = "previous") -> pd.DataFrame:
     """Mean ± sd learning time (epochs) per condition and learnable source (Figure 4F).
 
     Uses the first module of each learnable source in each run. Columns: condition, source,
     n (runs that learned it), mean, sd.
     """
-    require_learning_columns(episodes, modules, needed_by="learning_time_summary")
-    times = learning_times(episodes, modules, spec, since=since)
+    require_learning_columns(results.episodes, results.modules, needed_by="learning_time_summary")
+    times = learning_times(results, since=since)
     times = times[times["learnable"] & times["first_of_source"]]
     rows = []
-    for condition in sorted(episodes["condition"].unique()):
-        for source in spec.learnable:
+    for condition in results.conditions:
+        for source in results.spec_of(condition).learnable:
             values = times.loc[(times["condition"] == condition) & (times["source"] == source), "epochs"]
             rows.append({"condition": condition, "source": source, "n": len(values),
                          "mean": values.mean() if len(values) else math.nan,
