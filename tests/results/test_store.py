@@ -197,7 +197,7 @@ def test_the_code_fingerprint_covers_the_code_that_computes_runs_and_not_the_ana
     monkeypatch.setattr(fingerprint, "PACKAGE", copy)
 
     def source():
-        return fingerprint.code_fingerprint.__wrapped__()["source"]
+        return fingerprint._package_fingerprint.__wrapped__()["source"]
 
     before = source()
     for module, same in (("analysis/report.py", True), ("regions/vta.py", False)):

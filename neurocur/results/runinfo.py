@@ -1,0 +1,92 @@
+"""What a run folder must be to count: its spelling, its ``run.json`` and the digest of its tables.
+
+A run folder is ``runs/<condition>/run-<NNN>``, spelled exactly as :func:`run_folder_name`
+spells its number (``run-001``, never ``run-1`` or ``run-0_01``) and a real directory (not a
+link). Its ``run.json`` names its condition and run (an integer), and, as written by
+:meth:`~neurocur.results.ResultsStore.write_run`, its seed, its steps and the sha256 of each
+of its tables (``tables``). :func:`check_run_info` compares them with the folder's path and
+``config.toml``: a run computed for another experiment (other steps, another seed) or whose
+tables were changed afterwards is refused, naming the folder and the key.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import re
+from collections.abc import Mapping
+from pathlib import Path
+
+from .errors import ResultsError
+
+__all__ = ["digests", "check_run_info", "run_folder_name", "run_number"]
+
+_RUN = re.compile(r"run-(\d{3,})")
+
+
+def run_folder_name(run: int) -> str:
+    """``run-007``: the one spelling of run 7's folder."""
+    return f"run-{run:03d}"
+
+
+def run_number(name: str) -> int | None:
+    """The run number of a canonically spelled run folder name, else None."""
+    match = _RUN.fullmatch(name)
+    if match is None or run_folder_name(int(match.group(1))) != name:
+        return None
+    return int(match.group(1))
+
+
+def digests(folder: Path) -> dict[str, str]:
+    """The sha256 of each table (``*.parquet``) of a run folder, by file name."""
+    found = {}
+    for path in sorted(Path(folder).glob("*.parquet")):
+        h = hashlib.sha256()
+        with path.open("rb") as fh:
+            for block in iter(lambda: fh.read(1 << 20), b""):
+                h.update(block)
+        found[path.name] = h.hexdigest()
+    return found
+
+
+def check_run_info(folder: Path, info: Mapping, condition: str, run: int, config: Mapping | None) -> tuple | None:
+    """Check the ``run.json`` (``info``) of ``folder``, run ``run`` of ``condition`` by its path.
+
+    Returns ``(condition, run)`` as the ``run.json`` says when they differ from the path (the
+    caller names a copied or renamed folder), else None. Raises ResultsError for a ``run.json``
+    without a proper ``condition`` or ``run``, and, when the folder's ``config.toml`` is given
+    and was written by the store (it records ``code``), for a seed, steps or tables digest
+    that is missing or disagrees."""
+    where = Path(folder) / "run.json"
+    said_condition, said_run = info.get("condition"), info.get("run")
+    if not isinstance(said_condition, str):
+        raise ResultsError(f"{where}: key 'condition': expected the run's condition (a string), got "
+                           f"{_describe(said_condition)}; remove this run folder")
+    if isinstance(said_run, bool) or not isinstance(said_run, int):
+        raise ResultsError(f"{where}: key 'run': expected the run's number (an integer), got "
+                           f"{_describe(said_run)}; remove this run folder")
+    if (said_condition, said_run) != (condition, run):
+        return said_condition, said_run
+    if not config or "code" not in config:
+        return None
+    seeds = config.get("seeds") if isinstance(config.get("seeds"), Mapping) else {}
+    keys = seeds.get("spawn_keys") or []
+    expected = {"steps": config.get("steps"),
+                "seed": {"entropy": seeds.get("entropy"), "spawn_key": keys[run] if run < len(keys) else [run]}}
+    for key, value in expected.items():
+        if info.get(key) != value:
+            raise ResultsError(f"{where}: key '{key}': expected {value!r} as this folder's config.toml says, got "
+                               f"{_describe(info.get(key))} (a run of another experiment?); remove this run folder")
+    recorded, actual = info.get("tables"), digests(folder)
+    if recorded != actual:
+        changed = sorted(set(actual) ^ set(recorded)) if isinstance(recorded, Mapping) else []
+        changed += sorted(n for n in actual if isinstance(recorded, Mapping) and n in recorded
+                          and recorded[n] != actual[n])
+        what = ", ".join(changed) if changed else "its tables"
+        raise ResultsError(f"{where}: key 'tables': expected the sha256 of the run's tables as written, got "
+                           f"{'nothing' if recorded is None else 'other digests'} ({what} changed since the run was "
+                           "written?); remove this run folder")
+    return None
+
+
+def _describe(value) -> str:
+    return "nothing (the key is missing)" if value is None else f"{value!r} ({type(value).__name__})"
