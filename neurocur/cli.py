@@ -34,7 +34,7 @@ examples:
   neurocur invariance invariance             Figure 5: invariance of a learned slow feature
 
 EXPERIMENT is a path, or the name of an experiment shipped in the package
-(neurocur/experiments_data/NAME.toml): synthetic, reproduction, sweep_pfc, icub, gym_classic.
+(neurocur/experiments_data/NAME.toml); 'neurocur list' shows them all, one line each.
 
 Running again into the same results folder resumes: finished runs are kept. One process at a
 time writes into a results folder; resuming refuses changed input files and (unless
@@ -158,6 +158,9 @@ def build_parser() -> argparse.ArgumentParser:
         formatter_class=argparse.RawDescriptionHelpFormatter)
     invariance.add_argument("experiment", metavar="EXPERIMENT", help="invariance TOML file or shipped name (invariance)")
     invariance.add_argument("--out", metavar="DIR", help="output folder (default: results/<name in the file>)")
+
+    sub.add_parser("list", help="the shipped experiments and circuits, one line each",
+                   description="List the experiments, invariance demonstrations and circuits shipped in the package.")
     return parser
 
 
@@ -242,15 +245,22 @@ def _cmd_omega(args) -> int:
 
 def _cmd_invariance(args) -> int:
     from neurocur.analysis.invariance import load_invariance, write_invariance
-    from neurocur.experiments.spec import resolve_experiment
+    from neurocur.tables import resolve_file
 
-    spec = load_invariance(resolve_experiment(args.experiment))
+    spec = load_invariance(resolve_file(args.experiment, Path(), "invariance", source=args.experiment, key=None))
     out = Path(args.out) if args.out else Path("results") / spec.name
     demo, paths = write_invariance(spec, out)
     print(f"{spec.source}: corr = {demo.corr:.5f} (first feature before/after the swap), "
           f"quality = {demo.quality:.5f} (|corr| with the slow source dimension)")
     for path in paths:
         print(path)
+    return 0
+
+
+def _cmd_list(args) -> int:
+    from neurocur.experiments.catalog import format_catalog
+
+    print(format_catalog())
     return 0
 
 
@@ -271,7 +281,7 @@ def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     command = {"run": _cmd_run, "figures": _cmd_figures, "omega": _cmd_omega,
-               "invariance": _cmd_invariance}[args.command]
+               "invariance": _cmd_invariance, "list": _cmd_list}[args.command]
     try:
         return command(args)
     except (ValueError, OSError) as exc:  # ConfigError is a ValueError; OSError: a file that cannot be read or written

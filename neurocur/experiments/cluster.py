@@ -16,11 +16,11 @@ at once. Either way the finished runs are kept.
 from __future__ import annotations
 
 import logging
-import socket
 from contextlib import ExitStack
 
 from neurocur.results import ResultsStore
 
+from .probe import probe_scheduler
 from .processes import note, single_threaded_children
 from .run import run_one
 from .spec import Experiment
@@ -45,7 +45,7 @@ def compute_on_dask(exp: Experiment, todo, jobs: int, store: ResultsStore, bar, 
             client = stack.enter_context(Client(cluster))
         else:
             try:
-                _reachable(scheduler)
+                probe_scheduler(scheduler)
                 client = stack.enter_context(Client(scheduler, timeout="20s"))
             except OSError as exc:
                 raise ValueError(f"--scheduler {scheduler}: expected a reachable dask.distributed scheduler, "
@@ -69,12 +69,3 @@ def compute_on_dask(exp: Experiment, todo, jobs: int, store: ResultsStore, bar, 
                 running.pop(future)
                 store.write_run(future.result())
                 bar.update(1)
-
-
-def _reachable(address: str) -> None:
-    """Raise OSError at once when nothing listens at a ``tcp://HOST:PORT`` address (before Dask's
-    own connection attempts, which retry for their whole timeout)."""
-    host, _, port = address.removeprefix("tcp://").rpartition(":")
-    if address.startswith("tcp://") and port.isdigit():
-        socket.create_connection((host.strip("[]"), int(port)), timeout=5).close()
-

@@ -40,6 +40,7 @@ from neurocur.results import ResultsStore
 from neurocur.results.lock import describe_holder
 
 from .cluster import compute_on_dask
+from .pending import Pending
 from .processes import ctrl_c_held, fork_context, note, single_threaded_children, start_fork_server
 from .run import dry_run, run_one
 from .spec import Condition, Experiment
@@ -134,7 +135,7 @@ def run_experiment(exp: Experiment, out, *, jobs: int | None = None, conditions=
         grown = store.check(config, inputs=inputs, accept_code_change=accept_code_change)
         names = [c.name for c in selected]
         done = store.completed(names, exp.runs)
-        todo = [(c, i) for c in selected for i in range(exp.runs) if (c.name, i) not in done]
+        todo = Pending(selected, exp.runs, done)
         jobs = max(1, min(jobs or os.cpu_count() or 1, len(todo) or 1))
         if todo and scheduler is None:
             start_fork_server()  # its imports overlap the pre-flight checks
@@ -162,9 +163,7 @@ def run_experiment(exp: Experiment, out, *, jobs: int | None = None, conditions=
 def _preflight(exp: Experiment, todo, jobs: int, max_memory: int | None) -> None:
     """Prepare each world once, run each condition's first episode here, and refuse when the
     workers' estimated memory exceeds ``max_memory`` or the memory available."""
-    first = {}
-    for c, i in todo:
-        first.setdefault(c.name, (c, i))
+    first = todo.first_of_each()
     for c in {json.dumps(c.world, sort_keys=True): c for c, _ in first.values()}.values():
         c.world_class.prepare(c.world_params)
     peaks = {name: dry_run(c, exp.run_seed(i)) for name, (c, i) in first.items()}

@@ -69,6 +69,7 @@ from neurocur.circuit import Circuit
 from neurocur.config import ConfigError, describe
 from neurocur.contexts import WORLDS, World
 from neurocur.results.names import condition_label
+from neurocur.results.runinfo import seeds_record
 from neurocur.tables import check_keys, require, resolve_file, shipped_files
 
 from .conditions import Overrides, condition_world, lesioned, load_circuit
@@ -163,10 +164,7 @@ class Experiment:
             "description": self.description,
             "runs": self.runs,
             "steps": self.steps,
-            "seeds": {
-                "entropy": self.seed,
-                "spawn_keys": [list(self.run_seed(i).spawn_key) for i in range(self.runs)],
-            },
+            "seeds": seeds_record(self.seed),
             "conditions": conditions,
         }
 

@@ -31,7 +31,7 @@ def read_config(path: Path) -> dict:
 
 #: the keys of a config.toml whose type the store relies on, with the type expected
 _CONFIG_TYPES = {"runs": (int, "a positive integer"), "steps": (int, "a positive integer"),
-                 "seeds": (dict, "a table (entropy, spawn_keys)"), "code": (list, "an array of code fingerprints"),
+                 "seeds": (dict, "a table (entropy, spawn_key)"), "code": (list, "an array of code fingerprints"),
                  "conditions": (dict, "a table of condition tables")}
 
 
@@ -56,7 +56,7 @@ def comparable(config: Mapping) -> dict:
     the number of runs (a folder grows by runs; each run's seed depends only on its index)."""
     kept = {k: v for k, v in config.items() if k not in _NOT_COMPARED}
     if isinstance(kept.get("seeds"), Mapping):
-        kept["seeds"] = {k: v for k, v in kept["seeds"].items() if k != "spawn_keys"}
+        kept["seeds"] = {k: v for k, v in kept["seeds"].items() if k not in ("spawn_key", "spawn_keys")}
     return _without_descriptions(kept)
 
 

@@ -18,9 +18,26 @@ from pathlib import Path
 
 from .errors import ResultsError
 
-__all__ = ["digests", "check_run_info", "run_folder_name", "run_number"]
+__all__ = ["check_run_info", "digests", "run_folder_name", "run_number", "run_spawn_key", "seeds_record"]
 
 _RUN = re.compile(r"run-(\d{3,})")
+
+
+#: how ``config.toml`` records the spawn key of run i (the same for every run count: nothing per run)
+SPAWN_KEY_RULE = "[run]"
+
+
+def seeds_record(entropy: int) -> dict:
+    """The ``seeds`` table of ``config.toml``: run i of every condition uses
+    ``SeedSequence(entropy, spawn_key=(i,))``; written in constant size, however many runs."""
+    return {"entropy": entropy, "spawn_key": SPAWN_KEY_RULE}
+
+
+def run_spawn_key(seeds: Mapping, run: int) -> list:
+    """The spawn key of run ``run`` as a ``seeds`` table records it (a folder written before the rule
+    lists every run's key as ``spawn_keys``)."""
+    keys = seeds.get("spawn_keys")
+    return list(keys[run]) if isinstance(keys, list) and run < len(keys) else [run]
 
 
 def run_folder_name(run: int) -> str:
@@ -69,9 +86,8 @@ def check_run_info(folder: Path, info: Mapping, condition: str, run: int, config
     if not config or "code" not in config:
         return None
     seeds = config.get("seeds") if isinstance(config.get("seeds"), Mapping) else {}
-    keys = seeds.get("spawn_keys") or []
     expected = {"steps": config.get("steps"),
-                "seed": {"entropy": seeds.get("entropy"), "spawn_key": keys[run] if run < len(keys) else [run]}}
+                "seed": {"entropy": seeds.get("entropy"), "spawn_key": run_spawn_key(seeds, run)}}
     for key, value in expected.items():
         if info.get(key) != value:
             raise ResultsError(f"{where}: key '{key}': expected {value!r} as this folder's config.toml says, got "

@@ -289,7 +289,7 @@ def test_resolved_config_round_trips_through_toml():
     assert text.startswith("# a header\n# of two lines\n")
     back = tomllib.loads(text)
     assert first_difference(back, tomllib.loads(dumps_toml(back))) is None
-    assert back["seeds"] == {"entropy": 2026, "spawn_keys": [[0], [1]]}
+    assert back["seeds"] == {"entropy": 2026, "spawn_key": "[run]"}  # run i: spawn key [i], however many runs
     assert back["neurocur_version"] == __import__("neurocur").__version__
     cond = back["conditions"]["random_switching"]
     assert cond["circuit"] == str(ROOT / "neurocur" / "circuits" / "lesion_lc_random.toml")
