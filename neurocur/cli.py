@@ -201,6 +201,7 @@ def _cmd_figures(args) -> int:
 
 
 def _cmd_omega(args) -> int:
+    from neurocur.config.npy import load_npy
     from neurocur.learn.omega import omega
 
     if (args.file is None) == (args.experiment is None):
@@ -212,13 +213,14 @@ def _cmd_omega(args) -> int:
         if not path.is_file():
             raise ValueError(f"omega: FILE.npy: expected an existing .npy file, got {str(path)!r} (no such file)")
         try:
-            X = np.load(path, allow_pickle=False)
+            X = load_npy(path)
         except (ValueError, OSError, EOFError) as exc:
-            raise ValueError(f"omega: {path}: expected a .npy array written by numpy.save, got a file numpy "
-                             f"cannot read as one ({exc})") from None
-        if not isinstance(X, np.ndarray):  # a .npz archive
-            X.close()
-            raise ValueError(f"omega: {path}: expected a .npy array written by numpy.save, got a .npz archive")
+            raise ValueError(f"omega: {path}: {exc}") from None
+        if X.dtype.kind in "fiu":
+            with np.errstate(over="ignore", invalid="ignore"):
+                if not np.isfinite(np.var(X, axis=0, dtype=np.float64)).all():
+                    raise ValueError(f"omega: {path}: expected a signal whose variance is finite in float64 "
+                                     f"(|x| up to about 1e150), got values up to {np.nanmax(np.abs(X)):.3g}")
         try:
             value = omega(X, args.eta)
         except ValueError as exc:
@@ -286,6 +288,10 @@ def main(argv=None) -> int:
         return command(args)
     except (ValueError, OSError) as exc:  # ConfigError is a ValueError; OSError: a file that cannot be read or written
         print(f"neurocur {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+    except MemoryError:
+        print(f"neurocur {args.command}: error: out of memory: a setting asks for more memory than this process may "
+              "allocate (e.g. world.frame_shape, steps, a source file); use smaller settings", file=sys.stderr)
         return 2
     except KeyboardInterrupt as exc:
         if threading.current_thread() is threading.main_thread():

@@ -3,15 +3,20 @@ scheduler address that is no Dask scheduler, a huge --runs; and the names the co
 
 import http.server
 import os
+import resource
 import socket
+import subprocess
+import sys
 import threading
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from neurocur.cli import main
 from neurocur.config import ConfigError
+from neurocur.config.npy import load_npy
 from neurocur.experiments import load_experiment, run_experiment
 from neurocur.experiments import pool as pool_module
 from neurocur.experiments.catalog import catalog
@@ -163,3 +168,49 @@ def test_a_huge_number_of_runs_starts_at_once(tmp_path, monkeypatch):
     assert seen == {"todo": runs, "first": 0}
     assert time.monotonic() - started < 30
     assert (tmp_path / "out" / "config.toml").stat().st_size < 200_000
+
+
+# --- files and settings that would exhaust memory ----------------------------------------------
+
+def lying_npy(path, claimed_rows):
+    """A .npy file holding 4 x 2 float64 zeros whose header claims ``claimed_rows`` rows."""
+    with open(path, "wb") as fh:
+        np.lib.format.write_array_header_1_0(fh, {"descr": "<f8", "fortran_order": False, "shape": (claimed_rows, 2)})
+        fh.write(np.zeros((4, 2)).tobytes())
+    return path
+
+
+def test_a_npy_header_claiming_a_huge_shape_is_refused_before_any_allocation(tmp_path, capsys):
+    path = lying_npy(tmp_path / "huge.npy", 4_500_000_000_000)  # 72 TB of float64
+    with pytest.raises(ValueError, match=r"header claims \(shape \(4500000000000, 2\), float64\), got 64 bytes"):
+        load_npy(path)
+    assert main(["omega", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert f"omega: {path}: expected a .npy file holding the 72000000000000 bytes" in err and err.count("\n") == 1
+    exp = tmp_path / "own.toml"
+    exp.write_text(f'circuit = "cd_misfa"\nruns = 1\nsteps = 100\nseed = 1\n[world]\ncontexts = ["S-X", "S-A"]\n'
+                   f'[world.sources]\nS-X = "{path.name}"\n')
+    with pytest.raises(ConfigError, match=r"own.toml: key 'world.sources.S-X': expected a .npy file written by "
+                                          r"numpy.save, got .* \(expected a .npy file holding the 72000000000000 bytes"):
+        load_experiment(exp)
+
+
+def test_omega_of_a_signal_too_large_for_float64_is_one_line(tmp_path, capsys):
+    path = tmp_path / "scaled.npy"
+    np.save(path, np.random.default_rng(0).normal(size=(200, 3)) * 1e160)
+    assert main(["omega", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert f"omega: {path}: expected a signal whose variance is finite in float64" in err and err.count("\n") == 1
+
+
+def test_a_frame_shape_beyond_the_memory_limit_is_one_line_exit_2(tmp_path):
+    def limit():
+        resource.setrlimit(resource.RLIMIT_AS, (3 * 2**30, 3 * 2**30))
+
+    done = subprocess.run(
+        [sys.executable, "-m", "neurocur.cli", "run", "synthetic", "--runs", "1", "--steps", "100", "--no-progress",
+         "--set", "world.frame_shape=[100000, 100000]", "--out", str(tmp_path / "out")],
+        capture_output=True, text=True, timeout=120, preexec_fn=limit, cwd=ROOT,
+        env={**os.environ, "PYTHONPATH": str(ROOT)})
+    assert done.returncode == 2, done.stderr[-2000:]
+    assert done.stderr.startswith("neurocur run: error: out of memory") and done.stderr.count("\n") == 1
