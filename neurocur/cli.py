@@ -115,6 +115,11 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--max-memory", type=_memory, metavar="SIZE",
                      help="memory the workers may use together, e.g. 8G (default: what the machine has available); "
                      "estimated from each condition's first episode before any worker starts")
+    run.add_argument("--checkpoint-every", type=_int_at_least(0, "an integer >= 0"), metavar="N",
+                     help="save each run's state every N episodes into OUT/checkpoints/, so that a stopped run "
+                     "continues from there (0: never; default: every 200 episodes for runs of 200000 steps or more)")
+    run.add_argument("--save-agent", action="store_true",
+                     help="write each run's trained agent into its run folder (agent/; neurocur.load_agent reads it)")
     run.add_argument("--accept-code-change", action="store_true",
                      help="resume into a folder whose runs other code computed (the folder records every code "
                      "version that wrote runs into it); changed input files are always refused")
@@ -179,7 +184,7 @@ def _cmd_run(args) -> int:
     with ResultsStore(out).writing():  # held until the summary is written too
         run_experiment(exp, out, jobs=args.jobs, conditions=args.condition, progress=args.progress,
                        max_memory=args.max_memory, accept_code_change=args.accept_code_change,
-                       scheduler=args.scheduler)
+                       scheduler=args.scheduler, checkpoint_every=args.checkpoint_every, save_agent=args.save_agent)
         from neurocur.analysis import order_tables, write_summary  # imported once the runs are done
 
         tables = ResultsStore(out).load()

@@ -30,8 +30,8 @@ from collections.abc import Iterable, Mapping
 from importlib.metadata import entry_points
 from pathlib import Path
 
-__all__ = ["changed_input", "code_changed", "code_fingerprint", "file_hashes", "plugin_fingerprints", "portable",
-           "same_code"]
+__all__ = ["changed_input", "code_changed", "code_fingerprint", "file_hashes", "local_path", "plugin_fingerprints",
+           "portable", "same_code"]
 
 PACKAGE = Path(__file__).resolve().parents[1]
 #: subpackages left out of the code fingerprint: they never compute a run
@@ -108,6 +108,11 @@ def portable(tree):
     if isinstance(tree, str) and tree.startswith(prefix):
         return "<neurocur>/" + tree[len(prefix):]
     return tree
+
+
+def local_path(text: str) -> Path:
+    """The path that a :func:`portable` string names in the running package (other paths as they are)."""
+    return PACKAGE / text.removeprefix("<neurocur>/") if text.startswith("<neurocur>/") else Path(text)
 
 
 @functools.cache

@@ -9,6 +9,8 @@ Layout::
     OUT/runs/<condition>/run-<NNN>/modules.parquet
     OUT/runs/<condition>/run-<NNN>/run.json        the run's summary (order, seed, contexts, ...)
     OUT/runs/<condition>/run-<NNN>/<name>.parquet  further tables of the world type (iCub: features)
+    OUT/runs/<condition>/run-<NNN>/agent/          the trained agent, when asked for (:mod:`.agents`)
+    OUT/checkpoints/<condition>/run-<NNN>/         the last checkpoint of a run in progress (:mod:`.agents`)
     OUT/.lock                                      while a process writes (:mod:`.lock`)
 
 **The folder is the truth.** A run's condition and number are those of its path; the
@@ -49,6 +51,7 @@ import pandas as pd
 
 from neurocur.config import ConfigError
 
+from .agents import AGENT, Checkpoints
 from .configfile import comparable, lookup, read_config
 from .errors import ResultsError
 from .fingerprint import changed_input, code_changed, code_fingerprint, file_hashes, portable
@@ -56,6 +59,7 @@ from .lock import FolderLock, locked
 from .names import check_folder_name
 from .runinfo import check_run_info, digests, run_folder_name, run_number
 from .safeio import atomic_text, own_dir
+from .statefile import write_state
 from .tomlio import difference_path, dotted, dumps_toml
 
 __all__ = ["ResultsError", "ResultsStore", "RunResult", "load", "run_dirs"]
@@ -63,6 +67,7 @@ __all__ = ["ResultsError", "ResultsStore", "RunResult", "load", "run_dirs"]
 CONFIG = "config.toml"
 SUMMARY = "summary.json"
 PARTIAL = ".partial"
+CHECKPOINTS = "checkpoints"
 RUN_INFO = "run.json"
 RUN_TABLES = ("episodes", "modules")
 _HEADER = """Resolved experiment written by neurocur; do not edit (resuming into this folder compares it).
@@ -82,6 +87,8 @@ class RunResult:
     summary: dict
     #: further per-run tables of the world type, written as ``<name>.parquet`` (iCub: ``features``)
     tables: Mapping[str, pd.DataFrame] = field(default_factory=dict)
+    #: the trained agent's state (:func:`~neurocur.results.agents.agent_state`), written as ``agent/``; None: not kept
+    agent: tuple | None = None
 
 
 class ResultsStore:
@@ -115,6 +122,12 @@ class ResultsStore:
                 found.add((path.parent.name, run_number(path.name)))
         wanted = set(conditions)
         return {(c, i) for c, i in found if c in wanted and i < runs}
+
+    def checkpoints(self, condition: str, run: int, every: int, meta: Mapping) -> Checkpoints:
+        """The checkpoints of run ``run`` of ``condition`` (:class:`~neurocur.results.agents.Checkpoints`),
+        in ``OUT/checkpoints/<condition>/run-<NNN>/``; removed when the run is written."""
+        final = self.run_dir(condition, run)
+        return Checkpoints(own_dir(self.root, CHECKPOINTS, condition) / final.name, every, meta)
 
     def writing(self) -> AbstractContextManager[FolderLock]:
         """The folder's exclusive lock for a ``with`` block (see :mod:`neurocur.results.lock`):
@@ -218,11 +231,14 @@ class ResultsStore:
             check_folder_name(table_name, tmp, "tables")
             table.to_parquet(tmp / f"{table_name}.parquet", index=False)
         summary = {**result.summary, "tables": digests(tmp)}
+        if result.agent is not None:
+            write_state(tmp / AGENT, *result.agent)
         (tmp / RUN_INFO).write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
         own_dir(self.root, "runs", result.condition)
         for _ in range(100):  # each pass moves an incomplete folder aside; another writer may race us
             try:
                 os.replace(tmp, final)
+                shutil.rmtree(self.root / CHECKPOINTS / result.condition / final.name, ignore_errors=True)
                 return final
             except OSError as exc:
                 if exc.errno not in (errno.ENOTEMPTY, errno.EEXIST):

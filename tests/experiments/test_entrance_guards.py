@@ -158,7 +158,7 @@ def test_a_huge_number_of_runs_starts_at_once(tmp_path, monkeypatch):
 
     seen = {}
 
-    def compute(exp, todo, jobs, out, bar, ctrl_c):
+    def compute(exp, todo, jobs, out, bar, ctrl_c, **options):
         seen["todo"] = len(todo)
         seen["first"] = next(iter(todo))[1]
 
