@@ -18,7 +18,7 @@ from pathlib import Path
 
 from .errors import ResultsError
 
-__all__ = ["check_run_info", "digests", "run_folder_name", "run_number", "run_spawn_key", "seeds_record"]
+__all__ = ["check_run_info", "digests", "run_folder_name", "run_number", "run_spawn_key", "scan_runs", "seeds_record"]
 
 _RUN = re.compile(r"run-(\d{3,})")
 
@@ -51,6 +51,28 @@ def run_number(name: str) -> int | None:
     if match is None or run_folder_name(int(match.group(1))) != name:
         return None
     return int(match.group(1))
+
+
+def scan_runs(runs: Path) -> list[Path]:
+    """Every run folder ``runs/<condition>/run-<NNN>``, sorted; ResultsError for an entry of
+    ``runs/`` or of a condition folder that is a link, or a ``run-*`` entry spelled otherwise."""
+    if not runs.is_dir():
+        return []
+    found = []
+    for condition in sorted(runs.iterdir()):
+        if condition.is_symlink() or not condition.is_dir():
+            raise ResultsError(f"{condition}: expected a condition folder written by neurocur, got "
+                               f"{'a symbolic link' if condition.is_symlink() else 'a file'}; remove it")
+        for path in sorted(condition.iterdir()):
+            if not path.name.startswith("run-"):
+                continue
+            if run_number(path.name) is None or path.is_symlink() or not path.is_dir():
+                why = ("a symbolic link" if path.is_symlink() else "not a folder" if not path.is_dir()
+                       else "not spelled run-<NNN> (e.g. run-001)")
+                raise ResultsError(f"run folder {path} is {why}: a run folder is a real folder spelled as "
+                                   "neurocur writes it (a copied or renamed folder?); remove it")
+            found.append(path)
+    return found
 
 
 def digests(folder: Path) -> dict[str, str]:

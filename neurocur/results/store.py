@@ -16,7 +16,11 @@ Layout::
 **The folder is the truth.** A run's condition and number are those of its path; the
 ``condition`` and ``run`` of its ``run.json`` and of its tables must agree, else reading
 (and resuming) fails naming the folder, what its files say and, when the same run also
-exists under its own name, both paths (a copied or renamed folder).
+exists under its own name, both paths (a copied or renamed folder). A run folder is spelled
+``run-<NNN>`` and is a real folder, and its ``run.json`` agrees with ``config.toml`` (seed,
+steps) and with its tables (sha256) (:mod:`.runinfo`); a folder with runs but no
+``config.toml`` is refused. Nothing is written through a link the store did not make, nor
+outside the folder (:mod:`.safeio`, :mod:`.names`).
 
 **Writing.** A process writes only while it holds the folder's lock
 (:meth:`ResultsStore.writing`). Every run is written into ``OUT/.partial/`` and moved into
@@ -57,7 +61,7 @@ from .errors import ResultsError
 from .fingerprint import changed_input, code_changed, code_fingerprint, file_hashes, portable
 from .lock import FolderLock, locked
 from .names import check_folder_name
-from .runinfo import check_run_info, digests, run_folder_name, run_number
+from .runinfo import check_run_info, digests, run_folder_name, run_number, scan_runs
 from .safeio import atomic_text, own_dir
 from .statefile import write_state
 from .tomlio import difference_path, dotted, dumps_toml
@@ -300,26 +304,7 @@ class ResultsStore:
         return found
 
     def _scan(self) -> list[Path]:
-        """Every run folder ``runs/<condition>/run-<NNN>``, sorted; ResultsError for an entry of
-        ``runs/`` or of a condition folder that is a link, or a ``run-*`` entry spelled otherwise."""
-        runs = self.root / "runs"
-        if not runs.is_dir():
-            return []
-        found = []
-        for condition in sorted(runs.iterdir()):
-            if condition.is_symlink() or not condition.is_dir():
-                raise ResultsError(f"{condition}: expected a condition folder written by neurocur, got "
-                                   f"{'a symbolic link' if condition.is_symlink() else 'a file'}; remove it")
-            for path in sorted(condition.iterdir()):
-                if not path.name.startswith("run-"):
-                    continue
-                if run_number(path.name) is None or path.is_symlink() or not path.is_dir():
-                    why = ("a symbolic link" if path.is_symlink() else "not a folder" if not path.is_dir()
-                           else "not spelled run-<NNN> (e.g. run-001)")
-                    raise ResultsError(f"run folder {path} is {why}: a run folder is a real folder spelled as "
-                                       "neurocur writes it (a copied or renamed folder?); remove it")
-                found.append(path)
-        return found
+        return scan_runs(self.root / "runs")
 
     def run_info(self, path: Path) -> dict:
         """The ``run.json`` of a run folder."""
