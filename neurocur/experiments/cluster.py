@@ -28,9 +28,11 @@ from .spec import Experiment
 __all__ = ["compute_on_dask"]
 
 
-def compute_on_dask(exp: Experiment, todo, jobs: int, store: ResultsStore, bar, ctrl_c, scheduler: str) -> None:
+def compute_on_dask(exp: Experiment, todo, jobs: int, store: ResultsStore, bar, ctrl_c, scheduler: str, *,
+                    save_agent: bool = False) -> None:
     """Compute the (condition, run) pairs of ``todo`` on the cluster of ``scheduler`` and write
-    each finished run through ``store``; ``jobs`` sizes a local cluster."""
+    each finished run through ``store``; ``jobs`` sizes a local cluster; ``save_agent``: the
+    runs return their trained agents too, written with them."""
     import dask
     from distributed import Client, LocalCluster, wait
 
@@ -50,7 +52,7 @@ def compute_on_dask(exp: Experiment, todo, jobs: int, store: ResultsStore, bar, 
             except OSError as exc:
                 raise ValueError(f"--scheduler {scheduler}: expected a reachable dask.distributed scheduler, "
                                  f"got {exc}") from None
-        running = {client.submit(run_one, c, i, exp.steps, exp.run_seed(i), pure=False,
+        running = {client.submit(run_one, c, i, exp.steps, exp.run_seed(i), save_agent=save_agent, pure=False,
                                  key=f"neurocur-{c.name}-run-{i:03d}"): (c, i) for c, i in todo}
         announced = False
         while running:

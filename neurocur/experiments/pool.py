@@ -147,7 +147,7 @@ def run_experiment(exp: Experiment, out, *, jobs: int | None = None, conditions=
             with _CtrlC() as ctrl_c:
                 try:
                     if todo and scheduler is not None:
-                        compute_on_dask(exp, todo, jobs, store, bar, ctrl_c, scheduler)
+                        compute_on_dask(exp, todo, jobs, store, bar, ctrl_c, scheduler, save_agent=save_agent)
                     elif todo:
                         _compute(exp, todo, jobs, str(out), bar, ctrl_c, every=checkpoint_every,
                                  save_agent=save_agent)

@@ -4,8 +4,11 @@ folder, run folders spelled twice or brought in from elsewhere, a folder that lo
 import json
 import os
 import re
+import resource
 import shutil
 import signal
+import subprocess
+import sys
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -265,3 +268,18 @@ def test_a_read_only_folder_reports_the_failed_write_not_the_lock(folder, monkey
     monkeypatch.undo()
     with ResultsStore(folder).writing() as lock:  # the lock is free again
         assert lock.stale["pid"] == os.getpid()
+
+
+def test_a_file_size_limit_leaves_no_temporary_file_and_names_the_file(tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+
+    def limit():
+        resource.setrlimit(resource.RLIMIT_FSIZE, (4096, 4096))  # ulimit -f 4: config.toml does not fit
+
+    done = subprocess.run([sys.executable, "-m", "neurocur.cli", "run", "synthetic", "--runs", "1", "--steps", "200",
+                           "--out", str(out), "--no-progress"], capture_output=True, text=True, timeout=120,
+                          preexec_fn=limit, cwd=ROOT, env={**os.environ, "PYTHONPATH": str(ROOT)})
+    assert done.returncode == 2
+    assert done.stderr == f"neurocur run: error: [Errno 27] cannot write {out / 'config.toml'}: File too large\n"
+    assert list(out.iterdir()) == []
