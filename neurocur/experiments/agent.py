@@ -16,6 +16,7 @@ import tomllib
 from neurocur.results import ResultsError, ResultsStore, dumps_toml, first_difference
 from neurocur.results.agents import AGENT, restore_simulator
 from neurocur.results.fingerprint import local_path, portable
+from neurocur.results.runinfo import seed_json
 from neurocur.results.statefile import read_meta
 
 from .spec import Experiment, load_experiment
@@ -54,7 +55,7 @@ def load_agent(results_dir, condition: str, run: int, *, experiment: Experiment 
                            "from (with its --set settings) as experiment=")
     seed = experiment.run_seed(int(run))
     saved = read_meta(folder / AGENT).get("seed")
-    if saved != {"entropy": seed.entropy, "spawn_key": list(seed.spawn_key)}:
+    if saved != seed_json(seed):
         raise ResultsError(f"{folder / AGENT}: key 'seed': expected the run's seed {seed.entropy}, got {saved}")
     sim = chosen.circuit.build(chosen.make_world(), seed=seed)
     restore_simulator(sim, folder / AGENT)

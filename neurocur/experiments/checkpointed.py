@@ -14,6 +14,7 @@ import numpy as np
 
 from neurocur.results import ResultsStore
 from neurocur.results.agents import checkpoint_every
+from neurocur.results.runinfo import seed_json
 
 from .run import run_one
 from .spec import Condition
@@ -28,8 +29,7 @@ def compute_and_write(condition: Condition, run: int, steps: int, seed: np.rando
     0: none); ``save_agent``: write the trained agent too. Returns ``(condition name, run)``."""
     store = ResultsStore(out)
     every = checkpoint_every(steps, every)
-    meta = {"condition": condition.name, "run": int(run), "steps": int(steps),
-            "seed": {"entropy": seed.entropy, "spawn_key": list(seed.spawn_key)}}
+    meta = {"condition": condition.name, "run": int(run), "steps": int(steps), "seed": seed_json(seed)}
     checkpoints = store.checkpoints(condition.name, run, every, meta) if every else None
     store.write_run(run_one(condition, run, steps, seed, checkpoints=checkpoints, save_agent=save_agent))
     return condition.name, run

@@ -22,6 +22,7 @@ import pandas as pd
 from neurocur.contract import MODULE_COLUMNS
 from neurocur.results import RunResult
 from neurocur.results.agents import agent_state
+from neurocur.results.runinfo import seed_json
 
 from .spec import Condition
 
@@ -77,7 +78,7 @@ def run_one(condition: Condition, run: int, steps: int, seed: np.random.SeedSequ
         "condition": condition.name,
         "run": int(run),
         **({"sweep": dict(condition.sweep)} if condition.sweep else {}),
-        "seed": {"entropy": seed.entropy, "spawn_key": list(seed.spawn_key)},
+        "seed": seed_json(seed),
         "steps": int(steps),
         "frames": int(episodes["n_frames"].sum()),
         "n_episodes": len(episodes),

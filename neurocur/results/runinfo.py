@@ -18,7 +18,8 @@ from pathlib import Path
 
 from .errors import ResultsError
 
-__all__ = ["check_run_info", "digests", "run_folder_name", "run_number", "run_spawn_key", "scan_runs", "seeds_record"]
+__all__ = ["check_run_info", "digests", "run_folder_name", "run_number", "run_spawn_key", "scan_runs", "seed_json",
+           "seeds_record"]
 
 _RUN = re.compile(r"run-(\d{3,})")
 
@@ -31,6 +32,11 @@ def seeds_record(entropy: int) -> dict:
     """The ``seeds`` table of ``config.toml``: run i of every condition uses
     ``SeedSequence(entropy, spawn_key=(i,))``; written in constant size, however many runs."""
     return {"entropy": entropy, "spawn_key": SPAWN_KEY_RULE}
+
+
+def seed_json(seed) -> dict:
+    """A run's ``SeedSequence`` as its ``run.json`` (and a checkpoint or saved agent) records it."""
+    return {"entropy": seed.entropy, "spawn_key": list(seed.spawn_key)}
 
 
 def run_spawn_key(seeds: Mapping, run: int) -> list:
