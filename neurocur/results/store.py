@@ -368,7 +368,10 @@ class ResultsStore:
     def _mismatch(self, run_folder: Path, file: str, condition, run) -> ResultsError:
         text = (f"run folder {run_folder} holds run {run} of condition {condition!r} by its {file}, not run "
                 f"{_run_number(run_folder)} of {run_folder.parent.name!r} as its path says (a copied or renamed folder?)")
-        own = self.run_dir(str(condition), run) if isinstance(run, int) else None
+        try:
+            own = self.run_dir(str(condition), run) if isinstance(run, int) and not isinstance(run, bool) else None
+        except ConfigError:  # its files name a condition that is no folder name
+            own = None
         if own is not None and own != run_folder and (own / RUN_INFO).is_file():
             return ResultsError(f"{text}; the same run is in {own}: remove one of the two folders")
         if own is not None and own != run_folder:

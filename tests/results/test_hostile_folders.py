@@ -283,3 +283,10 @@ def test_a_file_size_limit_leaves_no_temporary_file_and_names_the_file(tmp_path)
     assert done.returncode == 2
     assert done.stderr == f"neurocur run: error: [Errno 27] cannot write {out / 'config.toml'}: File too large\n"
     assert list(out.iterdir()) == []
+
+
+def test_a_run_json_naming_a_condition_outside_the_folder_is_refused_without_looking_there(folder):
+    path = folder / "runs" / "curious" / "run-001" / "run.json"
+    path.write_text(json.dumps({**json.loads(path.read_text()), "condition": "../../elsewhere"}))
+    with pytest.raises(ResultsError, match=r"holds run 1 of condition '../../elsewhere' by its run.json.*; remove it$"):
+        load(folder)
