@@ -15,6 +15,7 @@ at once. Either way the finished runs are kept.
 
 from __future__ import annotations
 
+import itertools
 import logging
 from contextlib import ExitStack
 
@@ -26,6 +27,9 @@ from .run import run_one
 from .spec import Experiment
 
 __all__ = ["compute_on_dask"]
+
+#: the most runs submitted to the cluster at once (more are submitted as these finish)
+WINDOW = 1024
 
 
 def compute_on_dask(exp: Experiment, todo, jobs: int, store: ResultsStore, bar, ctrl_c, scheduler: str, *,
@@ -52,8 +56,14 @@ def compute_on_dask(exp: Experiment, todo, jobs: int, store: ResultsStore, bar, 
             except OSError as exc:
                 raise ValueError(f"--scheduler {scheduler}: expected a reachable dask.distributed scheduler, "
                                  f"got {exc}") from None
-        running = {client.submit(run_one, c, i, exp.steps, exp.run_seed(i), save_agent=save_agent, pure=False,
-                                 key=f"neurocur-{c.name}-run-{i:03d}"): (c, i) for c, i in todo}
+        queue, running = iter(todo), {}
+
+        def top_up() -> None:  # at most WINDOW runs submitted at a time: a huge --runs streams its seeds
+            for c, i in itertools.islice(queue, max(0, WINDOW - len(running))):
+                running[client.submit(run_one, c, i, exp.steps, exp.run_seed(i), save_agent=save_agent, pure=False,
+                                      key=f"neurocur-{c.name}-run-{i:03d}")] = (c, i)
+
+        top_up()
         announced = False
         while running:
             if ctrl_c.count and not announced:
@@ -71,3 +81,5 @@ def compute_on_dask(exp: Experiment, todo, jobs: int, store: ResultsStore, bar, 
                 running.pop(future)
                 store.write_run(future.result())
                 bar.update(1)
+            if not ctrl_c.count:
+                top_up()
