@@ -28,8 +28,10 @@ def compute_and_write(condition: Condition, run: int, steps: int, seed: np.rando
     episodes between checkpoints (None: :func:`~neurocur.results.agents.checkpoint_every`'s default,
     0: none); ``save_agent``: write the trained agent too. Returns ``(condition name, run)``."""
     store = ResultsStore(out)
+    required = bool(every) or save_agent  # asked for: a state the walker cannot save is an error at once
     every = checkpoint_every(steps, every)
     meta = {"condition": condition.name, "run": int(run), "steps": int(steps), "seed": seed_json(seed)}
-    checkpoints = store.checkpoints(condition.name, run, every, meta) if every else None
+    checkpoints = store.checkpoints(condition.name, run, every, meta, required=required) if every or save_agent \
+        else None
     store.write_run(run_one(condition, run, steps, seed, checkpoints=checkpoints, save_agent=save_agent))
     return condition.name, run

@@ -88,12 +88,16 @@ class Checkpoints:
     ``every`` episodes); :meth:`resume` continues a freshly built simulator from the last one.
 
     ``meta`` (the run's condition, number, seed and steps) is saved with each checkpoint and must
-    match on resume: a checkpoint of another run is never continued."""
+    match on resume: a checkpoint of another run is never continued. ``required``: the
+    checkpoints (or the agent) were asked for, so a simulator whose state the walker cannot
+    save (e.g. a world holding a Python function) is an error when the run starts; otherwise
+    (checkpoints on by default) the run goes on without them."""
 
-    def __init__(self, folder, every: int, meta: Mapping):
+    def __init__(self, folder, every: int, meta: Mapping, *, required: bool = False):
         self.folder = Path(folder)
         self.every = int(every)
         self.meta = dict(meta)
+        self.required = required
 
     def __call__(self, sim) -> None:
         if self.every and sim.n_episodes % self.every == 0:
@@ -101,7 +105,16 @@ class Checkpoints:
 
     def resume(self, sim) -> bool:
         """Put the last checkpoint into ``sim`` (freshly built) when there is one of this run; a
-        checkpoint that cannot be read, or of another run, is removed and the run starts afresh."""
+        checkpoint that cannot be read, or of another run, is removed and the run starts afresh.
+        First checks that ``sim``'s state can be saved at all (see ``required``)."""
+        try:
+            encode_state(_roots(sim))
+        except StateError as exc:
+            if self.required:
+                raise StateError(f"condition {self.meta.get('condition')!r}: checkpoints and saved agents need "
+                                 f"state the walker takes; {exc}") from None
+            self.every = 0
+            return False
         try:
             meta = read_meta(self.folder)
         except StateError:

@@ -11,7 +11,7 @@ folder:
 
 What the walker takes, and nothing else (anything else is refused by its path and type):
 
-* ``None``, ``bool``, ``int``, ``float``, ``str``; numpy scalars (kept with their dtype);
+* ``None``, ``bool``, ``int``, ``float``, ``str``, paths; numpy scalars (kept with their dtype);
 * numpy arrays (object arrays element by element); ``numpy.random.Generator`` (its bit
   generator's name and state) and ``SeedSequence``;
 * lists, tuples, sets, frozensets and dicts (any keys the walker takes), recursively;
@@ -32,11 +32,12 @@ import enum
 import importlib
 import json
 import os
+import pathlib
 import shutil
 import sys
 from collections.abc import Mapping
 from importlib.metadata import entry_points
-from pathlib import Path
+from pathlib import Path, PurePath
 
 import numpy as np
 
@@ -172,6 +173,8 @@ class _Encoder:
             return {"$scalar": value.dtype.str, "value": [item.real, item.imag] if isinstance(item, complex) else item}
         if isinstance(value, type):
             return {"$class": self._class_name(value, path)}
+        if isinstance(value, PurePath):
+            return {"$path": str(value), "kind": type(value).__name__}
         key = id(value)
         if key in self.roots:
             return {"$root": self.roots[key]}
@@ -247,6 +250,9 @@ class _Decoder:
             return self._class(node["$enum"])[node["name"]]
         if "$class" in node:
             return self._class(node["$class"])
+        if "$path" in node:
+            kind = getattr(pathlib, node.get("kind", ""), None)
+            return (kind if isinstance(kind, type) and issubclass(kind, PurePath) else Path)(node["$path"])
         ref = node.get("$id")
         if "$array" in node:
             return self._keep(ref, np.array(self.arrays[node["$array"]]))

@@ -127,11 +127,11 @@ class ResultsStore:
         wanted = set(conditions)
         return {(c, i) for c, i in found if c in wanted and i < runs}
 
-    def checkpoints(self, condition: str, run: int, every: int, meta: Mapping) -> Checkpoints:
+    def checkpoints(self, condition: str, run: int, every: int, meta: Mapping, *, required: bool = False) -> Checkpoints:
         """The checkpoints of run ``run`` of ``condition`` (:class:`~neurocur.results.agents.Checkpoints`),
         in ``OUT/checkpoints/<condition>/run-<NNN>/``; removed when the run is written."""
         final = self.run_dir(condition, run)
-        return Checkpoints(own_dir(self.root, CHECKPOINTS, condition) / final.name, every, meta)
+        return Checkpoints(own_dir(self.root, CHECKPOINTS, condition) / final.name, every, meta, required=required)
 
     def writing(self) -> AbstractContextManager[FolderLock]:
         """The folder's exclusive lock for a ``with`` block (see :mod:`neurocur.results.lock`):

@@ -156,3 +156,26 @@ def test_a_state_of_another_version_is_refused(tmp_path):
     (tmp_path / "state" / "state.json").write_text(json.dumps({**body, "version": 99}))
     with pytest.raises(StateError, match=r"key 'version': expected 1 .*got 99"):
         load_state(tmp_path / "state", {"h": Holder()})
+
+
+def test_a_state_the_walker_cannot_save_fails_at_once_when_asked_for_and_is_skipped_by_default(tmp_path):
+    exp = load_experiment("gym_classic", runs=1, steps=100)
+    condition = next(iter(exp.conditions.values()))
+    sim = condition.circuit.build(condition.make_world(), seed=exp.run_seed(0))
+    asked = agents_module.Checkpoints(tmp_path / "c", 5, {"run": 0}, required=True)
+    with pytest.raises(StateError, match=r"checkpoints and saved agents need state the walker takes; cannot save "
+                                         r"world\.policy: a builtins\.function"):
+        asked.resume(sim)
+    default = agents_module.Checkpoints(tmp_path / "c", 5, {"run": 0})
+    assert default.resume(sim) is False and default.every == 0
+    default(sim)  # saves nothing, raises nothing
+    assert not (tmp_path / "c").exists()
+
+
+def test_paths_round_trip_through_the_state_walker(tmp_path):
+    holder = Holder()
+    holder.cache = Path("/some/cache.npz")
+    save_state(tmp_path / "state", {"h": holder})
+    fresh = Holder()
+    load_state(tmp_path / "state", {"h": fresh})
+    assert fresh.cache == Path("/some/cache.npz") and isinstance(fresh.cache, Path)
