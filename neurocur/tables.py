@@ -143,5 +143,8 @@ def resolve_file(value, base_dir: Path, kind: str, *, source, key) -> Path:
         return path
     if text in shipped:
         return shipped[text]
+    other = next((k for k in SHIPPED if k != kind and text in shipped_files(k)), None)
+    got = f"{text!r} (a shipped {other} file: 'neurocur list' says how to use it)" if other else \
+        f"{text!r} (no such file or name)"
     raise ConfigError(source, key, f"an existing {kind} file or the name of a shipped {kind} "
-                                   f"({', '.join(shipped) or 'none'})", f"{text!r} (no such file or name)")
+                                   f"({', '.join(shipped) or 'none'})", got)

@@ -214,3 +214,13 @@ def test_a_frame_shape_beyond_the_memory_limit_is_one_line_exit_2(tmp_path):
         env={**os.environ, "PYTHONPATH": str(ROOT)})
     assert done.returncode == 2, done.stderr[-2000:]
     assert done.stderr.startswith("neurocur run: error: out of memory") and done.stderr.count("\n") == 1
+
+
+def test_a_name_of_another_kind_points_to_neurocur_list_and_deep_set_values_are_one_line(capsys):
+    assert main(["run", "invariance"]) == 2
+    err = capsys.readouterr().err
+    assert "got 'invariance' (a shipped invariance file: 'neurocur list' says how to use it)" in err
+    assert err.count("\n") == 1
+    assert main(["run", "synthetic", "--set", "HPC.threshold=" + "[" * 3000 + "]" * 3000]) == 2
+    err = capsys.readouterr().err
+    assert err == "neurocur run: error: --set: expected a TOML value, got arrays or tables nested too deeply to read\n"
