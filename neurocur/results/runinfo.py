@@ -100,7 +100,8 @@ def check_run_info(folder: Path, info: Mapping, condition: str, run: int, config
     caller names a copied or renamed folder), else None. Raises ResultsError for a ``run.json``
     without a proper ``condition`` or ``run``, and, when the folder's ``config.toml`` is given
     and was written by the store (it records ``code``), for a seed, steps or tables digest
-    that is missing or disagrees."""
+    that is missing or disagrees (the digest may be missing in a folder written before run.json
+    recorded it)."""
     where = Path(folder) / "run.json"
     said_condition, said_run = info.get("condition"), info.get("run")
     if not isinstance(said_condition, str):
@@ -121,6 +122,8 @@ def check_run_info(folder: Path, info: Mapping, condition: str, run: int, config
             raise ResultsError(f"{where}: key '{key}': expected {value!r} as this folder's config.toml says, got "
                                f"{_describe(info.get(key))} (a run of another experiment?); remove this run folder")
     recorded, actual = info.get("tables"), digests(folder)
+    if recorded is None and not _digests_recorded(config):
+        return None  # a folder written before run.json recorded its tables' digest
     if recorded != actual:
         changed = sorted(set(actual) ^ set(recorded)) if isinstance(recorded, Mapping) else []
         changed += sorted(n for n in actual if isinstance(recorded, Mapping) and n in recorded
@@ -130,6 +133,12 @@ def check_run_info(folder: Path, info: Mapping, condition: str, run: int, config
                            f"{'nothing' if recorded is None else 'other digests'} ({what} changed since the run was "
                            "written?); remove this run folder")
     return None
+
+
+def _digests_recorded(config: Mapping) -> bool:
+    """Whether the folder's runs were written by a store that records table digests (its code
+    fingerprints, written by the same version, list the plug-ins)."""
+    return any(isinstance(code, Mapping) and "plugins" in code for code in config.get("code", []))
 
 
 def _describe(value) -> str:

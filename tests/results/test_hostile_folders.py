@@ -290,3 +290,16 @@ def test_a_run_json_naming_a_condition_outside_the_folder_is_refused_without_loo
     path.write_text(json.dumps({**json.loads(path.read_text()), "condition": "../../elsewhere"}))
     with pytest.raises(ResultsError, match=r"holds run 1 of condition '../../elsewhere' by its run.json.*; remove it$"):
         load(folder)
+
+
+def test_a_folder_written_before_table_digests_is_read_and_its_steps_still_checked(folder):
+    config = folder / "config.toml"
+    config.write_text(re.sub(r", plugins = \[\]", "", config.read_text()))  # code fingerprints as written before
+    for path in folder.glob("runs/*/*/run.json"):
+        info = json.loads(path.read_text())
+        path.write_text(json.dumps({k: v for k, v in info.items() if k != "tables"}))
+    assert len(load(folder)[0]) > 0
+    path = folder / "runs" / "curious" / "run-001" / "run.json"
+    path.write_text(json.dumps({**json.loads(path.read_text()), "steps": 2000}))
+    with pytest.raises(ResultsError, match="key 'steps'"):
+        load(folder)
