@@ -12,16 +12,31 @@ tables were changed afterwards is refused, naming the folder and the key.
 from __future__ import annotations
 
 import hashlib
+import json
 import re
 from collections.abc import Mapping
 from pathlib import Path
 
 from .errors import ResultsError
 
-__all__ = ["check_run_info", "digests", "run_folder_name", "run_number", "run_spawn_key", "scan_runs", "seed_json",
+__all__ = ["RUN_INFO", "check_run_info", "digests", "read_run_info", "run_folder_name", "run_number", "run_spawn_key", "scan_runs", "seed_json",
            "seeds_record"]
 
 _RUN = re.compile(r"run-(\d{3,})")
+#: the run's summary file in its folder
+RUN_INFO = "run.json"
+
+
+def read_run_info(folder) -> dict:
+    """The ``run.json`` of a run folder (a JSON object; ResultsError otherwise)."""
+    path = Path(folder) / RUN_INFO
+    try:
+        info = json.loads(path.read_text(encoding="utf-8"))
+    except ValueError as exc:
+        raise ResultsError(f"{path}: expected a run summary (JSON), got {exc}") from None
+    if not isinstance(info, dict):
+        raise ResultsError(f"{path}: expected a run summary (a JSON object)")
+    return info
 
 
 #: how ``config.toml`` records the spawn key of run i (the same for every run count: nothing per run)

@@ -61,7 +61,7 @@ from .errors import ResultsError
 from .fingerprint import changed_input, code_changed, code_fingerprint, file_hashes, portable
 from .lock import FolderLock, locked
 from .names import check_folder_name
-from .runinfo import check_run_info, digests, run_folder_name, run_number, scan_runs
+from .runinfo import RUN_INFO, check_run_info, digests, read_run_info, run_folder_name, run_number, scan_runs
 from .safeio import atomic_text, own_dir
 from .statefile import write_state
 from .tomlio import difference_path, dotted, dumps_toml
@@ -72,7 +72,6 @@ CONFIG = "config.toml"
 SUMMARY = "summary.json"
 PARTIAL = ".partial"
 CHECKPOINTS = "checkpoints"
-RUN_INFO = "run.json"
 RUN_TABLES = ("episodes", "modules")
 _HEADER = """Resolved experiment written by neurocur; do not edit (resuming into this folder compares it).
 Seeds: run i of every condition uses numpy SeedSequence(seeds.entropy, spawn_key=[i]);
@@ -242,7 +241,7 @@ class ResultsStore:
         for _ in range(100):  # each pass moves an incomplete folder aside; another writer may race us
             try:
                 os.replace(tmp, final)
-                shutil.rmtree(self.root / CHECKPOINTS / result.condition / final.name, ignore_errors=True)
+                self._drop_checkpoint(result.condition, final.name)
                 return final
             except OSError as exc:
                 if exc.errno not in (errno.ENOTEMPTY, errno.EEXIST):
@@ -261,6 +260,16 @@ class ResultsStore:
         shutil.rmtree(tmp, ignore_errors=True)
         raise ResultsError(f"{final}: cannot put the run in place (not a real folder, or replaced again and "
                            "again by another process); remove it")
+
+    def _drop_checkpoint(self, condition: str, name: str) -> None:
+        """Remove a written run's checkpoint, and the checkpoint folders left empty."""
+        folder = self.root / CHECKPOINTS / condition / name
+        shutil.rmtree(folder, ignore_errors=True)
+        for empty in (folder.parent, folder.parent.parent):
+            try:
+                empty.rmdir()
+            except OSError:  # not empty (another run's checkpoint), or absent
+                break
 
     def write_summary(self, summary: Mapping) -> Path:
         """Write ``summary.json`` (aggregate statistics, computed by :mod:`neurocur.analysis`)."""
@@ -307,14 +316,8 @@ class ResultsStore:
         return scan_runs(self.root / "runs")
 
     def run_info(self, path: Path) -> dict:
-        """The ``run.json`` of a run folder."""
-        try:
-            info = json.loads((Path(path) / RUN_INFO).read_text(encoding="utf-8"))
-        except ValueError as exc:
-            raise ResultsError(f"{Path(path) / RUN_INFO}: expected a run summary (JSON), got {exc}") from None
-        if not isinstance(info, dict):
-            raise ResultsError(f"{Path(path) / RUN_INFO}: expected a run summary (a JSON object)")
-        return info
+        """The ``run.json`` of a run folder (:func:`~neurocur.results.runinfo.read_run_info`)."""
+        return read_run_info(path)
 
     def load(self) -> tuple[pd.DataFrame, pd.DataFrame]:
         """``(episodes, modules)``: every run of every condition, led by ``condition`` and ``run``.

@@ -61,7 +61,7 @@ def test_a_run_killed_at_90_percent_resumes_from_its_checkpoint_to_identical_tab
                         or resumed[-1])
     compute_and_write(condition, 0, STEPS, seed, str(out), every=10)
     assert resumed == [True]  # continued from the checkpoint, not from the first frame
-    assert not checkpoints.folder.exists()
+    assert not (out / "checkpoints").exists()
     for a, b in zip(load(uninterrupted), load(out)):
         pd.testing.assert_frame_equal(a, b, check_exact=True)
     info = [json.loads((d / "runs" / "curious" / "run-000" / "run.json").read_text()) for d in (uninterrupted, out)]
