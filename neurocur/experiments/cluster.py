@@ -15,22 +15,28 @@ at once. Either way the finished runs are kept.
 
 from __future__ import annotations
 
+import itertools
 import logging
-import socket
 from contextlib import ExitStack
 
 from neurocur.results import ResultsStore
 
+from .probe import probe_scheduler
 from .processes import note, single_threaded_children
 from .run import run_one
 from .spec import Experiment
 
 __all__ = ["compute_on_dask"]
 
+#: the most runs submitted to the cluster at once (more are submitted as these finish)
+WINDOW = 1024
 
-def compute_on_dask(exp: Experiment, todo, jobs: int, store: ResultsStore, bar, ctrl_c, scheduler: str) -> None:
+
+def compute_on_dask(exp: Experiment, todo, jobs: int, store: ResultsStore, bar, ctrl_c, scheduler: str, *,
+                    save_agent: bool = False) -> None:
     """Compute the (condition, run) pairs of ``todo`` on the cluster of ``scheduler`` and write
-    each finished run through ``store``; ``jobs`` sizes a local cluster."""
+    each finished run through ``store``; ``jobs`` sizes a local cluster; ``save_agent``: the
+    runs return their trained agents too, written with them."""
     import dask
     from distributed import Client, LocalCluster, wait
 
@@ -45,13 +51,19 @@ def compute_on_dask(exp: Experiment, todo, jobs: int, store: ResultsStore, bar, 
             client = stack.enter_context(Client(cluster))
         else:
             try:
-                _reachable(scheduler)
+                probe_scheduler(scheduler)
                 client = stack.enter_context(Client(scheduler, timeout="20s"))
             except OSError as exc:
                 raise ValueError(f"--scheduler {scheduler}: expected a reachable dask.distributed scheduler, "
                                  f"got {exc}") from None
-        running = {client.submit(run_one, c, i, exp.steps, exp.run_seed(i), pure=False,
-                                 key=f"neurocur-{c.name}-run-{i:03d}"): (c, i) for c, i in todo}
+        queue, running = iter(todo), {}
+
+        def top_up() -> None:  # at most WINDOW runs submitted at a time: a huge --runs streams its seeds
+            for c, i in itertools.islice(queue, max(0, WINDOW - len(running))):
+                running[client.submit(run_one, c, i, exp.steps, exp.run_seed(i), save_agent=save_agent, pure=False,
+                                      key=f"neurocur-{c.name}-run-{i:03d}")] = (c, i)
+
+        top_up()
         announced = False
         while running:
             if ctrl_c.count and not announced:
@@ -69,12 +81,5 @@ def compute_on_dask(exp: Experiment, todo, jobs: int, store: ResultsStore, bar, 
                 running.pop(future)
                 store.write_run(future.result())
                 bar.update(1)
-
-
-def _reachable(address: str) -> None:
-    """Raise OSError at once when nothing listens at a ``tcp://HOST:PORT`` address (before Dask's
-    own connection attempts, which retry for their whole timeout)."""
-    host, _, port = address.removeprefix("tcp://").rpartition(":")
-    if address.startswith("tcp://") and port.isdigit():
-        socket.create_connection((host.strip("[]"), int(port)), timeout=5).close()
-
+            if not ctrl_c.count:
+                top_up()

@@ -39,10 +39,12 @@ from neurocur.config import path_values
 from neurocur.results import ResultsStore
 from neurocur.results.lock import describe_holder
 
+from .checkpointed import compute_and_write
 from .cluster import compute_on_dask
+from .pending import Pending
 from .processes import ctrl_c_held, fork_context, note, single_threaded_children, start_fork_server
-from .run import dry_run, run_one
-from .spec import Condition, Experiment
+from .run import dry_run
+from .spec import Experiment
 
 __all__ = ["Interrupted", "run_experiment"]
 
@@ -53,11 +55,6 @@ WORKER_BASE = 200 * 2**20
 
 class Interrupted(KeyboardInterrupt):
     """Ctrl-C stopped :func:`run_experiment`; what happened has been printed to stderr."""
-
-
-def _worker(condition: Condition, run: int, steps: int, seed: np.random.SeedSequence, out: str) -> tuple[str, int]:
-    ResultsStore(out).write_run(run_one(condition, run, steps, seed))
-    return condition.name, run
 
 
 def _init_worker() -> None:
@@ -103,7 +100,7 @@ def _progress_bar(total: int, initial: int, enabled: bool | None):
 
 def run_experiment(exp: Experiment, out, *, jobs: int | None = None, conditions=None, progress: bool | None = None,
                    max_memory: int | None = None, accept_code_change: bool = False,
-                   scheduler: str | None = None) -> Path:
+                   scheduler: str | None = None, checkpoint_every: int | None = None, save_agent: bool = False) -> Path:
     """Run every (selected condition × run) of ``exp`` into the results folder ``out``.
 
     ``jobs``: worker processes (default: all cores). ``conditions``: names to run
@@ -113,7 +110,10 @@ def run_experiment(exp: Experiment, out, *, jobs: int | None = None, conditions=
     runs other code computed. ``scheduler``: None for the local worker pool (default),
     ``"local"`` for a Dask ``LocalCluster`` of ``jobs`` workers, or a Dask scheduler's
     address (``"tcp://HOST:PORT"``); see :mod:`neurocur.experiments.cluster`. The tables
-    are the same for every choice. An experiment without a seed takes the folder's (resume)
+    are the same for every choice. ``checkpoint_every``: episodes between two checkpoints of a run
+    in the local pool (None: :func:`neurocur.results.agents.checkpoint_every`'s default, 0: none);
+    a run started again continues from its last one. ``save_agent``: write each run's trained
+    agent into its run folder (``agent/``). An experiment without a seed takes the folder's (resume)
     or a fresh one. Returns ``out``; :func:`neurocur.analysis.write_summary` then
     aggregates the folder into ``summary.json``.
 
@@ -134,7 +134,7 @@ def run_experiment(exp: Experiment, out, *, jobs: int | None = None, conditions=
         grown = store.check(config, inputs=inputs, accept_code_change=accept_code_change)
         names = [c.name for c in selected]
         done = store.completed(names, exp.runs)
-        todo = [(c, i) for c in selected for i in range(exp.runs) if (c.name, i) not in done]
+        todo = Pending(selected, exp.runs, done)
         jobs = max(1, min(jobs or os.cpu_count() or 1, len(todo) or 1))
         if todo and scheduler is None:
             start_fork_server()  # its imports overlap the pre-flight checks
@@ -147,9 +147,10 @@ def run_experiment(exp: Experiment, out, *, jobs: int | None = None, conditions=
             with _CtrlC() as ctrl_c:
                 try:
                     if todo and scheduler is not None:
-                        compute_on_dask(exp, todo, jobs, store, bar, ctrl_c, scheduler)
+                        compute_on_dask(exp, todo, jobs, store, bar, ctrl_c, scheduler, save_agent=save_agent)
                     elif todo:
-                        _compute(exp, todo, jobs, str(out), bar, ctrl_c)
+                        _compute(exp, todo, jobs, str(out), bar, ctrl_c, every=checkpoint_every,
+                                 save_agent=save_agent)
                 finally:
                     store.clear_partial()
         finally:
@@ -162,9 +163,7 @@ def run_experiment(exp: Experiment, out, *, jobs: int | None = None, conditions=
 def _preflight(exp: Experiment, todo, jobs: int, max_memory: int | None) -> None:
     """Prepare each world once, run each condition's first episode here, and refuse when the
     workers' estimated memory exceeds ``max_memory`` or the memory available."""
-    first = {}
-    for c, i in todo:
-        first.setdefault(c.name, (c, i))
+    first = todo.first_of_each()
     for c in {json.dumps(c.world, sort_keys=True): c for c, _ in first.values()}.values():
         c.world_class.prepare(c.world_params)
     peaks = {name: dry_run(c, exp.run_seed(i)) for name, (c, i) in first.items()}
@@ -178,7 +177,7 @@ def _preflight(exp: Experiment, todo, jobs: int, max_memory: int | None) -> None
                          f"condition {name!r}), more {where} ({_size(limit)}); use fewer --jobs or smaller settings")
 
 
-def _compute(exp: Experiment, todo, jobs: int, out: str, bar, ctrl_c: _CtrlC) -> None:
+def _compute(exp: Experiment, todo, jobs: int, out: str, bar, ctrl_c: _CtrlC, **options) -> None:
     """The pool loop: at most ``jobs`` runs in flight; Ctrl-C once drains them, twice kills them."""
     queue = iter(todo)
     running: dict = {}
@@ -194,7 +193,7 @@ def _compute(exp: Experiment, todo, jobs: int, out: str, bar, ctrl_c: _CtrlC) ->
                         break
                     c, i = item
                     with ctrl_c_held():  # submit() starts the worker processes
-                        running[pool.submit(_worker, c, i, exp.steps, exp.run_seed(i), out)] = item
+                        running[pool.submit(compute_and_write, c, i, exp.steps, exp.run_seed(i), out, **options)] = item
                 if ctrl_c.count and not announced:
                     announced = True
                     note(f"interrupted; finishing the {len(running)} run(s) in progress, then stopping "

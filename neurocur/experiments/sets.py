@@ -44,6 +44,8 @@ def _literal(text: str):
         return tomllib.loads(f"v = {text}")["v"]
     except tomllib.TOMLDecodeError:
         return text
+    except RecursionError:
+        raise ConfigError("--set", None, "a TOML value", "arrays or tables nested too deeply to read") from None
 
 
 def classify_sets(sets):

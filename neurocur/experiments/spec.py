@@ -75,12 +75,14 @@ import neurocur
 from neurocur.circuit import Circuit
 from neurocur.config import ConfigError, describe
 from neurocur.contexts import WORLDS, World
+from neurocur.results.names import condition_label
+from neurocur.results.runinfo import seeds_record
 from neurocur.tables import check_keys, require, resolve_file, shipped_files
 
 from .conditions import Overrides, condition_world, lesioned, load_circuit
 from .files import last_with, read_layers
 from .sets import SCALAR_KEYS, classify_sets, parse_set
-from .sweep import grid, point_label, sweep_table, world_layer
+from .sweep import grid, sweep_table, world_layer
 
 __all__ = ["Condition", "Experiment", "load_experiment", "parse_set", "resolve_experiment", "shipped_experiments"]
 
@@ -170,10 +172,7 @@ class Experiment:
             "description": self.description,
             "runs": self.runs,
             "steps": self.steps,
-            "seeds": {
-                "entropy": self.seed,
-                "spawn_keys": [list(self.run_seed(i).spawn_key) for i in range(self.runs)],
-            },
+            "seeds": seeds_record(self.seed),
             "conditions": conditions,
             **({"control": self.control} if self.control is not None else {}),
         }
@@ -261,7 +260,7 @@ def load_experiment(path, *, sets: Sequence[str] = (), runs: int | None = None, 
             built = lesioned(load_circuit(circuit, overrides, param_sets, variant), table.get("lesion", []), source,
                              f"{prefix}.lesion")
             params = {**base_params, **cond_params, **point_params, **param_sets}
-            label = f"{name}@{point_label(point)}" if point else name
+            label = condition_label(name, point, source, conditions)
             conditions[label] = Condition(label, circuit, params, world, built, world_params, description, point)
 
     return Experiment(

@@ -8,7 +8,8 @@ world (``"world.KEY"``, or a nested ``"world.TABLE.KEY"``)::
     "world.normalise" = ["global", "image"]
 
 Every condition is run at every point of the product (here 3 × 2 = 6 points), each as
-its own condition named ``<condition>@<KEY>=<value>,<KEY>=<value>``; run *i* of every
+its own condition named ``<condition>@<KEY>=<value>,<KEY>=<value>`` (keys sorted:
+:func:`neurocur.results.names.condition_label`); run *i* of every
 condition and point uses the same seed (paired). Each swept key is a column of every
 results table. ``--set KEY=V1,V2`` replaces a key's values (a single value restricts the
 sweep to it) or adds a swept key.
@@ -22,7 +23,7 @@ from collections.abc import Mapping
 
 from neurocur.config import ConfigError, describe
 
-__all__ = ["grid", "point_label", "sweep_table", "world_layer"]
+__all__ = ["grid", "sweep_table", "world_layer"]
 
 
 def sweep_table(table, source) -> dict[str, list]:
@@ -50,15 +51,6 @@ def grid(sweep: Mapping[str, list]) -> list[dict]:
     """The points of the product of the swept values, in order (``[{}]`` without a sweep)."""
     keys = list(sweep)
     return [dict(zip(keys, values)) for values in itertools.product(*(sweep[k] for k in keys))]
-
-
-def point_label(point: Mapping) -> str:
-    """``"KEY=value,KEY=value"`` (values as TOML/JSON literals, strings bare); a folder-safe name."""
-    def text(v):
-        return v if isinstance(v, str) else json.dumps(v)
-
-    label = ",".join(f"{k}={text(v)}" for k, v in point.items())
-    return label.replace("/", "_").replace("\\", "_")
 
 
 def world_layer(point: Mapping) -> dict:

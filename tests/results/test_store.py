@@ -198,10 +198,10 @@ def test_the_code_fingerprint_covers_the_code_that_computes_runs_and_not_the_ana
     monkeypatch.setattr(fingerprint, "PACKAGE", copy)
 
     def source():
-        return fingerprint.code_fingerprint.__wrapped__()["source"]
+        return fingerprint._package_fingerprint.__wrapped__()["source"]
 
     before = source()
-    for module, same in (("analysis/report.py", True), ("rl/wrappers.py", True), ("regions/vta.py", False)):
+    for module, same in (("analysis/stats/report.py", True), ("rl/wrappers.py", True), ("regions/vta.py", False)):
         path = copy / module
         path.write_text(path.read_text() + "\n# one more line\n")
         assert (source() == before) is same, module
