@@ -94,6 +94,11 @@ class FHNLC(GainLC):
     """
 
     Params = FHNLCParams
+    #: P(decision | state) is the softmax of the window's mean rate, but that rate is an Euler-integrated
+    #: trajectory: no closed form in the parameters. A replay integrates it again for each theta
+    #: (:mod:`neurocur.fit.replay`); for its dynamical parameters use simulation-based inference
+    #: (:mod:`neurocur.fit.sbi`).
+    closed_form = False
     probes = (
         *DECISION_PROBES,
         Probe("ne_tonic", "float", "[0, 1]", "firing rate at the window's start (baseline)"),
