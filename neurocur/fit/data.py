@@ -18,6 +18,7 @@ was expected (a missing column, an unknown context, episodes out of order, a mis
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -47,6 +48,8 @@ class Behaviour:
     signals: dict
     source: str
     free_choice: bool = False
+    #: the seed of the run that produced it (a results folder's runs), or None
+    seed: object = None
 
     def __len__(self) -> int:
         return len(self.contexts)
@@ -73,7 +76,8 @@ def read_behaviour(path, context_names: Sequence[str], *, free_choice: bool = Fa
     if not path.exists():
         raise ConfigError(path, None, "an existing CSV or Parquet file or a results folder", "no such path")
     if path.is_dir():
-        episodes, _ = ResultsStore(path).load()
+        store = ResultsStore(path)
+        episodes, _ = store.load()
         table = pd.DataFrame({"dataset": episodes["condition"].astype(str) + "/" + episodes["run"].astype(str),
                               "episode": episodes["episode"], "context": episodes["context"],
                               "decision": episodes["action"]})
@@ -87,7 +91,15 @@ def read_behaviour(path, context_names: Sequence[str], *, free_choice: bool = Fa
         table = pd.read_parquet(path)
     else:
         raise ConfigError(path, None, "a .csv or .parquet file or a results folder", f"suffix '{path.suffix}'")
-    return behaviour_from_episodes(table, context_names, free_choice=free_choice, signals=signals, source=str(path))
+    found = behaviour_from_episodes(table, context_names, free_choice=free_choice, signals=signals, source=str(path))
+    if path.is_dir():  # each run's own seed: its replay sees the run's own world
+        seeds = {}
+        for run_dir in store.run_dirs():
+            seed = store.run_info(run_dir)["seed"]
+            seeds[f"{run_dir.parent.name}/{int(run_dir.name.split('-')[1])}"] = np.random.SeedSequence(
+                seed["entropy"], spawn_key=tuple(seed["spawn_key"]))
+        found = [dataclasses.replace(b, seed=seeds.get(b.name)) for b in found]
+    return found
 
 
 def behaviour_from_episodes(table: pd.DataFrame, context_names: Sequence[str], *, free_choice: bool = False,

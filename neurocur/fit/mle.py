@@ -67,14 +67,21 @@ def _check_bounds(bounds: Mapping[str, tuple[float, float]]) -> tuple[list[str],
 
 
 def fit_ml(replays, bounds: Mapping[str, tuple[float, float]], *, starts: int = 5, seed: int = 0,
-           ci: float | None = 0.95, dataset: str = "pooled") -> MLFit:
-    """One theta maximising the summed log-likelihood of ``replays`` (one Replay or several, pooled)."""
+           ci: float | None = 0.95, dataset: str = "pooled", mask=None) -> MLFit:
+    """One theta maximising the summed log-likelihood of ``replays`` (one Replay or several, pooled);
+    ``mask``: only the episodes it selects (one replay). Without bounds, the model has no free
+    parameter: its log-likelihood is evaluated."""
     replays = [replays] if not isinstance(replays, Sequence) else list(replays)
-    keys, b = _check_bounds(bounds)
+    n_obs = int(sum(r.n_obs for r in replays)) if mask is None else int(np.sum(mask))
 
     def loglik(x) -> float:
         theta = dict(zip(keys, map(float, x)))
-        return float(sum(r.loglik(theta) for r in replays))
+        return float(sum(r.loglik(theta, mask) for r in replays))
+
+    if not bounds:
+        keys = []
+        return MLFit(dataset, {}, loglik([]), n_obs)
+    keys, b = _check_bounds(bounds)
 
     def cost(x) -> float:
         ll = loglik(x)
@@ -84,7 +91,7 @@ def fit_ml(replays, bounds: Mapping[str, tuple[float, float]], *, starts: int = 
     points = [b.mean(axis=1)] + [rng.uniform(b[:, 0], b[:, 1]) for _ in range(max(0, starts - 1))]
     best = min((optimize.minimize(cost, x0, method="L-BFGS-B", bounds=b) for x0 in points), key=lambda r: r.fun)
     x = np.clip(best.x, b[:, 0], b[:, 1])
-    fit = MLFit(dataset, dict(zip(keys, map(float, x))), loglik(x), int(sum(r.n_obs for r in replays)))
+    fit = MLFit(dataset, dict(zip(keys, map(float, x))), loglik(x), n_obs)
     if ci is not None:
         fit.ci = {k: profile_interval(cost, x, b, i, -fit.loglik, ci) for i, k in enumerate(keys)}
     return fit

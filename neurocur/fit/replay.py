@@ -171,12 +171,14 @@ class Replay:
     def n_obs(self) -> int:
         return len(self.observed)
 
-    def loglik(self, theta: Mapping[str, float] | Sequence[Mapping[str, float]]):
+    def loglik(self, theta: Mapping[str, float] | Sequence[Mapping[str, float]], mask=None):
         """The log-likelihood of the observed decisions at ``theta`` (``{"REGION.param": value}``,
-        only :attr:`fitted` keys), or an array of them for a list of thetas. A decision given
-        probability 0 makes it -inf (:meth:`first_impossible` names the episode)."""
+        only :attr:`fitted` keys), or an array of them for a list of thetas; ``mask`` (a boolean
+        array over the episodes) sums only the episodes it selects (held-out scores). A decision
+        given probability 0 makes it -inf (:meth:`first_impossible` names the episode)."""
         if isinstance(theta, Mapping):
-            return float(self.loglik([theta])[0])
+            return float(self.loglik([theta], mask)[0])
+        keep = np.ones(self.n_obs, dtype=bool) if mask is None else np.asarray(mask, dtype=bool)
         thetas = [dict(t) for t in theta]
         for t in thetas:
             unknown = set(t) - set(self.fitted)
@@ -185,8 +187,8 @@ class Replay:
                                   "a key the replay did not cache")
         fast = VECTORISED.get(self.circuit.specs[self.decision].cls)
         if fast is not None and self.part == (self.decision,) and not self.circuit.specs[self.decision].drugs:
-            return fast(self, thetas).sum(axis=1)
-        return np.array([self.episode_logp(t).sum() for t in thetas])
+            return fast(self, thetas)[:, keep].sum(axis=1)
+        return np.array([self.episode_logp(t)[keep].sum() for t in thetas])
 
     def episode_logp(self, theta: Mapping[str, float]) -> np.ndarray:
         """Per episode, log P(observed decision | state, theta): the decision part stepped through the

@@ -16,7 +16,7 @@ class Coin:
     def __init__(self, k, n):
         self.k, self.n_obs = k, n
 
-    def loglik(self, theta):
+    def loglik(self, theta, mask=None):
         p = theta["LC.p"]
         with np.errstate(divide="ignore"):
             return special.xlogy(self.k, p) + special.xlog1py(self.n_obs - self.k, -p)
@@ -27,7 +27,7 @@ class Gauss:
 
     n_obs = 100
 
-    def loglik(self, theta):
+    def loglik(self, theta, mask=None):
         return -(theta["a"] - 1) ** 2 / (2 * 0.3**2) - (theta["b"] + 2) ** 2 / (2 * 0.1**2)
 
 
