@@ -158,6 +158,10 @@ def build_parser() -> argparse.ArgumentParser:
         formatter_class=argparse.RawDescriptionHelpFormatter)
     invariance.add_argument("experiment", metavar="EXPERIMENT", help="invariance TOML file or shipped name (invariance)")
     invariance.add_argument("--out", metavar="DIR", help="output folder (default: results/<name in the file>)")
+
+    from neurocur.fit.cli import add_parsers as add_fit_parsers
+
+    add_fit_parsers(sub)  # fit, recover
     return parser
 
 
@@ -270,8 +274,10 @@ def main(argv=None) -> int:
     """Entry point of the ``neurocur`` command; returns the exit status."""
     parser = build_parser()
     args = parser.parse_args(argv)
+    from neurocur.fit.cli import COMMANDS as FIT_COMMANDS
+
     command = {"run": _cmd_run, "figures": _cmd_figures, "omega": _cmd_omega,
-               "invariance": _cmd_invariance}[args.command]
+               "invariance": _cmd_invariance, **FIT_COMMANDS}[args.command]
     try:
         return command(args)
     except (ValueError, OSError) as exc:  # ConfigError is a ValueError; OSError: a file that cannot be read or written

@@ -80,7 +80,7 @@ def read_behaviour(path, context_names: Sequence[str], *, free_choice: bool = Fa
         episodes, _ = store.load()
         table = pd.DataFrame({"dataset": episodes["condition"].astype(str) + "/" + episodes["run"].astype(str),
                               "episode": episodes["episode"], "context": episodes["context"],
-                              "decision": episodes["action"]})
+                              "decision": episodes["next_context" if free_choice else "action"]})
         for name in signals:
             if name not in episodes:
                 raise ConfigError(path, name, f"a recorded column '{name}' in the results folder", "none")
