@@ -186,21 +186,71 @@ class Replay:
                 raise ConfigError("theta", sorted(unknown)[0], f"one of the replay's fitted keys {self.fitted}",
                                   "a key the replay did not cache")
         fast = VECTORISED.get(self.circuit.specs[self.decision].cls)
-        if fast is not None and self.part == (self.decision,) and not self.circuit.specs[self.decision].drugs:
-            return fast(self, thetas)[:, keep].sum(axis=1)
+        if fast is not None and not self.circuit.specs[self.decision].drugs and self._separable:
+            groups: dict[tuple, list[int]] = {}
+            own = f"{self.decision}."
+            for i, t in enumerate(thetas):
+                groups.setdefault(tuple(sorted((k, v) for k, v in t.items() if not k.startswith(own))), []).append(i)
+            out = np.empty(len(thetas))
+            for upstream, rows in groups.items():
+                tape = self._decision_tape(upstream)
+                out[rows] = fast(self, [thetas[i] for i in rows], tape)[:, keep].sum(axis=1)
+            return out
         return np.array([self.episode_logp(t)[keep].sum() for t in thetas])
+
+    @property
+    def _separable(self) -> bool:
+        """True when no region before the decision reads a decision output other than the observed ones,
+        so the decision's inputs depend on the upstream parameters only (:meth:`_decision_tape`)."""
+        return not any(src == self.decision for name in self.part if name != self.decision
+                       for _, src, _, _ in self._plan[name])
+
+    def _decision_tape(self, upstream: tuple) -> list:
+        """The decision region's inputs, pass by pass, with the decision part's upstream regions (e.g.
+        PFC) built with the ``upstream`` parameters; memoised (the last 64), so that many decision
+        parameters cost one upstream pass."""
+        if self.part == (self.decision,):
+            return self.tapes[self.decision]
+        memo = self.__dict__.setdefault("_memo", {})
+        if upstream in memo:
+            return memo[upstream]
+        specs = self.circuit.with_params(dict(upstream), source="theta").specs if upstream else self.circuit.specs
+        names = [n for n in self.part if n != self.decision]
+        regions = {n: self._fresh(specs[n]) for n in names}
+        outputs = {n: tuple(s.initial for s in specs[n].cls.outputs) for n in names}
+        previous = dict(outputs)
+        tape = []
+        for t in range(self.n_obs):
+            for name in (*names, self.decision):
+                args = self.tapes[name][t]
+                if self._plan[name]:
+                    args = list(args)
+                    for i, src, j, delayed in self._plan[name]:
+                        args[i] = (previous if delayed else outputs)[src][j]
+                if name == self.decision:
+                    tape.append(tuple(args))
+                else:
+                    outputs[name] = regions[name].step(*args)
+            previous = dict(outputs)
+        if len(memo) >= 64:
+            memo.pop(next(iter(memo)))
+        memo[upstream] = tape
+        return tape
+
+    def _fresh(self, spec):
+        """A new region of ``spec``, bound to the world and reset (its draws are discarded: the observed
+        decision replaces them)."""
+        region = spec.make()
+        region.wired = frozenset(k.signal for k in self.circuit.links if k.src == spec.name)
+        region.bind(self.world)
+        region.reset(np.random.default_rng(0))
+        return region
 
     def episode_logp(self, theta: Mapping[str, float]) -> np.ndarray:
         """Per episode, log P(observed decision | state, theta): the decision part stepped through the
         cached inputs with fresh regions built with ``theta``."""
         specs = self.circuit.with_params(dict(theta), source="theta").specs if theta else self.circuit.specs
-        regions = {}
-        for name in self.part:
-            region = specs[name].make()
-            region.wired = frozenset(k.signal for k in self.circuit.links if k.src == name)
-            region.bind(self.world)
-            region.reset(np.random.default_rng(0))  # its draws are discarded: the observed decision replaces them
-            regions[name] = region
+        regions = {name: self._fresh(specs[name]) for name in self.part}
         outputs = {n: tuple(s.initial for s in specs[n].cls.outputs) for n in self.part}
         previous = dict(outputs)
         out = np.empty(self.n_obs)
@@ -272,10 +322,10 @@ def _retyped(instance, observed):
     return new
 
 
-def _softmax_logp(replay: Replay, thetas) -> np.ndarray:
+def _softmax_logp(replay: Replay, thetas, tape) -> np.ndarray:
     """:class:`~neurocur.regions.lc_softmax.SoftmaxLC`: log sigma(+-gain (Q_dis - Q_eng)) for every theta at once."""
     i_q = [s.name for s in SoftmaxLC.inputs].index("q")
-    q = np.array([args[i_q] for args in replay.tapes[replay.decision]])
+    q = np.array([args[i_q] for args in tape])
     gain = np.array([t.get(f"{replay.decision}.gain", replay.circuit.specs[replay.decision].params.gain)
                      for t in thetas])[:, None]
     p = p_disengage_array(np.maximum(gain, 0.0), q[:, DISENGAGE] - q[:, 1 - DISENGAGE])
@@ -283,10 +333,9 @@ def _softmax_logp(replay: Replay, thetas) -> np.ndarray:
         return np.log(np.where(replay.observed == DISENGAGE, p, 1.0 - p))
 
 
-def _choice_logp(replay: Replay, thetas) -> np.ndarray:
+def _choice_logp(replay: Replay, thetas, tape) -> np.ndarray:
     """:class:`~neurocur.regions.lc_choice.ChoiceLC`: log softmax of the chosen context for every theta at once."""
     names = [s.name for s in ChoiceLC.inputs]
-    tape = replay.tapes[replay.decision]
     values = np.array([args[names.index("values")] for args in tape])
     contexts = np.array([args[names.index("context")] for args in tape])
     own = replay.circuit.specs[replay.decision].params
@@ -301,5 +350,6 @@ def _choice_logp(replay: Replay, thetas) -> np.ndarray:
     return logp[:, rows, replay.observed]
 
 
-#: Decision region classes whose log-likelihood is vectorised across thetas (replay -> thetas -> (m, n) log P).
+#: Decision region classes whose log-likelihood is vectorised across thetas ((replay, thetas, the decision's
+#: inputs pass by pass) -> (m, n) log P).
 VECTORISED = {SoftmaxLC: _softmax_logp, ChoiceLC: _choice_logp}

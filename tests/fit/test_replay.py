@@ -67,6 +67,9 @@ def test_cached_decision_part_matches_a_fresh_replay(lc_circuit, make_world):
     theta = {"LC.gain": 0.7, "PFC.alpha": 0.5}
     fresh = Replay(circuit.with_params(theta), make_world(), 3, behaviour)
     assert abs(replay.loglik(theta) - fresh.logp.sum()) < 1e-9
+    assert abs(replay.episode_logp(theta).sum() - fresh.logp.sum()) < 1e-9  # the stepped reference too
+    several = [{"LC.gain": g, "PFC.alpha": a} for a in (0.5, 0.9) for g in (0.3, 2.0)]
+    np.testing.assert_allclose(replay.loglik(several), [replay.episode_logp(t).sum() for t in several], atol=1e-9)
     # the vectorised gain path equals the stepped one
     only_gain = Replay(circuit, make_world(), 3, behaviour, fitted=["LC.gain"])
     gains = [{"LC.gain": g} for g in (0.0, 0.5, 3.0)]
