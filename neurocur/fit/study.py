@@ -61,6 +61,12 @@ def fit_data(replays: Sequence[Replay], bounds: Mapping[str, tuple[float, float]
              starts: int = 5, seed: int = 0, ci: float | None = 0.95) -> list[MLFit]:
     """A fit per data set, then (with ``pooled`` and more than one data set) one pooled fit."""
     fits = [fit_ml(r, bounds, starts=starts, seed=seed, ci=ci, dataset=r.behaviour.name) for r in replays]
+    for fit, replay in zip(fits, replays):
+        if fit.loglik == -np.inf:  # no theta in the bounds gives every observed decision a chance
+            where = replay.first_impossible(replay.episode_logp(fit.estimate))
+            raise ConfigError(replay.behaviour.source, "decision",
+                              "decisions the model gives a nonzero probability somewhere in the bounds",
+                              f"log-likelihood -inf: {where}")
     if pooled and len(replays) > 1:
         fits.append(fit_ml(list(replays), bounds, starts=starts, seed=seed, ci=ci, dataset="pooled"))
     return fits
@@ -76,7 +82,11 @@ def default_bounds(condition, keys: Sequence[str], given: Mapping[str, tuple[flo
         region, _, name = key.partition(".")
         spec = condition.circuit.specs.get(region)
         fields = {f.name: f for f in dataclasses.fields(spec.params)} if spec is not None else {}
-        ps = fields[name].metadata.get("spec") if name in fields else None
+        if name not in fields:
+            raise ConfigError("--fit", key, f"REGION.param, a parameter of the circuit {condition.circuit.source}",
+                              "no such region" if spec is None else f"no parameter '{name}' of region '{region}' "
+                              f"({', '.join(fields)})")
+        ps = fields[name].metadata.get("spec")
         low, high = (getattr(ps, "low", None), getattr(ps, "high", None)) if ps is not None else (None, None)
         if low is None or high is None or not np.isfinite([low, high]).all():
             raise ConfigError("--bounds", key, f"--bounds {key}=LOW:HIGH (the parameter has no finite declared range)",

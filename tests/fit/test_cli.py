@@ -75,3 +75,32 @@ def test_a_results_folders_runs_replay_exactly_with_their_own_seeds(tmp_path):
     assert [b.name for b in data] == ["learning_progress/0", "learning_progress/1"]
     for replay, result in zip(make_replays(experiment, condition, data, ["LC.gain"]), results):
         assert abs(replay.loglik({"LC.gain": 20.0}) - np.log(result.episodes["p_chosen"]).sum()) < 1e-9
+
+
+def test_impossible_decisions_and_unknown_parameters_are_named():
+    """A data set no theta in the bounds can explain (log-likelihood -inf everywhere) is a one-line error
+    naming the data set and the episode (from the replay); an unknown parameter names the region's."""
+    import numpy as np
+    import pytest
+
+    from neurocur.config import ConfigError
+    from neurocur.fit.study import condition_of, default_bounds, fit_data
+
+    class Impossible:
+        n_obs = 3
+        behaviour = type("B", (), {"name": "s1", "source": "data.csv"})()
+
+        def loglik(self, theta, mask=None):
+            return -np.inf
+
+        def episode_logp(self, theta):
+            return np.array([0.0, -np.inf, 0.0])
+
+        def first_impossible(self, logp):
+            return f"data set 's1', episode {int(np.flatnonzero(np.isneginf(logp))[0])}: probability 0"
+
+    with pytest.raises(ConfigError, match=r"data.csv: key 'decision'.*-inf: data set 's1', episode 1"):
+        fit_data([Impossible()], {"LC.epsilon0": (0.0, 0.1)}, ci=None)
+    _, condition = condition_of("free_choice", "learning_progress")
+    with pytest.raises(ConfigError, match="no parameter 'gian' of region 'LC'"):
+        default_bounds(condition, ["LC.gian"], {})
