@@ -146,7 +146,8 @@ def _cmd_recover(args) -> int:
     bounds = default_bounds(condition, args.keys, dict(args.bounds))
     out = _out(args, f"results/recover-{experiment.name}")
     table = parameter_recovery(condition, bounds, n_datasets=args.datasets, n_episodes=args.episodes,
-                               seed=args.seed, starts=args.starts, decision=args.decision, signal=args.signal)
+                               seed=args.seed, starts=args.starts, decision=args.decision, signal=args.signal,
+                               progress=_partial(out / "recovery.csv"))
     summary = recovery_summary(table)
     _write(out / "recovery.csv", table.to_csv(index=False))
     _write(out / "recovery_summary.csv", summary.to_csv(index=False))
@@ -159,7 +160,7 @@ def _cmd_recover(args) -> int:
             keys = [key for key in args.keys if _has_param(c, key)]
             model_bounds[name] = default_bounds(c, keys, dict(args.bounds))
         mr = model_recovery(models, model_bounds, n_datasets=args.datasets, n_episodes=args.episodes,
-                            seed=args.seed, decision=args.decision)
+                            seed=args.seed, decision=args.decision, progress=_partial(out / "model_recovery.csv"))
         _write(out / "model_recovery.csv", mr.to_csv(index=False))
         for by in ("aic", "bic", "heldout"):
             m = confusion(mr, by)
@@ -168,6 +169,14 @@ def _cmd_recover(args) -> int:
         _save(confusion_figure(mr), out / "confusion.png")
     print(out)
     return 0
+
+
+def _partial(path: Path):
+    """A progress callback writing the table so far (``path``, whole) and saying how far it is."""
+    def write(table) -> None:
+        _write(path, table.to_csv(index=False))
+        print(f"{path.name}: {table['dataset'].nunique()} data sets", flush=True)
+    return write
 
 
 def _has_param(condition, key: str) -> bool:

@@ -58,8 +58,9 @@ def _replay(condition, behaviour, seed, fitted, decision, signal) -> Replay:
 
 def parameter_recovery(condition, bounds: Mapping[str, tuple[float, float]], *, n_datasets: int, n_episodes: int,
                        seed: int = 0, starts: int = 3, decision: str = "LC",
-                       signal: tuple[str, str] | None = None) -> pd.DataFrame:
-    """Rows ``dataset, param, true, estimate, ci_low, ci_high, loglik``: ``n_datasets`` fits at known theta."""
+                       signal: tuple[str, str] | None = None, progress=None) -> pd.DataFrame:
+    """Rows ``dataset, param, true, estimate, ci_low, ci_high, loglik``: ``n_datasets`` fits at known theta.
+    ``progress(table so far)`` is called after each data set."""
     keys = list(bounds)
     b = np.array([bounds[k] for k in keys], dtype=np.float64)
     root = np.random.SeedSequence(seed)
@@ -73,6 +74,8 @@ def parameter_recovery(condition, bounds: Mapping[str, tuple[float, float]], *, 
         for k in keys:
             rows.append({"dataset": f"d{i}", "param": k, "true": truth[k], "estimate": fit.estimate[k],
                          "ci_low": fit.ci[k][0], "ci_high": fit.ci[k][1], "loglik": fit.loglik})
+        if progress is not None:
+            progress(pd.DataFrame(rows))
     return pd.DataFrame(rows)
 
 
@@ -116,19 +119,19 @@ def recovery_figure(table: pd.DataFrame):
 
 def model_recovery(conditions: Mapping[str, object], bounds: Mapping[str, Mapping[str, tuple[float, float]]], *,
                    n_datasets: int, n_episodes: int, seed: int = 0, starts: int = 2, decision: str = "LC",
-                   ) -> pd.DataFrame:
+                   progress=None) -> pd.DataFrame:
     """Rows ``generating, dataset, fitted, loglik, n_params, aic, bic, heldout``: every model (condition,
     with its ``bounds``, empty for none) fitted to ``n_datasets`` data sets simulated from each model
     (theta drawn uniformly within the generating model's bounds). Data set i of every model has the
-    same seed (paired)."""
+    same seed (paired). ``progress(table so far)`` is called after each data set."""
     root = np.random.SeedSequence(seed)
     children = root.spawn(n_datasets)
     draw = np.random.default_rng(root.spawn(1)[0])
     half = n_episodes // 2
     train = np.arange(n_episodes) < half
     rows = []
-    for gen, condition in conditions.items():
-        for i, child in enumerate(children):
+    for i, child in enumerate(children):  # data set by data set, every model's: a partial table stays balanced
+        for gen, condition in conditions.items():
             truth = {k: float(draw.uniform(*lohi)) for k, lohi in bounds[gen].items()}
             behaviour, _ = simulate(condition, truth, child, n_episodes, decision=decision, name=f"{gen}/d{i}")
             for name, candidate in conditions.items():
@@ -138,6 +141,8 @@ def model_recovery(conditions: Mapping[str, object], bounds: Mapping[str, Mappin
                 heldout = replay.loglik(first.estimate, ~train)
                 rows.append({"generating": gen, "dataset": f"{gen}/d{i}", "fitted": name, "loglik": full.loglik,
                              "n_params": full.n_params, "aic": full.aic, "bic": full.bic, "heldout": heldout})
+            if progress is not None:
+                progress(pd.DataFrame(rows))
     return pd.DataFrame(rows)
 
 
