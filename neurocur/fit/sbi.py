@@ -83,6 +83,28 @@ def training_set(results, prior: Mapping[str, tuple[float, float]], n_contexts: 
     return np.array(theta), np.array(x)
 
 
+class _Silent:
+    """An sbi tracker that keeps nothing: sbi's default writes TensorBoard logs into the working folder,
+    and nothing is written outside a results folder."""
+
+    log_dir = None
+
+    def log_metric(self, name, value, step=None) -> None:
+        pass
+
+    def log_metrics(self, metrics, step=None) -> None:
+        pass
+
+    def log_params(self, params) -> None:
+        pass
+
+    def add_figure(self, name, figure, step=None) -> None:
+        pass
+
+    def flush(self) -> None:
+        pass
+
+
 def train(theta: np.ndarray, x: np.ndarray, prior: Mapping[str, tuple[float, float]], *, seed: int = 0,
           max_epochs: int = 200):
     """A neural posterior estimator (sbi's NPE, a masked autoregressive flow) trained on (theta, x);
@@ -94,7 +116,7 @@ def train(theta: np.ndarray, x: np.ndarray, prior: Mapping[str, tuple[float, flo
     torch.manual_seed(seed)
     b = np.array(list(prior.values()), dtype=np.float32)
     box = BoxUniform(torch.tensor(b[:, 0]), torch.tensor(b[:, 1]))
-    inference = NPE(prior=box, show_progress_bars=False)
+    inference = NPE(prior=box, show_progress_bars=False, tracker=_Silent())
     inference.append_simulations(torch.tensor(theta, dtype=torch.float32), torch.tensor(x, dtype=torch.float32))
     inference.train(max_num_epochs=max_epochs, show_train_summary=False, training_batch_size=min(50, len(theta)))
     posterior = inference.build_posterior()

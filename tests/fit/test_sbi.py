@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -19,7 +21,8 @@ def test_summaries_of_a_hand_made_sequence():
 
 
 def test_the_training_experiment_sweeps_prior_draws(tmp_path):
-    path = training_experiment("neurocur/experiments_data/free_choice.toml", "learning_progress",
+    free_choice = Path(__file__).resolve().parents[2] / "neurocur" / "experiments_data" / "free_choice.toml"
+    path = training_experiment(free_choice, "learning_progress",
                                {"HPC.rate": (0.05, 0.5)}, n_values=6, runs=2, steps=50, seed=3, out=tmp_path)
     exp = load_experiment(path)
     points = [c.sweep["HPC.rate"] for c in exp.select(["learning_progress"])]
