@@ -3,7 +3,9 @@
 The objective is the replayed log-likelihood (:meth:`neurocur.fit.replay.Replay.loglik`),
 maximised with scipy's L-BFGS-B inside the bounds from ``starts`` points (the first the
 bounds' midpoint, the others uniform draws from a seeded generator); the best end point
-wins. A start where the observed decisions are impossible (-inf) is penalised, not NaN.
+wins. A theta where the observed decisions are impossible (-inf) costs a large constant, not
+NaN; such a start lies on a flat plateau the optimiser cannot leave, so it is drawn again (up
+to :data:`REDRAWS` times).
 
 Intervals are profile-likelihood intervals (Wilks' theorem): the values of parameter k
 whose profile log-likelihood, maximised over the other parameters, lies within
@@ -24,8 +26,10 @@ from ..config import ConfigError
 
 __all__ = ["MLFit", "fit_ml", "fit_table"]
 
-#: what an impossible start costs instead of +inf, so that the optimiser can leave it
+#: what an impossible theta costs instead of +inf
 IMPOSSIBLE = 1e12
+#: how many times a start where the observed decisions are impossible is drawn again
+REDRAWS = 20
 
 
 @dataclass
@@ -89,6 +93,11 @@ def fit_ml(replays, bounds: Mapping[str, tuple[float, float]], *, starts: int = 
 
     rng = np.random.default_rng(seed)
     points = [b.mean(axis=1)] + [rng.uniform(b[:, 0], b[:, 1]) for _ in range(max(0, starts - 1))]
+    for i, x0 in enumerate(points):  # a start where the data are impossible is a flat plateau: draw another
+        for _ in range(REDRAWS):
+            if cost(points[i]) < IMPOSSIBLE:
+                break
+            points[i] = rng.uniform(b[:, 0], b[:, 1])
     best = min((optimize.minimize(cost, x0, method="L-BFGS-B", bounds=b) for x0 in points), key=lambda r: r.fun)
     x = np.clip(best.x, b[:, 0], b[:, 1])
     fit = MLFit(dataset, dict(zip(keys, map(float, x))), loglik(x), n_obs)

@@ -58,3 +58,19 @@ def test_an_interval_reaching_its_bound_is_censored_there_and_impossible_starts_
     assert fit.estimate["LC.p"] < 1e-6 and fit.ci["LC.p"][0] == 0.0 and fit.ci["LC.p"][1] < 0.2
     with pytest.raises(ConfigError, match="finite LOW < HIGH"):
         fit_ml(Coin(1, 2), {"LC.p": (0.5, 0.1)})
+
+
+class Plateau:
+    """Impossible (-inf) for p > 0.3, a binomial log-likelihood (k = 5 of 50) below: the midpoint start
+    lies on the plateau."""
+
+    n_obs = 50
+
+    def loglik(self, theta, mask=None):
+        p = theta["LC.p"]
+        return -np.inf if p > 0.3 else float(special.xlogy(5, p) + special.xlog1py(45, -p))
+
+
+def test_a_start_on_an_impossible_plateau_is_drawn_again():
+    fit = fit_ml(Plateau(), {"LC.p": (0.01, 0.99)}, starts=1, ci=None)
+    assert abs(fit.estimate["LC.p"] - 0.1) < 1e-4 and np.isfinite(fit.loglik)
