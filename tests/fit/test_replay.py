@@ -27,8 +27,8 @@ def as_behaviour(episodes, names, name="run"):
 @pytest.fixture
 def lc_circuit(circuits_dir, small):
     def make(lc):
-        if lc["type"] == "lc.adaptive_gain":  # its circuit wires VTA's dopamine to the LC
-            return Circuit.from_toml(circuits_dir / "lc_adaptive_gain.toml", small)
+        if lc["type"] in ("lc.adaptive_gain", "lc.fhn"):  # their shipped circuits (adaptive gain reads VTA's DA)
+            return Circuit.from_toml(circuits_dir / f"{lc['type'].replace('.', '_')}.toml", small)
         return Circuit.from_toml(circuits_dir / "cd_misfa.toml", small).replace("LC", lc)
     return make
 
@@ -37,6 +37,7 @@ def lc_circuit(circuits_dir, small):
     ({"type": "lc.epsilon_greedy", "params": {"epsilon0": 0.6, "decay": 0.99}}, lambda e: e["ne_tonic"]),
     ({"type": "lc.softmax", "params": {"gain": 2.0}}, None),
     ({"type": "lc.adaptive_gain", "params": {}}, None),
+    ({"type": "lc.fhn", "params": {}}, None),
 ])
 def test_replay_equals_the_agents_own_log_probabilities(lc_circuit, make_world, lc, p_dis):
     circuit = lc_circuit(lc)
@@ -90,3 +91,17 @@ def test_a_decision_of_probability_zero_is_minus_infinity_with_its_episode(lc_ci
     assert total == -np.inf
     t = int(np.flatnonzero(np.isneginf(logp))[0])
     assert f"episode {t}" in replay.first_impossible(logp)
+
+
+def test_the_fitzhugh_nagumo_lc_says_it_has_no_closed_form(lc_circuit, make_world):
+    """Its probability is exact in a replay, integrated again for each theta (no vectorised path)."""
+    from neurocur.regions.lc_fhn import FHNLC
+    from neurocur.regions.lc_softmax import SoftmaxLC
+
+    assert FHNLC.closed_form is False and SoftmaxLC.closed_form is True
+    circuit = lc_circuit({"type": "lc.fhn"})
+    world = make_world()
+    behaviour = as_behaviour(simulate(circuit, world, 4, 30), world.context_names)
+    replay = Replay(circuit, make_world(), 4, behaviour, fitted=["LC.gain_scale"])
+    fresh = Replay(circuit.with_params({"LC.gain_scale": 6.0}), make_world(), 4, behaviour)
+    assert abs(replay.loglik({"LC.gain_scale": 6.0}) - fresh.logp.sum()) < 1e-9
