@@ -166,6 +166,9 @@ def build_parser() -> argparse.ArgumentParser:
 
     sub.add_parser("list", help="the shipped experiments and circuits, one line each",
                    description="List the experiments, invariance demonstrations and circuits shipped in the package.")
+    from neurocur.fit.cli import add_parsers as add_fit_parsers
+
+    add_fit_parsers(sub)  # fit, recover
     return parser
 
 
@@ -293,8 +296,10 @@ def main(argv=None) -> int:
     """Entry point of the ``neurocur`` command; returns the exit status."""
     parser = build_parser()
     args = parser.parse_args(argv)
+    from neurocur.fit.cli import COMMANDS as FIT_COMMANDS
+
     command = {"run": _cmd_run, "figures": _cmd_figures, "omega": _cmd_omega,
-               "invariance": _cmd_invariance, "list": _cmd_list}[args.command]
+               "invariance": _cmd_invariance, "list": _cmd_list, **FIT_COMMANDS}[args.command]
     try:
         return command(args)
     except (ValueError, OSError) as exc:  # ConfigError is a ValueError; OSError: a file that cannot be read or written

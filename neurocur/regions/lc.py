@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import ClassVar
 
 from ..config import check_params, param
 from .base import Probe, Region, Signal, register
@@ -33,6 +34,16 @@ class LCRole(Region):
     """
 
     modulator = "ne"
+    #: Whether P(decision | state, theta) is a closed-form function of the parameters given the
+    #: replayed inputs (:mod:`neurocur.fit.replay` evaluates it for many theta from one replay).
+    closed_form: ClassVar[bool] = True
+    #: The output whose value is the observed decision a replay scores: ``"action"`` (engage 0,
+    #: disengage 1) here, the chosen context for a free choice (:mod:`.lc_choice`).
+    decides: ClassVar[str] = "action"
+    #: ``(P(engage), P(disengage))`` that this pass's draw used, set by every ``step``: the
+    #: likelihood of each decision given the region's state, its inputs and its parameters (a
+    #: drug's noise included: under a noise drug it is conditional on the drawn level).
+    probabilities: tuple[float, float] = (0.5, 0.5)
     inputs = (
         Signal("context", "int64", ()),
         Signal("q", "float64", (2,)),
@@ -127,6 +138,7 @@ class EpsilonGreedyLC(LCRole):
         nxt = next_context(context, action, self.n_contexts, rng)
         phasic = phasic_ne(action, module_learned, q_eng, q_dis)
         self.epsilon = eps * self.params.decay
+        self.probabilities = (1.0 - tonic, tonic)
         self._rec = (action, nxt, eps, tonic, phasic)
         return action, nxt, tonic
 

@@ -106,6 +106,11 @@ class FHNLC(GainLC):
     """
 
     Params = FHNLCParams
+    #: P(decision | state) is the softmax of the window's mean rate, but that rate is an Euler-integrated
+    #: trajectory: no closed form in the parameters. A replay integrates it again for each theta
+    #: (:mod:`neurocur.fit.replay`); for its dynamical parameters use simulation-based inference
+    #: (:mod:`neurocur.fit.sbi`).
+    closed_form = False
     probes = (
         *DECISION_PROBES,
         Probe("ne_tonic", "float", "[0, 1]", "firing rate at the window's start (baseline)"),
@@ -122,6 +127,9 @@ class FHNLC(GainLC):
 
     def reset(self, rng) -> None:
         self.rng = rng
+        #: the input noise's own stream, a child of the region's: the decision's draws do not move it,
+        #: so a replay of observed decisions (neurocur.fit) sees the noise the agent saw
+        self.noise_rng = rng.spawn(1)[0]
         self.v = self.u = 0.0
         self.trace = np.zeros((self.params.substeps, 2))
         self._rec = (ENGAGE, 0, 0.0, 0.0, self.params.gain_base, 0.0, 0.0)
@@ -133,7 +141,7 @@ class FHNLC(GainLC):
         tonic = min(1.0, max(0.0, self.v))
         inputs = np.zeros(p.substeps)
         inputs[:int(round(p.pulse / p.dt))] = x
-        self.v, self.u = integrate(self.v, self.u, with_noise(inputs, p.noise, p.dt, self.rng), p.dt, p.alpha,
+        self.v, self.u = integrate(self.v, self.u, with_noise(inputs, p.noise, p.dt, self.noise_rng), p.dt, p.alpha,
                                    p.tau_v, p.tau_u, p.mode, p.baseline, self.trace)
         rate = np.clip(self.trace[:, 0], 0.0, 1.0)
         mean_rate = float(rate.mean())

@@ -16,6 +16,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from ..config import check_params, param
 from .base import Probe, register
 from .lc import DECISION_PROBES, LCRole, phasic_ne
@@ -28,6 +30,12 @@ GAIN_PROBE = Probe("ne_gain", "float", "1 / DA", "released NE gain (after drugs)
 def logistic(x: float, slope: float = 1.0) -> float:
     """sigma(slope * x) = 1 / (1 + exp(-slope * x)), computed overflow-free as (1 + tanh(slope * x / 2)) / 2."""
     return 0.5 * (1.0 + math.tanh(0.5 * slope * x))
+
+
+def p_disengage_array(gain, dq):
+    """:func:`p_disengage` on numpy arrays: sigma(gain * dq), dq = Q_dis - Q_eng, broadcast (e.g. a
+    column of gains against a row of episodes, :mod:`neurocur.fit`)."""
+    return 0.5 * (1.0 + np.tanh(0.5 * np.multiply(gain, dq)))
 
 
 def p_disengage(gain: float, q) -> float:
@@ -46,6 +54,7 @@ class GainLC(LCRole):
         action, next context)."""
         gain = max(0.0, self.modulate(gain))
         p = p_disengage(gain, q)
+        self.probabilities = (1.0 - p, p)
         action = DISENGAGE if self.rng.random() < p else ENGAGE
         return gain, p, action, next_context(context, action, self.n_contexts, self.rng)
 

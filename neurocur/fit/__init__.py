@@ -1,0 +1,11 @@
+"""Fitting circuits to behaviour (design section 7): data, replay, maximum likelihood, recovery, comparison.
+
+| part | module |
+|---|---|
+| behaviour data: a tidy table of episodes, CSV, Parquet or a results folder | ``data`` |
+| replay: log P(observed decisions given theta), cached learning part | ``replay`` |
+| maximum likelihood with several starts, profile-likelihood intervals | ``mle`` |
+| random-effects Bayesian model selection (Stephan et al. 2009, Rigoux et al. 2014) | ``bms`` |
+
+A layer above :mod:`neurocur.experiments`: it builds circuits and worlds from experiment files.
+"""

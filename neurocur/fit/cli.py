@@ -1,0 +1,191 @@
+"""The ``neurocur fit`` and ``neurocur recover`` subcommands (parsers and commands; :mod:`neurocur.cli` adds them).
+
+``fit DATA --experiment EXP [--condition C] --fit KEY ... [--bounds KEY=LOW:HIGH ...] [--out DIR]``
+writes ``DIR/fit.csv`` (``dataset, param, estimate, ci_low, ci_high``: each data set, then the
+pooled fit) and ``DIR/summary.json`` (``loglik, n_params, n_obs, aic, bic`` of the per-data-set
+fits together, then each fit's). ``recover EXPERIMENT --fit KEY ...`` writes
+``recovery.csv``, ``recovery_summary.csv`` and ``recovery.png``; with ``--models C1 C2 ...``
+also ``model_recovery.csv``, ``confusion_{aic,bic,heldout}.csv`` and ``confusion.png``.
+
+Files are written whole (a temporary file renamed into place) inside the output folder only;
+an output path that is a symbolic link is refused.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+from pathlib import Path
+
+__all__ = ["COMMANDS", "add_parsers"]
+
+
+def _bounds(text: str) -> tuple[str, tuple[float, float]]:
+    key, sep, rng = text.partition("=")
+    low, sep2, high = rng.partition(":")
+    try:
+        lo, hi = float(low), float(high)
+    except ValueError:
+        lo = hi = None
+    if not sep or not sep2 or lo is None or not lo < hi:
+        raise argparse.ArgumentTypeError(f"expected KEY=LOW:HIGH with LOW < HIGH, got {text!r}")
+    return key, (lo, hi)
+
+
+def _signal(text: str) -> tuple[str, str]:
+    region, sep, column = text.partition("=")
+    if not sep or not region or not column:
+        raise argparse.ArgumentTypeError(f"expected REGION=COLUMN (e.g. HPC=error), got {text!r}")
+    return region, column
+
+
+def _common(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--condition", metavar="NAME", help="the experiment's condition whose circuit to fit "
+                   "(default: the first)")
+    p.add_argument("--fit", dest="keys", action="append", required=True, metavar="KEY",
+                   help="a parameter to fit, REGION.param (repeatable), e.g. LC.gain, PFC.alpha")
+    p.add_argument("--bounds", action="append", type=_bounds, default=[], metavar="KEY=LOW:HIGH",
+                   help="search range of a fitted parameter (default: its declared range, when finite)")
+    p.add_argument("--signal", type=_signal, metavar="REGION=COLUMN",
+                   help="signal replay: REGION emits the data's per-episode COLUMN instead of computing it")
+    p.add_argument("--decision", default="LC", metavar="REGION", help="the decision region (default LC)")
+    p.add_argument("--starts", type=int, default=5, metavar="N", help="optimiser starts per fit (default 5)")
+    p.add_argument("--seed", type=int, default=0, metavar="N", help="seed of the starts (default 0)")
+    p.add_argument("--out", metavar="DIR", help="output folder")
+
+
+def add_parsers(sub) -> None:
+    """Add ``fit`` and ``recover`` to the ``neurocur`` command's subparsers."""
+    fit = sub.add_parser(
+        "fit", help="fit a circuit's parameters to behaviour by maximum likelihood (docs/fitting.md)",
+        description="Replay each data set of DATA (a CSV or Parquet table with columns dataset, episode, context, "
+        "decision; or a results folder, whose runs are the data sets) through the experiment condition's circuit "
+        "and fit the --fit parameters by maximum likelihood, per data set and pooled, with 95%% profile-likelihood "
+        "intervals. Writes OUT/fit.csv and OUT/summary.json.",
+        epilog="example:\n  neurocur fit results/free_choice --experiment free_choice --condition learning_progress "
+        "--fit LC.gain --bounds LC.gain=0:60 --signal HPC=error --out results/fit\n",
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    fit.add_argument("data", metavar="DATA", help="a behaviour table (.csv, .parquet) or a results folder")
+    fit.add_argument("--experiment", required=True, metavar="EXP", help="experiment TOML file or shipped name")
+    _common(fit)
+    recover = sub.add_parser(
+        "recover", help="parameter (and model) recovery of an experiment's circuit (docs/fitting.md)",
+        description="Simulate --datasets data sets of --episodes episodes at parameters drawn uniformly within "
+        "the bounds, fit each, and report r, bias and interval coverage per parameter; with --models, also "
+        "fit every model to data sets simulated from each and report the confusion matrices.",
+        epilog="example:\n  neurocur recover free_choice --condition learning_progress --fit LC.gain "
+        "--bounds LC.gain=1:60 --signal HPC=error --datasets 20 --episodes 250\n",
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    recover.add_argument("experiment", metavar="EXPERIMENT", help="experiment TOML file or shipped name")
+    _common(recover)
+    recover.add_argument("--datasets", type=int, default=20, metavar="N", help="data sets (default 20)")
+    recover.add_argument("--episodes", type=int, default=250, metavar="N", help="episodes per data set (default 250)")
+    recover.add_argument("--models", nargs="+", metavar="CONDITION",
+                         help="model recovery among these conditions (each fitted on the --fit keys it has)")
+
+
+def _out(args, default: str) -> Path:
+    out = Path(args.out or default)
+    if out.is_symlink():
+        raise ValueError(f"--out: expected a folder, not a symbolic link, got {str(out)!r}")
+    out.mkdir(parents=True, exist_ok=True)
+    return out
+
+
+def _write(path: Path, text: str) -> None:
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    tmp.write_text(text, encoding="utf-8")
+    os.replace(tmp, path)
+
+
+def _save(fig, path: Path) -> None:
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp.png")
+    fig.savefig(tmp, dpi=120)
+    os.replace(tmp, path)
+
+
+def _cmd_fit(args) -> int:
+    from .mle import fit_table
+    from .study import condition_of, default_bounds, fit_data, load_data, make_replays
+
+    experiment, condition = condition_of(args.experiment, args.condition)
+    bounds = default_bounds(condition, args.keys, dict(args.bounds))
+    data = load_data(args.data, condition, decision=args.decision, signal=args.signal)
+    replays = make_replays(experiment, condition, data, args.keys, decision=args.decision, signal=args.signal)
+    fits = fit_data(replays, bounds, starts=args.starts, seed=args.seed)
+    out = _out(args, f"results/fit-{experiment.name}")
+    _write(out / "fit.csv", fit_table(fits).to_csv(index=False))
+    each = [f for f in fits if f.dataset != "pooled" or len(fits) == 1]
+    loglik, k, n = sum(f.loglik for f in each), sum(f.n_params for f in each), sum(f.n_obs for f in each)
+    summary = {"experiment": experiment.name, "condition": condition.name, "fitted": list(args.keys),
+               "bounds": {key: list(v) for key, v in bounds.items()}, "loglik": loglik, "n_params": k, "n_obs": n,
+               "aic": 2 * k - 2 * loglik, "bic": k * math.log(n) - 2 * loglik,
+               "fits": [f.summary() | {"estimate": f.estimate} for f in fits]}
+    _write(out / "summary.json", json.dumps(summary, indent=2, allow_nan=True) + "\n")
+    for f in fits:
+        print(f"{f.dataset}: " + ", ".join(f"{key} = {v:.4g} [{f.ci[key][0]:.4g}, {f.ci[key][1]:.4g}]"
+                                           for key, v in f.estimate.items()) + f"  (log L = {f.loglik:.2f})")
+    print(out / "fit.csv")
+    return 0
+
+
+def _cmd_recover(args) -> int:
+    from .recovery import (
+        confusion,
+        confusion_figure,
+        model_recovery,
+        parameter_recovery,
+        recovery_figure,
+        recovery_summary,
+    )
+    from .study import condition_of, default_bounds
+
+    experiment, condition = condition_of(args.experiment, args.condition)
+    bounds = default_bounds(condition, args.keys, dict(args.bounds))
+    out = _out(args, f"results/recover-{experiment.name}")
+    table = parameter_recovery(condition, bounds, n_datasets=args.datasets, n_episodes=args.episodes,
+                               seed=args.seed, starts=args.starts, decision=args.decision, signal=args.signal,
+                               progress=_partial(out / "recovery.csv"))
+    summary = recovery_summary(table)
+    _write(out / "recovery.csv", table.to_csv(index=False))
+    _write(out / "recovery_summary.csv", summary.to_csv(index=False))
+    _save(recovery_figure(table), out / "recovery.png")
+    print(summary.to_string(index=False))
+    if args.models:
+        models = {name: condition_of(experiment, name)[1] for name in args.models}
+        model_bounds = {}
+        for name, c in models.items():
+            keys = [key for key in args.keys if _has_param(c, key)]
+            model_bounds[name] = default_bounds(c, keys, dict(args.bounds))
+        mr = model_recovery(models, model_bounds, n_datasets=args.datasets, n_episodes=args.episodes,
+                            seed=args.seed, decision=args.decision, progress=_partial(out / "model_recovery.csv"))
+        _write(out / "model_recovery.csv", mr.to_csv(index=False))
+        for by in ("aic", "bic", "heldout"):
+            m = confusion(mr, by)
+            _write(out / f"confusion_{by}.csv", m.to_csv())
+            print(f"confusion by {by}:\n{m.round(2).to_string()}")
+        _save(confusion_figure(mr), out / "confusion.png")
+    print(out)
+    return 0
+
+
+def _partial(path: Path):
+    """A progress callback writing the table so far (``path``, whole) and saying how far it is."""
+    def write(table) -> None:
+        _write(path, table.to_csv(index=False))
+        print(f"{path.name}: {table['dataset'].nunique()} data sets", flush=True)
+    return write
+
+
+def _has_param(condition, key: str) -> bool:
+    """True when the condition's circuit has the parameter ``REGION.param`` and it can vary (a random
+    LC, epsilon fixed at 1, is a model without its decision parameters)."""
+    region, _, name = key.partition(".")
+    spec = condition.circuit.specs.get(region)
+    return spec is not None and hasattr(spec.params, name) and not any(r == region for r, _, _ in condition.circuit.lesions)
+
+
+#: the subcommands, by name
+COMMANDS = {"fit": _cmd_fit, "recover": _cmd_recover}

@@ -1,0 +1,170 @@
+"""Behaviour data: a tidy table of episodes, one row per decision, read from CSV, Parquet or a results folder.
+
+Columns (design section 7; Wilson & Collins 2019 for the workflow it serves):
+
+- ``dataset``: the subject or run the episode belongs to (any label; a results folder's
+  runs are named ``"CONDITION/RUN"``);
+- ``episode``: the episode's index within its data set, strictly increasing;
+- ``context``: the context shown, an index or one of the world's context names;
+- ``decision``: what was decided at the end of the episode: ``"engage"``/``"disengage"``
+  (or 0/1) in an engage/disengage task, the chosen context (index or name) in a
+  free-choice task;
+- optional further columns, per-episode signals the model would otherwise compute itself
+  (an error or accuracy per episode, for signal replay, :mod:`neurocur.fit.replay`).
+
+Bad data is a :class:`~neurocur.config.ConfigError` naming the file, the column and what
+was expected (a missing column, an unknown context, episodes out of order, a missing value).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from ..config import ConfigError
+from ..regions.pfc import ACTIONS
+from ..results import ResultsStore
+
+__all__ = ["Behaviour", "REQUIRED", "read_behaviour", "behaviour_from_episodes"]
+
+#: The columns every behaviour table has.
+REQUIRED = ("dataset", "episode", "context", "decision")
+
+
+@dataclass(frozen=True)
+class Behaviour:
+    """One data set's episodes: ``contexts`` and ``decisions`` (int arrays, one entry per
+    episode), ``signals`` (extra per-episode columns, name -> float array), ``source`` the
+    file it came from and ``name`` its label; ``free_choice`` when a decision is a context."""
+
+    name: str
+    contexts: np.ndarray
+    decisions: np.ndarray
+    signals: dict
+    source: str
+    free_choice: bool = False
+    #: the seed of the run that produced it (a results folder's runs), or None
+    seed: object = None
+
+    def __len__(self) -> int:
+        return len(self.contexts)
+
+    def next_contexts(self, n_contexts: int) -> np.ndarray:
+        """The context each decision led to: the next episode's; after the last episode, its own
+        context on engage and the next one round on disengage (the run ends there, so no
+        observation constrains it)."""
+        nxt = np.empty_like(self.contexts)
+        nxt[:-1] = self.contexts[1:]
+        last, d = int(self.contexts[-1]), int(self.decisions[-1])
+        nxt[-1] = d if self.free_choice else (last if d == 0 else (last + 1) % n_contexts)
+        return nxt
+
+
+def read_behaviour(path, context_names: Sequence[str], *, free_choice: bool = False,
+                   signals: Sequence[str] = ()) -> list[Behaviour]:
+    """The data sets of a CSV or Parquet file, or of a results folder (one per run), in order.
+
+    ``context_names``: the world's contexts (a context may be given by index or name);
+    ``free_choice``: decisions are contexts rather than engage/disengage; ``signals``: the
+    extra columns required (for signal replay)."""
+    path = Path(path)
+    if not path.exists():
+        raise ConfigError(path, None, "an existing CSV or Parquet file or a results folder", "no such path")
+    if path.is_dir():
+        store = ResultsStore(path)
+        episodes, _ = store.load()
+        table = pd.DataFrame({"dataset": episodes["condition"].astype(str) + "/" + episodes["run"].astype(str),
+                              "episode": episodes["episode"], "context": episodes["context"],
+                              "decision": episodes["next_context" if free_choice else "action"]})
+        for name in signals:
+            if name not in episodes:
+                raise ConfigError(path, name, f"a recorded column '{name}' in the results folder", "none")
+            table[name] = episodes[name]
+    elif path.suffix.lower() == ".csv":
+        table = pd.read_csv(path)
+    elif path.suffix.lower() in (".parquet", ".pq"):
+        table = pd.read_parquet(path)
+    else:
+        raise ConfigError(path, None, "a .csv or .parquet file or a results folder", f"suffix '{path.suffix}'")
+    found = behaviour_from_episodes(table, context_names, free_choice=free_choice, signals=signals, source=str(path))
+    if path.is_dir():  # each run's own seed: its replay sees the run's own world
+        seeds = {}
+        for run_dir in store.run_dirs():
+            seed = store.run_info(run_dir)["seed"]
+            seeds[f"{run_dir.parent.name}/{int(run_dir.name.split('-')[1])}"] = np.random.SeedSequence(
+                seed["entropy"], spawn_key=tuple(seed["spawn_key"]))
+        found = [dataclasses.replace(b, seed=seeds.get(b.name)) for b in found]
+    return found
+
+
+def behaviour_from_episodes(table: pd.DataFrame, context_names: Sequence[str], *, free_choice: bool = False,
+                            signals: Sequence[str] = (), source: str = "<table>") -> list[Behaviour]:
+    """The data sets of a tidy table (columns :data:`REQUIRED` and ``signals``), checked."""
+    for column in (*REQUIRED, *signals):
+        if column not in table.columns:
+            raise ConfigError(source, column, f"a column '{column}' (columns: {', '.join(map(str, table.columns))})",
+                              "none")
+        if table[column].isna().any():
+            row = int(np.flatnonzero(table[column].isna().to_numpy())[0])
+            raise ConfigError(source, column, "a value in every row", f"a missing value in row {row}")
+    names = list(context_names)
+    contexts = _codes(table["context"], names, source, "context", "a context index 0..{n} or name ({names})")
+    if free_choice:
+        decisions = _codes(table["decision"], names, source, "decision", "a chosen context 0..{n} or name ({names})")
+    else:
+        decisions = _codes(table["decision"], list(ACTIONS), source, "decision", "0, 1 or one of {names}")
+    out = []
+    frame = pd.DataFrame({"dataset": table["dataset"].astype(str).to_numpy(), "episode": table["episode"].to_numpy(),
+                          "context": contexts, "decision": decisions})
+    for name, rows in frame.groupby("dataset", sort=False).groups.items():
+        rows = np.asarray(rows)
+        episode = frame["episode"].to_numpy()[rows]
+        if not np.issubdtype(episode.dtype, np.integer):
+            raise ConfigError(source, "episode", "integer episode numbers", f"{episode.dtype} in data set '{name}'")
+        if np.any(np.diff(episode) <= 0):
+            k = int(np.flatnonzero(np.diff(episode) <= 0)[0]) + 1
+            raise ConfigError(source, "episode", f"episodes in increasing order within data set '{name}'",
+                              f"episode {episode[k]} after episode {episode[k - 1]}")
+        c, d = frame["context"].to_numpy()[rows], frame["decision"].to_numpy()[rows]
+        if free_choice and np.any(c[1:] != d[:-1]):
+            k = int(np.flatnonzero(c[1:] != d[:-1])[0])
+            raise ConfigError(source, "decision", f"in data set '{name}', the chosen context to be the next "
+                              "episode's", f"context {d[k]} chosen at episode {episode[k]}, then context {c[k + 1]}")
+        if not free_choice:
+            moved = c[1:] != c[:-1]
+            bad = np.flatnonzero(moved == (d[:-1] == 0))
+            if len(bad):
+                k = int(bad[0])
+                said = ACTIONS[d[k]]
+                raise ConfigError(source, "decision", f"in data set '{name}', 'engage' to stay in the context and "
+                                  "'disengage' to leave it", f"'{said}' at episode {episode[k]} followed by "
+                                  f"context {c[k + 1]} (from context {c[k]})")
+        values = {s: table[s].to_numpy(dtype=np.float64)[rows] for s in signals}
+        out.append(Behaviour(str(name), c.astype(np.int64), d.astype(np.int64), values, source, free_choice))
+    if not out:
+        raise ConfigError(source, "dataset", "at least one episode", "an empty table")
+    return out
+
+
+def _codes(column: pd.Series, names: list[str], source: str, key: str, expected: str) -> np.ndarray:
+    """Indices of ``column``'s values: integers in range, or names from ``names``."""
+    n = len(names)
+    expected = expected.format(n=n - 1, names=", ".join(names))
+    values = column.to_numpy()
+    if pd.api.types.is_numeric_dtype(column.dtype) and not pd.api.types.is_bool_dtype(column.dtype):
+        codes = values.astype(np.int64)
+        bad = (codes != values) | (codes < 0) | (codes >= n)
+    else:
+        lookup = {name: i for i, name in enumerate(names)}
+        lookup.update({str(i): i for i in range(n)})
+        codes = np.array([lookup.get(str(v), -1) for v in values], dtype=np.int64)
+        bad = codes < 0
+    if bad.any():
+        row = int(np.flatnonzero(bad)[0])
+        raise ConfigError(source, key, expected, f"{values[row]!r} in row {row}")
+    return codes

@@ -1,0 +1,139 @@
+"""Maximum likelihood on replays: bounded, several starts, per data set or pooled; profile-likelihood intervals.
+
+The objective is the replayed log-likelihood (:meth:`neurocur.fit.replay.Replay.loglik`),
+maximised with scipy's L-BFGS-B inside the bounds from ``starts`` points (the first the
+bounds' midpoint, the others uniform draws from a seeded generator); the best end point
+wins. A theta where the observed decisions are impossible (-inf) costs a large constant, not
+NaN; such a start lies on a flat plateau the optimiser cannot leave, so it is drawn again (up
+to :data:`REDRAWS` times).
+
+Intervals are profile-likelihood intervals (Wilks' theorem): the values of parameter k
+whose profile log-likelihood, maximised over the other parameters, lies within
+chi2(1, level) / 2 of the maximum; an end that reaches its bound is reported at the bound
+(the interval is censored there). Information criteria: AIC = 2k - 2 log L, BIC = k log n - 2 log L.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+from scipy import optimize, stats
+
+from ..config import ConfigError
+
+__all__ = ["MLFit", "fit_ml", "fit_table"]
+
+#: what an impossible theta costs instead of +inf
+IMPOSSIBLE = 1e12
+#: how many times a start where the observed decisions are impossible is drawn again
+REDRAWS = 20
+
+
+@dataclass
+class MLFit:
+    """A maximum-likelihood fit: ``estimate`` and ``ci`` by key, the maximised ``loglik``, ``n_obs``."""
+
+    dataset: str
+    estimate: dict
+    loglik: float
+    n_obs: int
+    ci: dict = field(default_factory=dict)
+
+    @property
+    def n_params(self) -> int:
+        return len(self.estimate)
+
+    @property
+    def aic(self) -> float:
+        return 2 * self.n_params - 2 * self.loglik
+
+    @property
+    def bic(self) -> float:
+        return self.n_params * np.log(self.n_obs) - 2 * self.loglik
+
+    def summary(self) -> dict:
+        return {"dataset": self.dataset, "loglik": self.loglik, "n_params": self.n_params, "n_obs": self.n_obs,
+                "aic": self.aic, "bic": self.bic}
+
+
+def _check_bounds(bounds: Mapping[str, tuple[float, float]]) -> tuple[list[str], np.ndarray]:
+    keys = list(bounds)
+    if not keys:
+        raise ConfigError("--bounds", None, "at least one parameter to fit", "none")
+    b = np.array([bounds[k] for k in keys], dtype=np.float64)
+    for k, (lo, hi) in zip(keys, b):
+        if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
+            raise ConfigError("--bounds", k, "finite LOW < HIGH", f"{lo}:{hi}")
+    return keys, b
+
+
+def fit_ml(replays, bounds: Mapping[str, tuple[float, float]], *, starts: int = 5, seed: int = 0,
+           ci: float | None = 0.95, dataset: str = "pooled", mask=None) -> MLFit:
+    """One theta maximising the summed log-likelihood of ``replays`` (one Replay or several, pooled);
+    ``mask``: only the episodes it selects (one replay). Without bounds, the model has no free
+    parameter: its log-likelihood is evaluated."""
+    replays = [replays] if not isinstance(replays, Sequence) else list(replays)
+    n_obs = int(sum(r.n_obs for r in replays)) if mask is None else int(np.sum(mask))
+
+    def loglik(x) -> float:
+        theta = dict(zip(keys, map(float, x)))
+        return float(sum(r.loglik(theta, mask) for r in replays))
+
+    if not bounds:
+        keys = []
+        return MLFit(dataset, {}, loglik([]), n_obs)
+    keys, b = _check_bounds(bounds)
+
+    def cost(x) -> float:
+        ll = loglik(x)
+        return IMPOSSIBLE if ll == -np.inf else -ll
+
+    rng = np.random.default_rng(seed)
+    points = [b.mean(axis=1)] + [rng.uniform(b[:, 0], b[:, 1]) for _ in range(max(0, starts - 1))]
+    for i in range(len(points)):  # a start where the data are impossible is a flat plateau: draw another
+        for _ in range(REDRAWS):
+            if cost(points[i]) < IMPOSSIBLE:
+                break
+            points[i] = rng.uniform(b[:, 0], b[:, 1])
+    best = min((optimize.minimize(cost, x0, method="L-BFGS-B", bounds=b) for x0 in points), key=lambda r: r.fun)
+    x = np.clip(best.x, b[:, 0], b[:, 1])
+    fit = MLFit(dataset, dict(zip(keys, map(float, x))), loglik(x), n_obs)
+    if ci is not None:
+        fit.ci = {k: profile_interval(cost, x, b, i, -fit.loglik, ci) for i, k in enumerate(keys)}
+    return fit
+
+
+def profile_interval(cost, x: np.ndarray, b: np.ndarray, i: int, best: float, level: float) -> tuple[float, float]:
+    """The profile-likelihood interval of parameter ``i`` at ``level`` around the minimum ``best`` of ``cost`` at ``x``."""
+    rise = stats.chi2.ppf(level, 1) / 2.0
+    others = [j for j in range(len(x)) if j != i]
+
+    def profile(v: float) -> float:
+        if not others:
+            return cost(np.array([v]))
+        def inner(y):
+            z = x.copy()
+            z[i], z[others] = v, y
+            return cost(z)
+        return optimize.minimize(inner, x[others], method="L-BFGS-B", bounds=b[others]).fun
+
+    def gap(v: float) -> float:
+        return profile(v) - best - rise
+
+    ends = []
+    for bound in (b[i, 0], b[i, 1]):
+        if x[i] == bound or gap(bound) <= 0:
+            ends.append(float(bound))
+        else:
+            ends.append(float(optimize.brentq(gap, x[i], bound, xtol=1e-6 * (b[i, 1] - b[i, 0]))))
+    return ends[0], ends[1]
+
+
+def fit_table(fits: Sequence[MLFit]) -> pd.DataFrame:
+    """The tidy table of fits: ``dataset, param, estimate, ci_low, ci_high``."""
+    rows = [{"dataset": f.dataset, "param": k, "estimate": v, "ci_low": f.ci.get(k, (np.nan, np.nan))[0],
+             "ci_high": f.ci.get(k, (np.nan, np.nan))[1]} for f in fits for k, v in f.estimate.items()]
+    return pd.DataFrame(rows, columns=["dataset", "param", "estimate", "ci_low", "ci_high"])

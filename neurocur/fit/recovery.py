@@ -1,0 +1,174 @@
+"""Parameter and model recovery (Wilson & Collins 2019, rules 5 and 6): simulate with known truth, fit, compare.
+
+- :func:`parameter_recovery`: data sets simulated at known theta (drawn uniformly within the
+  bounds from a seeded generator), each fitted by maximum likelihood on its replay; per
+  parameter, Pearson r between true and fitted values, the bias (mean fitted - true), the
+  RMSE and the coverage of the profile-likelihood intervals (:func:`recovery_summary`).
+- :func:`model_recovery`: data sets simulated from each of M models (experiment conditions),
+  every model fitted to every data set; the confusion matrices count, per generating model,
+  which model wins by AIC, by BIC and by the held-out log-likelihood (fitted on the first half
+  of the episodes, scored on the second) (:func:`confusion`).
+
+Tables are tidy (one row per data set and parameter, or per data set and fitted model); each
+has a figure (:func:`recovery_figure`, :func:`confusion_figure`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+import pandas as pd
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+from scipy import stats
+
+from .data import behaviour_from_episodes
+from .mle import fit_ml
+from .replay import Replay, signal_circuit
+
+__all__ = ["confusion", "confusion_figure", "model_recovery", "parameter_recovery", "recovery_figure",
+           "recovery_summary", "simulate"]
+
+
+def simulate(condition, theta: Mapping[str, float], seed, n_episodes: int, *, decision: str = "LC",
+             signal: tuple[str, str] | None = None, name: str = "sim"):
+    """A data set of ``n_episodes`` simulated by the condition's circuit at ``theta``: its Behaviour
+    (the recorded ``signal`` column kept for signal replay) and the episodes table."""
+    circuit = condition.circuit.with_params(dict(theta), source="theta") if theta else condition.circuit
+    world = condition.make_world()
+    sim = circuit.build(world, seed=seed)
+    for _ in range(n_episodes):
+        sim.run(1)
+    episodes = sim.episodes()
+    free = getattr(circuit.specs[decision].cls, "decides", "action") == "next_context"
+    table = pd.DataFrame({"dataset": name, "episode": episodes["episode"], "context": episodes["context"],
+                          "decision": episodes["next_context" if free else "action"]})
+    if signal is not None:
+        table[signal[1]] = episodes[signal[1]]
+    (behaviour,) = behaviour_from_episodes(table, world.context_names, free_choice=free,
+                                           signals=[signal[1]] if signal else [], source=f"<simulated {name}>")
+    return behaviour, episodes
+
+
+def _replay(condition, behaviour, seed, fitted, decision, signal) -> Replay:
+    circuit = condition.circuit if signal is None else signal_circuit(condition.circuit, signal[0], behaviour, signal[1])
+    return Replay(circuit, condition.make_world(), seed, behaviour, decision=decision, fitted=fitted)
+
+
+def parameter_recovery(condition, bounds: Mapping[str, tuple[float, float]], *, n_datasets: int, n_episodes: int,
+                       seed: int = 0, starts: int = 3, decision: str = "LC",
+                       signal: tuple[str, str] | None = None, progress=None) -> pd.DataFrame:
+    """Rows ``dataset, param, true, estimate, ci_low, ci_high, loglik``: ``n_datasets`` fits at known theta.
+    ``progress(table so far)`` is called after each data set."""
+    keys = list(bounds)
+    b = np.array([bounds[k] for k in keys], dtype=np.float64)
+    root = np.random.SeedSequence(seed)
+    draw = np.random.default_rng(root.spawn(1)[0])
+    rows = []
+    for i, child in enumerate(root.spawn(n_datasets)):
+        truth = dict(zip(keys, map(float, draw.uniform(b[:, 0], b[:, 1]))))
+        behaviour, _ = simulate(condition, truth, child, n_episodes, decision=decision, signal=signal, name=f"d{i}")
+        fit = fit_ml(_replay(condition, behaviour, child, keys, decision, signal), bounds, starts=starts, seed=i,
+                     dataset=f"d{i}")
+        for k in keys:
+            rows.append({"dataset": f"d{i}", "param": k, "true": truth[k], "estimate": fit.estimate[k],
+                         "ci_low": fit.ci[k][0], "ci_high": fit.ci[k][1], "loglik": fit.loglik})
+        if progress is not None:
+            progress(pd.DataFrame(rows))
+    return pd.DataFrame(rows)
+
+
+def recovery_summary(table: pd.DataFrame) -> pd.DataFrame:
+    """Per parameter: ``n``, Pearson ``r`` (true, estimate), ``bias`` (mean estimate - true), ``rmse`` and
+    ``coverage`` (fraction of intervals holding the truth)."""
+    rows = []
+    for param, t in table.groupby("param", sort=False):
+        err = t["estimate"] - t["true"]
+        r = stats.pearsonr(t["true"], t["estimate"])[0] if len(t) > 2 and t["estimate"].std() > 0 else np.nan
+        rows.append({"param": param, "n": len(t), "r": float(r), "bias": float(err.mean()),
+                     "rmse": float(np.sqrt((err**2).mean())),
+                     "coverage": float(((t["ci_low"] <= t["true"]) & (t["true"] <= t["ci_high"])).mean())})
+    return pd.DataFrame(rows)
+
+
+def _figure(ncols: int):
+    """A Figure of ``ncols`` panels on its own Agg canvas (no pyplot state)."""
+    fig = Figure(figsize=(3.8 * ncols, 3.5), layout="constrained")
+    FigureCanvasAgg(fig)
+    return fig, fig.subplots(1, ncols, squeeze=False)
+
+
+def recovery_figure(table: pd.DataFrame):
+    """Fitted against true value per parameter, with the intervals and the identity line."""
+    params = list(dict.fromkeys(table["param"]))
+    fig, axes = _figure(len(params))
+    summary = recovery_summary(table).set_index("param")
+    for ax, param in zip(axes[0], params):
+        t = table[table["param"] == param]
+        ax.errorbar(t["true"], t["estimate"], yerr=[t["estimate"] - t["ci_low"], t["ci_high"] - t["estimate"]],
+                    fmt="o", ms=3, lw=0.6, alpha=0.8)
+        lo, hi = min(t["true"].min(), t["ci_low"].min()), max(t["true"].max(), t["ci_high"].max())
+        ax.plot([lo, hi], [lo, hi], "k--", lw=0.8)
+        s = summary.loc[param]
+        ax.set(xlabel=f"true {param}", ylabel="fitted", title=f"r = {s['r']:.2f}, bias = {s['bias']:.3g}, "
+               f"cover = {s['coverage']:.2f}")
+        ax.title.set_fontsize(8)
+    return fig
+
+
+def model_recovery(conditions: Mapping[str, object], bounds: Mapping[str, Mapping[str, tuple[float, float]]], *,
+                   n_datasets: int, n_episodes: int, seed: int = 0, starts: int = 2, decision: str = "LC",
+                   progress=None) -> pd.DataFrame:
+    """Rows ``generating, dataset, fitted, loglik, n_params, aic, bic, heldout``: every model (condition,
+    with its ``bounds``, empty for none) fitted to ``n_datasets`` data sets simulated from each model
+    (theta drawn uniformly within the generating model's bounds). Data set i of every model has the
+    same seed (paired). ``progress(table so far)`` is called after each data set."""
+    root = np.random.SeedSequence(seed)
+    children = root.spawn(n_datasets)
+    draw = np.random.default_rng(root.spawn(1)[0])
+    half = n_episodes // 2
+    train = np.arange(n_episodes) < half
+    rows = []
+    for i, child in enumerate(children):  # data set by data set, every model's: a partial table stays balanced
+        for gen, condition in conditions.items():
+            truth = {k: float(draw.uniform(*lohi)) for k, lohi in bounds[gen].items()}
+            behaviour, _ = simulate(condition, truth, child, n_episodes, decision=decision, name=f"{gen}/d{i}")
+            for name, candidate in conditions.items():
+                replay = _replay(candidate, behaviour, child, list(bounds[name]), decision, None)
+                full = fit_ml(replay, bounds[name], starts=starts, seed=i, ci=None)
+                first = fit_ml(replay, bounds[name], starts=starts, seed=i, ci=None, mask=train)
+                heldout = replay.loglik(first.estimate, ~train)
+                rows.append({"generating": gen, "dataset": f"{gen}/d{i}", "fitted": name, "loglik": full.loglik,
+                             "n_params": full.n_params, "aic": full.aic, "bic": full.bic, "heldout": heldout})
+            if progress is not None:
+                progress(pd.DataFrame(rows))
+    return pd.DataFrame(rows)
+
+
+def confusion(table: pd.DataFrame, by: str) -> pd.DataFrame:
+    """P(model wins by ``by`` | generating model): rows generating, columns fitted. ``by`` is ``"aic"`` or
+    ``"bic"`` (lowest wins) or ``"heldout"`` (highest wins); a tie shares the win."""
+    models = list(dict.fromkeys(table["fitted"]))
+    out = pd.DataFrame(0.0, index=pd.Index(list(dict.fromkeys(table["generating"])), name="generating"),
+                       columns=pd.Index(models, name="fitted"))
+    score = table[by] if by == "heldout" else -table[by]
+    for (gen, _), rows in table.assign(score=score).groupby(["generating", "dataset"], sort=False):
+        best = rows["score"] == rows["score"].max()
+        for name in rows.loc[best, "fitted"]:
+            out.loc[gen, name] += 1.0 / best.sum()
+    return out.div(out.sum(axis=1), axis=0)
+
+
+def confusion_figure(table: pd.DataFrame, by: Sequence[str] = ("aic", "bic", "heldout")):
+    """The confusion matrices side by side (rows: generating model, columns: winning fitted model)."""
+    fig, axes = _figure(len(by))
+    for ax, key in zip(axes[0], by):
+        m = confusion(table, key)
+        ax.imshow(m.to_numpy(), vmin=0, vmax=1, cmap="Blues")
+        for (r, c), v in np.ndenumerate(m.to_numpy()):
+            ax.text(c, r, f"{v:.2f}", ha="center", va="center", fontsize=8, color="k" if v < 0.6 else "w")
+        ax.set_xticks(range(m.shape[1]), m.columns, rotation=45, ha="right", fontsize=7)
+        ax.set_yticks(range(m.shape[0]), m.index, fontsize=7)
+        ax.set(title=f"by {key}", xlabel="fitted (winner)", ylabel="generating")
+    return fig

@@ -1,0 +1,95 @@
+"""From an experiment and behaviour data to replays and fits: what the ``neurocur fit`` command runs.
+
+The circuit and world are the experiment condition's (:func:`neurocur.experiments.load_experiment`).
+Each data set is replayed with its own seed: a results folder's run with the run's seed (so
+its world's frames are the run's own), the i-th data set of a table with the experiment's
+``run_seed(i)`` (data from agents in the same known world).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+
+from ..config import ConfigError
+from ..experiments import load_experiment
+from .data import Behaviour, read_behaviour
+from .mle import MLFit, fit_ml
+from .replay import Replay, signal_circuit
+
+__all__ = ["condition_of", "default_bounds", "fit_data", "load_data", "make_replays"]
+
+
+def condition_of(experiment, condition: str | None = None):
+    """The experiment's condition (a loaded experiment or a name/path), the first when ``condition`` is None."""
+    experiment = load_experiment(experiment) if isinstance(experiment, str) or not hasattr(experiment, "conditions") \
+        else experiment
+    if condition is None:
+        return experiment, next(iter(experiment.conditions.values()))
+    if condition not in experiment.conditions:
+        raise ConfigError(experiment.path or experiment.name, "--condition",
+                          f"one of the conditions {', '.join(experiment.conditions)}", repr(condition))
+    return experiment, experiment.conditions[condition]
+
+
+def load_data(data, condition, *, decision: str = "LC", signal: tuple[str, str] | None = None) -> list[Behaviour]:
+    """The data sets of ``data`` (a table or a results folder) in the condition's world."""
+    world = condition.make_world()
+    spec = condition.circuit.specs.get(decision)
+    if spec is None:
+        raise ConfigError(condition.circuit.source, "decision", f"a region of the circuit ({', '.join(condition.circuit.specs)})",
+                          repr(decision))
+    free = getattr(spec.cls, "decides", "action") == "next_context"
+    return read_behaviour(data, world.context_names, free_choice=free, signals=[signal[1]] if signal else [])
+
+
+def make_replays(experiment, condition, datasets: Sequence[Behaviour], fitted: Sequence[str], *,
+                 decision: str = "LC", signal: tuple[str, str] | None = None) -> list[Replay]:
+    """One cached replay per data set (``signal`` = (region, column): signal replay)."""
+    out = []
+    for i, behaviour in enumerate(datasets):
+        circuit = condition.circuit if signal is None else signal_circuit(condition.circuit, signal[0], behaviour,
+                                                                          signal[1])
+        seed = behaviour.seed if behaviour.seed is not None else experiment.run_seed(i)
+        out.append(Replay(circuit, condition.make_world(), seed, behaviour, decision=decision, fitted=fitted))
+    return out
+
+
+def fit_data(replays: Sequence[Replay], bounds: Mapping[str, tuple[float, float]], *, pooled: bool = True,
+             starts: int = 5, seed: int = 0, ci: float | None = 0.95) -> list[MLFit]:
+    """A fit per data set, then (with ``pooled`` and more than one data set) one pooled fit."""
+    fits = [fit_ml(r, bounds, starts=starts, seed=seed, ci=ci, dataset=r.behaviour.name) for r in replays]
+    for fit, replay in zip(fits, replays):
+        if fit.loglik == -np.inf:  # no theta in the bounds gives every observed decision a chance
+            where = replay.first_impossible(replay.episode_logp(fit.estimate))
+            raise ConfigError(replay.behaviour.source, "decision",
+                              "decisions the model gives a nonzero probability somewhere in the bounds",
+                              f"log-likelihood -inf: {where}")
+    if pooled and len(replays) > 1:
+        fits.append(fit_ml(list(replays), bounds, starts=starts, seed=seed, ci=ci, dataset="pooled"))
+    return fits
+
+
+def default_bounds(condition, keys: Sequence[str], given: Mapping[str, tuple[float, float]]) -> dict:
+    """Bounds for ``keys``: the given ones, else the parameter's declared range where it is finite."""
+    out = {}
+    for key in keys:
+        if key in given:
+            out[key] = given[key]
+            continue
+        region, _, name = key.partition(".")
+        spec = condition.circuit.specs.get(region)
+        fields = {f.name: f for f in dataclasses.fields(spec.params)} if spec is not None else {}
+        if name not in fields:
+            raise ConfigError("--fit", key, f"REGION.param, a parameter of the circuit {condition.circuit.source}",
+                              "no such region" if spec is None else f"no parameter '{name}' of region '{region}' "
+                              f"({', '.join(fields)})")
+        ps = fields[name].metadata.get("spec")
+        low, high = (getattr(ps, "low", None), getattr(ps, "high", None)) if ps is not None else (None, None)
+        if low is None or high is None or not np.isfinite([low, high]).all():
+            raise ConfigError("--bounds", key, f"--bounds {key}=LOW:HIGH (the parameter has no finite declared range)",
+                              "none")
+        out[key] = (float(low), float(high))
+    return out
