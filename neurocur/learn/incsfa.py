@@ -5,13 +5,21 @@ IncSFA solves linear SFA (paper eqs 4–7) online with two incremental PCAs: CCI
 of the whitened derivative ż, which are the slow features. The output is
 y = Wᵀ Sᵀ (x − ū) (eq 2 with the combined matrix ``projection_`` = S W).
 
-Choices the paper leaves open (see also ``ccipca`` and ``mca``):
+Choices the paper leaves open (see also ``ccipca`` and ``mca``). The defaults are those of
+the IncSFA author's own code (Kompella, ``varunrajk/IncSFA``): CCIPCA's amnesic schedule
+(20, 200, 3, 2000) and a cumulative-average mean (``ccipca``), CIMCA's per-component rates
+η/(1.5 (1 + 1.2 j)) and γ = 1.2 · 0.2/η (``mca``), and the derivative between successively
+whitened samples. With them ``IncSFA()`` passes that code's own test
+(``tests/learn/test_incsfa_reference.py``). The EC region pins the reproduction's own
+choices (``neurocur.regions.ec``).
 
-* Derivative: ż(t) = Sᵀ(x(t) − x(t−1)) with the whitening matrix S *current at t*,
-  i.e. both samples whitened by the same matrix. Differencing z(t) − z(t−1) taken
-  with two different matrices would add the change of S to ż while the whitening
-  still moves. The mean cancels in the difference. One ``partial_fit`` call is one
-  episode: the derivative never spans two calls unless ``continues=True``.
+* Derivative: ``derivative="successive"`` (the default) differences the whitened samples,
+  ż(t) = z(t) − z(t−1), each whitened by the matrix and mean of its own time, as the
+  author's code does. ``"current"`` takes ż(t) = Sᵀ(x(t) − x(t−1)) with the whitening
+  matrix S *current at t*, i.e. both samples whitened by the same matrix: the change of S
+  (and of the mean) while the whitening still moves then does not enter ż. One
+  ``partial_fit`` call is one episode: the derivative never spans two calls unless
+  ``continues=True``.
 * Inactive whitened components (eigenvalue below ``eig_cutoff`` × the largest, or
   outside ``var_fraction``) have ż = 0, and the CIMCA vectors are restricted to the
   active coordinates (zeroed elsewhere, renormalised); otherwise CIMCA converges onto
@@ -47,6 +55,8 @@ from .mca import AUTO_GAMMA_FACTOR, MCA, component_rates, gamma_code, init_weigh
 
 #: IncSFA's ``dtype`` choices: the exact default and the fast opt-in
 DTYPES = ("float64", "float32")
+#: IncSFA's ``derivative`` choices (see the module docstring)
+DERIVATIVES = ("successive", "current")
 
 
 class IncSFA(Estimator):
@@ -56,17 +66,22 @@ class IncSFA(Estimator):
     ----------
     n_components : J, the number of slow features (J ≤ n_pca).
     n_pca : K, the number of CCIPCA components used for whitening (K ≤ input dims).
-    amnesic : CCIPCA's amnesic parameter, a constant l or an ``AmnesicSchedule``; the
-        mean is tracked with the same rate.
+    amnesic : CCIPCA's amnesic parameter: ``"reference"`` (the default, the author's schedule),
+        a constant l or an ``AmnesicSchedule``.
+    mean_rate : ``"cumulative"`` (the default, the average of all samples) or ``"amnesic"``
+        (the mean follows CCIPCA's rate); see ``CCIPCA``.
+    derivative : ``"successive"`` (the default: z(t) − z(t−1), each sample whitened at its own
+        time) or ``"current"`` (Sᵀ(x(t) − x(t−1)) with the current S).
     var_fraction, eig_cutoff : which whitened components are active (see ``CCIPCA``).
     orthonormalize : re-orthonormalise the CCIPCA directions every this many samples
         (see ``CCIPCA``); 0, the default, never does (Algorithm 2 as published).
     mca_rate : CIMCA's learning rate η in (0, 0.5].
-    mca_rates : ``"decreasing"`` (the default: the slowest feature's vector learns at η, the
-        others slower; :func:`~neurocur.learn.mca.component_rates`) or ``"equal"`` (the
-        paper's eq 16: every vector at η; the EC region's default, so the reproduction runs
-        the paper's rule).
-    gamma : CIMCA's lateral weight, a number > 0 (4 is safe for whitened input) or "auto".
+    mca_rates : ``"reference"`` (the default, the author's code: vector j at η/(1.5 (1 + 1.2 j))),
+        ``"decreasing"`` (the slowest feature's vector at η, the others as in ``"reference"``)
+        or ``"equal"`` (the paper's eq 16: every vector at η; the EC region's default, so the
+        reproduction runs the paper's rule); :func:`~neurocur.learn.mca.component_rates`.
+    gamma : CIMCA's lateral weight: ``"reference"`` (the default, the author's γ = 1.2 · 0.2/η,
+        4.8 at η = 0.05), a number > 0 (4 is safe for whitened input) or "auto".
     random_state : seed of the initial CCIPCA directions and CIMCA vectors.
     dtype : ``"float64"`` (the default: exact, reproducible to the bit) or ``"float32"``
         (CCIPCA's directions in float32 and fast-math loops: about three times as fast
@@ -87,6 +102,8 @@ class IncSFA(Estimator):
         "n_components": MCA.param_specs["n_components"],
         "n_pca": CCIPCA.param_specs["n_components"],
         "amnesic": CCIPCA.param_specs["amnesic"],
+        "mean_rate": CCIPCA.param_specs["mean_rate"],
+        "derivative": ParamSpec(str, choices=DERIVATIVES),
         "var_fraction": CCIPCA.param_specs["var_fraction"],
         "eig_cutoff": CCIPCA.param_specs["eig_cutoff"],
         "orthonormalize": CCIPCA.param_specs["orthonormalize"],
@@ -103,19 +120,23 @@ class IncSFA(Estimator):
         n_components=2,
         n_pca=3,
         *,
-        amnesic=2.0,
+        amnesic="reference",
+        mean_rate="cumulative",
+        derivative="successive",
         var_fraction=None,
         eig_cutoff=1e-3,
         orthonormalize=0,
         mca_rate=0.05,
-        mca_rates="decreasing",
-        gamma=4.0,
+        mca_rates="reference",
+        gamma="reference",
         random_state=None,
         dtype="float64",
     ):
         self.n_components = n_components
         self.n_pca = n_pca
         self.amnesic = amnesic
+        self.mean_rate = mean_rate
+        self.derivative = derivative
         self.var_fraction = var_fraction
         self.eig_cutoff = eig_cutoff
         self.orthonormalize = orthonormalize
@@ -149,6 +170,7 @@ class IncSFA(Estimator):
         self._total = 0.0
         self._mask = np.zeros(k, dtype=np.bool_)
         self._prev = np.zeros(n_features)
+        self._zprev = np.zeros(k)
         self._has_prev = False
         self.mean_ = np.zeros(n_features)
         self.n_samples_seen_ = 0
@@ -165,7 +187,7 @@ class IncSFA(Estimator):
         The derivative is taken only between rows of ``X``; with ``continues=True`` the
         first row is also differenced against the last row of the previous call. The
         first call needs rows that are not all equal, more than the samples that only set
-        the mean (at least 4 rows for the default amnesic l = 2; see
+        the mean (2 rows for the default schedule, at least 4 for a constant amnesic l = 2; see
         :func:`~neurocur.learn.ccipca.check_first_block`). ``y`` is ignored.
 
         ``check_input=False`` skips the checks of ``X`` on a fitted learner (as scikit-learn's
@@ -182,18 +204,19 @@ class IncSFA(Estimator):
             self._start(X.shape[1])
         t1, t2, c, r = amnesic_params(params["amnesic"])
         frac = 0.0 if params["var_fraction"] is None else params["var_fraction"]  # 0: off
-        gamma = gamma_code(params["gamma"])
+        gamma = gamma_code(params["gamma"], params["mca_rate"])
         u, dx, zdot, gres, coup, new = self._work
         kernel = incsfa_fit if params["dtype"] == "float64" else incsfa_fit_fast
-        self.n_samples_seen_, self._total, self.n_active_ = kernel(
+        self.n_samples_seen_, self._total, self.n_active_, has_prev = kernel(
             X, self.n_samples_seen_, self._total, bool(continues and self._has_prev),
-            self.mean_, self._dirs, self._lam, self._prev, self._W, self._gdir, self._glam,
-            t1, t2, c, r, params["orthonormalize"], params["eig_cutoff"], frac,
+            self.mean_, self._dirs, self._lam, self._prev, self._zprev, self._W, self._gdir, self._glam,
+            t1, t2, c, r, params["mean_rate"] == "cumulative", params["derivative"] == "successive",
+            params["orthonormalize"], params["eig_cutoff"], frac,
             component_rates(params["mca_rate"], params["n_components"], params["mca_rates"]), gamma,
             AUTO_GAMMA_FACTOR if gamma < 0 else 0.0,
             self._mask, u, dx, zdot, gres, coup, new,
         )
-        self._has_prev = True
+        self._has_prev = has_prev
         return self
 
     @property
@@ -210,8 +233,9 @@ class IncSFA(Estimator):
 
     @property
     def gamma_(self) -> float:
-        """The γ in use: the given one, or AUTO_GAMMA_FACTOR × the current λ̂_1(ż)."""
-        gamma = gamma_code(self._checked_params()["gamma"])
+        """The γ in use: the given one (``"reference"``: 1.2 · 0.2/η), or AUTO_GAMMA_FACTOR × the current λ̂_1(ż)."""
+        params = self._checked_params()
+        gamma = gamma_code(params["gamma"], params["mca_rate"])
         if gamma > 0:
             return gamma
         self._check_fitted()
