@@ -57,6 +57,11 @@ def test_earlier_defaults_fail_it():
     np.testing.assert_allclose(cosines[1:4], [0.9854, 0.9941, 0.9879], atol=1e-4)
 
 
+def test_without_the_schedule_the_authors_other_defaults_fail_it():
+    """The author's defaults with the constant l = 2 in place of the schedule: direction 4 reaches 0.9705."""
+    assert not np.allclose(direction_cosines(amnesic=2.0), 1, atol=TOLERANCE)
+
+
 @pytest.mark.parametrize("option", ["amnesic", "mean_rate", "derivative", "mca_rates", "gamma"])
 def test_only_the_schedule_decides_it(option):
     """Each of the author's defaults but the schedule can be swapped for the earlier one and the
