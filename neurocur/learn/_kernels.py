@@ -255,14 +255,14 @@ def cimca_step(zdot, W, rates, gamma, mask, coup, new):
 
 
 @njit(cache=True, fastmath=False)
-def ccipca_fit(X, t, mean, dirs, lam, total_var, t1, t2, c, r, ortho_every, u):
+def ccipca_fit(X, t, mean, dirs, lam, total_var, t1, t2, c, r, cumulative_mean, ortho_every, u):
     """Run Algorithm 2 over the rows of ``X``; return the new (sample count, total variance).
 
     Per sample: t ← t + 1, η = amnesic_rate(t); if ``ortho_every > 0`` and t is a
     multiple of it, the directions are first re-orthonormalised (``orthonormalize``);
-    the mean and the total variance (the trace of the covariance, for the
-    variance-fraction rule) are tracked with the same η, then ``ccipca_step`` runs on
-    the centred sample.
+    the total variance (the trace of the covariance, for the variance-fraction rule) is
+    tracked with the same η, and the mean with rate 1/t if ``cumulative_mean`` (the
+    average of all samples) else with η; then ``ccipca_step`` runs on the centred sample.
     """
     T, D = X.shape
     none = np.empty(0)
@@ -271,8 +271,9 @@ def ccipca_fit(X, t, mean, dirs, lam, total_var, t1, t2, c, r, ortho_every, u):
         if ortho_every > 0 and t % ortho_every == 0:
             orthonormalize(dirs)
         eta = amnesic_rate(t, t1, t2, c, r)
+        rate = 1.0 / t if cumulative_mean else eta
         for d in range(D):
-            m = mean[d] + eta * (X[s, d] - mean[d])
+            m = mean[d] + rate * (X[s, d] - mean[d])
             mean[d] = m
             u[d] = X[s, d] - m
         uu = ccipca_step(u, dirs, lam, eta, none, none)
@@ -305,21 +306,26 @@ def cimca_fit(Z, W, rates, gamma, gamma_factor, gdir, glam, t, mask, coup, new, 
 
 @njit(cache=True, fastmath=False)
 def incsfa_fit(
-    X, t, total_var, has_prev, mean, dirs, lam, prev, W, gdir, glam,
-    t1, t2, c, r, ortho_every, eig_cutoff, var_fraction, rates, gamma, gamma_factor,
+    X, t, total_var, has_prev, mean, dirs, lam, prev, zprev, W, gdir, glam,
+    t1, t2, c, r, cumulative_mean, successive, ortho_every, eig_cutoff, var_fraction, rates, gamma, gamma_factor,
     mask, u, dx, zdot, gres, coup, new,
 ):
     """Run IncSFA (Algorithm 1) over one block of consecutive samples ``X``.
 
     Per sample x(t): re-orthonormalise the CCIPCA directions if ``ortho_every > 0``
-    and t is a multiple of it (as in ``ccipca_fit``); update the mean, the total
-    variance and CCIPCA on x − ū with the amnesic rate; choose the active components (``active_mask``); then, if the previous
-    sample of the same episode is known (``has_prev``), form the whitened derivative
-    with the current whitening matrix S,  ż = Sᵀ(x(t) − x(t−1)),  and update CIMCA on
-    it. Inactive components have ż = 0 and are excluded from the CIMCA vectors.
+    and t is a multiple of it (as in ``ccipca_fit``); update the mean (rate 1/t if
+    ``cumulative_mean``, else the amnesic rate), the total variance and CCIPCA on x − ū
+    with the amnesic rate; choose the active components (``active_mask``); then, if the
+    previous sample of the same episode is known (``has_prev``), form the whitened
+    derivative and update CIMCA on it. Without ``successive`` the derivative uses the
+    current whitening matrix S for both samples, ż = S(t)ᵀ(x(t) − x(t−1)); with it, the
+    difference of the whitened samples, ż = z(t) − z(t−1) with z(t) = S(t)ᵀ(x(t) − ū(t)),
+    each whitened by the matrix and mean of its own time (the IncSFA author's code;
+    z(t) is kept in ``zprev``, and a sample with no active component gives no z(t−1)).
+    Inactive components have z = ż = 0 and are excluded from the CIMCA vectors.
     With ``gamma_factor > 0``, γ = gamma_factor × λ̂_1(ż) tracked online (one-component
     CCIPCA on ż with the same amnesic rate). The last sample is stored in ``prev``.
-    Returns the new (sample count, total variance, number of active components).
+    Returns the new (sample count, total variance, number of active components, has_prev).
     """
     T, D = X.shape
     K = dirs.shape[0]
@@ -330,25 +336,33 @@ def incsfa_fit(
         if ortho_every > 0 and t % ortho_every == 0:
             orthonormalize(dirs)
         eta = amnesic_rate(t, t1, t2, c, r)
+        rate = 1.0 / t if cumulative_mean else eta
         for d in range(D):
             x = X[s, d]
-            m = mean[d] + eta * (x - mean[d])
+            m = mean[d] + rate * (x - mean[d])
             mean[d] = m
             u[d] = x - m
-            dx[d] = x - prev[d]
+            dx[d] = u[d] if successive else x - prev[d]
             prev[d] = x
-        # with no previous sample there is no derivative: an empty dx skips the projection
-        uu = ccipca_step(u, dirs, lam, eta, dx if has_prev else none, zdot)
+        # with no previous sample and no z(t) to keep there is nothing to project: an empty dx skips it
+        project = successive or has_prev
+        uu = ccipca_step(u, dirs, lam, eta, dx if project else none, zdot)
         total_var = (1.0 - eta) * total_var + eta * uu
         n_active = active_mask(lam, total_var, eig_cutoff, var_fraction, mask)
-        if has_prev:
+        if project:
             for i in range(K):
                 zdot[i] = zdot[i] / np.sqrt(lam[i]) if mask[i] else 0.0
+        if successive:
+            for i in range(K):
+                z = zdot[i]
+                zdot[i] = z - zprev[i]
+                zprev[i] = z
+        if has_prev:
             if gamma_factor > 0.0:
                 for k in range(K):
                     gres[k] = zdot[k]
                 ccipca_step(gres, gdir, glam, eta, none, none)
                 gamma = gamma_factor * glam[0]
             cimca_step(zdot, W, rates, gamma, mask, coup, new)
-        has_prev = True
-    return t, total_var, n_active
+        has_prev = n_active > 0 if successive else True
+    return t, total_var, n_active, has_prev

@@ -3,7 +3,13 @@
 CCIPCA (Weng, Zhang & Hwang 2003) estimates the K leading eigenvectors and
 eigenvalues of the input covariance one sample at a time, and from them the whitening
 matrix S = [v̂_1 … v̂_K] diag(λ_i^(−1/2)) that IncSFA uses (paper section 2.3). The
-mean is tracked with the same amnesic rate η(t) = (1 + μ(t))/t.
+mean is a cumulative average (rate 1/t, ``mean_rate="cumulative"``, the default) or is tracked
+with the same amnesic rate η(t) = (1 + μ(t))/t (``mean_rate="amnesic"``).
+
+The defaults are those of the IncSFA author's own code (Kompella, ``varunrajk/IncSFA``,
+``ccipca.py``, ``signalstats.py``): the amnesic schedule (t1, t2, c, r) = (20, 200, 3, 2000)
+(``amnesic="reference"``, :data:`REFERENCE_SCHEDULE`) and the cumulative-average mean. The
+paper's synthetic experiment states a constant l = 2 (``amnesic=2.0``).
 
 Rank-deficient input is normal (frames of a 2-d source are rank 2–3 in hundreds of
 dimensions). Components whose eigenvalue is below ``eig_cutoff`` × the largest, or
@@ -53,12 +59,21 @@ class AmnesicSchedule:
             raise ConfigError(type(self).__name__, "t2", f"a number > t1 = {self.t1:g}", describe(self.t2))
 
 
+#: ``amnesic="reference"``: the schedule of the IncSFA author's code, (n1, n2, m, C) = (20, 200, 2000, 3)
+REFERENCE_SCHEDULE = AmnesicSchedule(20.0, 200.0, 3.0, 2000.0)
+#: the mean's rate: 1/t (a cumulative average) or CCIPCA's amnesic rate
+MEAN_RATES = ("cumulative", "amnesic")
+
+
 def amnesic_params(amnesic) -> tuple[float, float, float, float]:
-    """(t1, t2, c, r) for the kernels from a checked ``amnesic``: an ``AmnesicSchedule`` or a constant l.
+    """(t1, t2, c, r) for the kernels from a checked ``amnesic``: an ``AmnesicSchedule``, ``"reference"``
+    (:data:`REFERENCE_SCHEDULE`) or a constant l.
 
     The constant form μ(t) ≡ l (the paper's "1/t learning rate with amnesic parameter
     l = 2") is encoded as t1 = t2 = 0, c = l, r = ∞.
     """
+    if amnesic == "reference":
+        amnesic = REFERENCE_SCHEDULE
     if isinstance(amnesic, AmnesicSchedule):
         return float(amnesic.t1), float(amnesic.t2), float(amnesic.c), float(amnesic.r)
     return 0.0, 0.0, float(amnesic), math.inf
@@ -100,7 +115,10 @@ class CCIPCA(Estimator):
     Parameters
     ----------
     n_components : K, the number of leading components estimated.
-    amnesic : a constant amnesic parameter l ≥ 0, or an :class:`AmnesicSchedule`.
+    amnesic : ``"reference"`` (the default: :data:`REFERENCE_SCHEDULE`, the IncSFA author's code's),
+        a constant amnesic parameter l ≥ 0, or an :class:`AmnesicSchedule`.
+    mean_rate : ``"cumulative"`` (the default: the mean is the average of all samples, as in the
+        IncSFA author's code) or ``"amnesic"`` (the mean follows CCIPCA's rate η(t)).
     var_fraction : if set, only the leading components explaining this fraction of the
         total variance are active (e.g. 0.98, the paper's iCub setting).
     eig_cutoff : components with eigenvalue below ``eig_cutoff`` × the largest are inactive.
@@ -119,7 +137,9 @@ class CCIPCA(Estimator):
 
     n_components: int = param(2, int, low=1)
     _: KW_ONLY
-    amnesic: float | AmnesicSchedule = spec_param(2.0, ParamSpec(float, low=0.0, classes=(AmnesicSchedule,)))
+    amnesic: float | AmnesicSchedule | str = spec_param(
+        "reference", ParamSpec(float, low=0.0, classes=(AmnesicSchedule,), choices=("reference",)))
+    mean_rate: str = param("cumulative", str, choices=MEAN_RATES)
     var_fraction: float | None = param(None, float, low=0.0, high=1.0, low_open=True, optional=True)
     eig_cutoff: float = param(1e-3, float, low=0.0, high=1.0, high_open=True)
     orthonormalize: int = param(0, int, low=0)
@@ -146,8 +166,8 @@ class CCIPCA(Estimator):
         """Update the estimates with the rows of ``X`` (samples × features); returns ``self``.
 
         The first call needs rows that are not all equal, more than the samples that only
-        set the mean (⌊1 + l⌋ for a constant amnesic l: at least 4 rows for l = 2; see
-        :func:`check_first_block`). ``y`` is ignored.
+        set the mean (the first sample for the default schedule; ⌊1 + l⌋ for a constant
+        amnesic l, so at least 4 rows for l = 2; see :func:`check_first_block`). ``y`` is ignored.
         """
         params = self._checked_params()
         first = not self.__sklearn_is_fitted__()
@@ -158,7 +178,7 @@ class CCIPCA(Estimator):
         t1, t2, c, r = amnesic_params(params["amnesic"])
         self.n_samples_seen_, self._total = ccipca_fit(
             X, self.n_samples_seen_, self.mean_, self._dirs, self._lam, self._total, t1, t2, c, r,
-            params["orthonormalize"], self._work,
+            params["mean_rate"] == "cumulative", params["orthonormalize"], self._work,
         )
         return self
 

@@ -5,21 +5,30 @@ IncSFA solves linear SFA (paper eqs 4–7) online with two incremental PCAs: CCI
 of the whitened derivative ż, which are the slow features. The output is
 y = Wᵀ Sᵀ (x − ū) (eq 2 with the combined matrix ``projection_`` = S W).
 
-Choices the paper leaves open (see also ``ccipca`` and ``mca``):
+Choices the paper leaves open (see also ``ccipca`` and ``mca``). The defaults are those of
+the IncSFA author's own code (Kompella, ``varunrajk/IncSFA``): CCIPCA's amnesic schedule
+(20, 200, 3, 2000) and a cumulative-average mean (``ccipca``), CIMCA's per-component rates
+η/(1.5 (1 + 1.2 j)) and γ = 1.2 · 0.2/η (``mca``), and the derivative between successively
+whitened samples. With them ``IncSFA()`` passes that code's own test
+(``tests/learn/test_incsfa_reference.py``). The EC region pins the reproduction's own
+choices (``neurocur.regions.ec``).
 
-* Derivative: ż(t) = Sᵀ(x(t) − x(t−1)) with the whitening matrix S *current at t*,
-  i.e. both samples whitened by the same matrix. Differencing z(t) − z(t−1) taken
-  with two different matrices would add the change of S to ż while the whitening
-  still moves. The mean cancels in the difference. One ``partial_fit`` call is one
-  episode: the derivative never spans two calls unless ``continues=True``.
+* Derivative: ``derivative="successive"`` (the default) differences the whitened samples,
+  ż(t) = z(t) − z(t−1), each whitened by the matrix and mean of its own time, as the
+  author's code does. ``"current"`` takes ż(t) = Sᵀ(x(t) − x(t−1)) with the whitening
+  matrix S *current at t*, i.e. both samples whitened by the same matrix: the change of S
+  (and of the mean) while the whitening still moves then does not enter ż. One
+  ``partial_fit`` call is one episode: the derivative never spans two calls unless
+  ``continues=True``.
 * Inactive whitened components (eigenvalue below ``eig_cutoff`` × the largest, or
   outside ``var_fraction``) have ż = 0, and the CIMCA vectors are restricted to the
   active coordinates (zeroed elsewhere, renormalised); otherwise CIMCA converges onto
   the zero-variance directions.
 * MCA runs from the first derivative, with no warm-up: CIMCA forgets its start at rate
   η, and the whitening of a stationary source settles within a few hundred samples.
-* γ: for exact whitening every eigenvalue of E[ż żᵀ] is at most 4, so the default
-  γ = 4 is safe. ``gamma="auto"`` uses ``AUTO_GAMMA_FACTOR`` × an online estimate of
+* γ: for exact whitening every eigenvalue of E[ż żᵀ] is at most 4, so γ = 4 is always
+  safe; the default, the author's γ = 1.2 · 0.2/η, is above 4 for η < 0.06 (4.8 at the
+  default η = 0.05). ``gamma="auto"`` uses ``AUTO_GAMMA_FACTOR`` × an online estimate of
   the largest eigenvalue of E[ż żᵀ] (one-component CCIPCA on ż, same amnesic rate).
 
 The whole per-episode loop (mean, CCIPCA, whitening, derivative, CIMCA) is one
@@ -47,6 +56,8 @@ from .mca import AUTO_GAMMA_FACTOR, MCA, component_rates, gamma_code, init_weigh
 
 #: IncSFA's ``dtype`` choices: the exact default and the fast opt-in
 DTYPES = ("float64", "float32")
+#: IncSFA's ``derivative`` choices (see the module docstring)
+DERIVATIVES = ("successive", "current")
 
 
 @dataclass(eq=False)
@@ -57,17 +68,22 @@ class IncSFA(Estimator):
     ----------
     n_components : J, the number of slow features (J ≤ n_pca).
     n_pca : K, the number of CCIPCA components used for whitening (K ≤ input dims).
-    amnesic : CCIPCA's amnesic parameter, a constant l or an ``AmnesicSchedule``; the
-        mean is tracked with the same rate.
+    amnesic : CCIPCA's amnesic parameter: ``"reference"`` (the default, the author's schedule),
+        a constant l or an ``AmnesicSchedule``.
+    mean_rate : ``"cumulative"`` (the default, the average of all samples) or ``"amnesic"``
+        (the mean follows CCIPCA's rate); see ``CCIPCA``.
+    derivative : ``"successive"`` (the default: z(t) − z(t−1), each sample whitened at its own
+        time) or ``"current"`` (Sᵀ(x(t) − x(t−1)) with the current S).
     var_fraction, eig_cutoff : which whitened components are active (see ``CCIPCA``).
     orthonormalize : re-orthonormalise the CCIPCA directions every this many samples
         (see ``CCIPCA``); 0, the default, never does (Algorithm 2 as published).
     mca_rate : CIMCA's learning rate η in (0, 0.5].
-    mca_rates : ``"decreasing"`` (the default: the slowest feature's vector learns at η, the
-        others slower; :func:`~neurocur.learn.mca.component_rates`) or ``"equal"`` (the
-        paper's eq 16: every vector at η; the EC region's default, so the reproduction runs
-        the paper's rule).
-    gamma : CIMCA's lateral weight, a number > 0 (4 is safe for whitened input) or "auto".
+    mca_rates : ``"reference"`` (the default, the author's code: vector j at η/(1.5 (1 + 1.2 j))),
+        ``"decreasing"`` (the slowest feature's vector at η, the others as in ``"reference"``)
+        or ``"equal"`` (the paper's eq 16: every vector at η; the EC region's default, so the
+        reproduction runs the paper's rule); :func:`~neurocur.learn.mca.component_rates`.
+    gamma : CIMCA's lateral weight: ``"reference"`` (the default, the author's γ = 1.2 · 0.2/η,
+        4.8 at η = 0.05), a number > 0 (4 is safe for whitened input) or "auto".
     random_state : seed of the initial CCIPCA directions and CIMCA vectors.
     dtype : ``"float64"`` (the default: exact, reproducible to the bit) or ``"float32"``
         (CCIPCA's directions in float32 and fast-math loops: about three times as fast
@@ -87,13 +103,15 @@ class IncSFA(Estimator):
     n_components: int = learner_param(MCA, "n_components", 2)
     n_pca: int = learner_param(CCIPCA, "n_components", 3)
     _: KW_ONLY
-    amnesic: float | AmnesicSchedule = learner_param(CCIPCA, "amnesic", 2.0)
+    amnesic: float | AmnesicSchedule | str = learner_param(CCIPCA, "amnesic", "reference")
+    mean_rate: str = learner_param(CCIPCA, "mean_rate", "cumulative")
+    derivative: str = param("successive", str, choices=DERIVATIVES)
     var_fraction: float | None = learner_param(CCIPCA, "var_fraction", None)
     eig_cutoff: float = learner_param(CCIPCA, "eig_cutoff", 1e-3)
     orthonormalize: int = learner_param(CCIPCA, "orthonormalize", 0)
     mca_rate: float = learner_param(MCA, "learning_rate", 0.05)
-    mca_rates: str = learner_param(MCA, "component_rates", "decreasing")
-    gamma: float | str = learner_param(MCA, "gamma", 4.0)
+    mca_rates: str = learner_param(MCA, "component_rates", "reference")
+    gamma: float | str = learner_param(MCA, "gamma", "reference")
     random_state: int | np.random.SeedSequence | np.random.Generator | None = learner_param(CCIPCA, "random_state", None)
     dtype: str = param("float64", str, choices=DTYPES)
     _min_first_rows = 2  # a derivative needs two samples
@@ -121,6 +139,7 @@ class IncSFA(Estimator):
         self._total = 0.0
         self._mask = np.zeros(k, dtype=np.bool_)
         self._prev = np.zeros(n_features)
+        self._zprev = np.zeros(k)
         self._has_prev = False
         self.mean_ = np.zeros(n_features)
         self.n_samples_seen_ = 0
@@ -137,7 +156,7 @@ class IncSFA(Estimator):
         The derivative is taken only between rows of ``X``; with ``continues=True`` the
         first row is also differenced against the last row of the previous call. The
         first call needs rows that are not all equal, more than the samples that only set
-        the mean (at least 4 rows for the default amnesic l = 2; see
+        the mean (2 rows for the default schedule, at least 4 for a constant amnesic l = 2; see
         :func:`~neurocur.learn.ccipca.check_first_block`). ``y`` is ignored.
 
         ``check_input=False`` skips the checks of ``X`` on a fitted learner (as scikit-learn's
@@ -154,18 +173,19 @@ class IncSFA(Estimator):
             self._start(X.shape[1])
         t1, t2, c, r = amnesic_params(params["amnesic"])
         frac = 0.0 if params["var_fraction"] is None else params["var_fraction"]  # 0: off
-        gamma = gamma_code(params["gamma"])
+        gamma = gamma_code(params["gamma"], params["mca_rate"])
         u, dx, zdot, gres, coup, new = self._work
         kernel = incsfa_fit if params["dtype"] == "float64" else incsfa_fit_fast
-        self.n_samples_seen_, self._total, self.n_active_ = kernel(
+        self.n_samples_seen_, self._total, self.n_active_, has_prev = kernel(
             X, self.n_samples_seen_, self._total, bool(continues and self._has_prev),
-            self.mean_, self._dirs, self._lam, self._prev, self._W, self._gdir, self._glam,
-            t1, t2, c, r, params["orthonormalize"], params["eig_cutoff"], frac,
+            self.mean_, self._dirs, self._lam, self._prev, self._zprev, self._W, self._gdir, self._glam,
+            t1, t2, c, r, params["mean_rate"] == "cumulative", params["derivative"] == "successive",
+            params["orthonormalize"], params["eig_cutoff"], frac,
             component_rates(params["mca_rate"], params["n_components"], params["mca_rates"]), gamma,
             AUTO_GAMMA_FACTOR if gamma < 0 else 0.0,
             self._mask, u, dx, zdot, gres, coup, new,
         )
-        self._has_prev = True
+        self._has_prev = has_prev
         return self
 
     @property
@@ -182,8 +202,9 @@ class IncSFA(Estimator):
 
     @property
     def gamma_(self) -> float:
-        """The γ in use: the given one, or AUTO_GAMMA_FACTOR × the current λ̂_1(ż)."""
-        gamma = gamma_code(self._checked_params()["gamma"])
+        """The γ in use: the given one (``"reference"``: 1.2 · 0.2/η), or AUTO_GAMMA_FACTOR × the current λ̂_1(ż)."""
+        params = self._checked_params()
+        gamma = gamma_code(params["gamma"], params["mca_rate"])
         if gamma > 0:
             return gamma
         self._check_fitted()

@@ -16,7 +16,7 @@ Convergence also needs 0 < η ≤ 0.5 and η λ_1 < 0.5 (eq 20).
 and uses γ = ``AUTO_GAMMA_FACTOR`` × λ̂_1.
 
 **Rates per component** (:func:`component_rates`). The paper gives every vector the same
-η (``"equal"``, the reference). ``"decreasing"`` keeps η for the minor component w_1 and
+η (``"equal"``). ``"decreasing"`` keeps η for the minor component w_1 and
 slows the others, η_i = η / (1.5 (1 + 1.2 (i − 1))) for i ≥ 2: Peng & Yi's (2006)
 per-component rate η/(1 + 1.2 (i − 1)), with the base factor 1.5 of mdp-toolkit's CIMCA
 (``MCANode``: w ← (1.5 − η) w − η C w), which under the normalisation is the same as
@@ -25,6 +25,10 @@ vectors chase the earlier ones through the lateral term, and their steady-state
 misadjustment grows with η; the slower rates let them settle (on mdp-toolkit's IncSFA test
 every feature reaches |corr| ≥ 0.99 with batch SFA instead of 0.98 / 0.95 / 0.83 for
 features 2–4; ``tests/learn/test_incsfa.py``).
+``"reference"`` (the default) is the rule of the IncSFA author's own code (Kompella,
+``varunrajk/IncSFA``, ``mca.py``): w_i ← (1.5 − η_i) w_i − η_i C_i w_i with η_i = η/(1 + 1.2 (i − 1))
+for *every* vector, which under the normalisation is the update above at η_i / 1.5, the
+slowest vector included. That code also sets γ = 1.2 · 0.2/η (``gamma="reference"``).
 """
 
 from __future__ import annotations
@@ -42,23 +46,33 @@ from ._kernels import cimca_fit
 AUTO_GAMMA_FACTOR = 2.0
 
 
-def gamma_code(gamma) -> float:
-    """The kernels' encoding of a checked γ: a given γ > 0 as itself, ``"auto"`` as −1."""
+#: γ = REFERENCE_GAMMA / η for ``gamma="reference"``: the IncSFA author's code sets γ = 1.2 · 0.2/η
+REFERENCE_GAMMA = 1.2 * 0.2
+
+
+def gamma_code(gamma, learning_rate: float) -> float:
+    """The kernels' encoding of a checked γ: a given γ > 0 as itself, ``"reference"`` as
+    ``REFERENCE_GAMMA / learning_rate``, ``"auto"`` as −1."""
+    if gamma == "reference":
+        return REFERENCE_GAMMA / learning_rate
     return -1.0 if gamma == "auto" else gamma
 
 
 #: The per-component rate rules of CIMCA (see the module docstring).
-RATE_RULES = ("equal", "decreasing")
+RATE_RULES = ("equal", "decreasing", "reference")
 
 
 def component_rates(learning_rate: float, n_components: int, rule: str) -> np.ndarray:
     """The rate of each CIMCA vector, shape (n_components,): all ``learning_rate`` (``"equal"``,
     the paper's eq 16), or ``learning_rate`` for the first and ``learning_rate / (1.5 (1 + 1.2 i))``
-    for the vector of index i ≥ 1 (``"decreasing"``, Peng & Yi 2006 with mdp-toolkit's factor 1.5)."""
+    for the vector of index i ≥ 1 (``"decreasing"``, Peng & Yi 2006 with mdp-toolkit's factor 1.5),
+    or ``learning_rate / (1.5 (1 + 1.2 i))`` for every index i ≥ 0 (``"reference"``, the IncSFA
+    author's code)."""
     rates = np.full(n_components, float(learning_rate))
-    if rule == "decreasing":
-        i = np.arange(1, n_components)
-        rates[1:] = learning_rate / (1.5 * (1.0 + 1.2 * i))
+    if rule in ("decreasing", "reference"):
+        first = 0 if rule == "reference" else 1
+        i = np.arange(first, n_components)
+        rates[first:] = learning_rate / (1.5 * (1.0 + 1.2 * i))
     elif rule != "equal":
         raise ValueError(f"rule must be one of {', '.join(RATE_RULES)}; got {rule!r}")
     return rates
@@ -79,9 +93,11 @@ class MCA(Estimator):
     ----------
     n_components : J, the number of minor components.
     learning_rate : η in (0, 0.5].
-    component_rates : ``"decreasing"`` (the default: the first vector at η, the later ones
-        slower; :func:`component_rates`) or ``"equal"`` (the paper's eq 16: every vector at η).
-    gamma : the lateral weight γ > λ_1, or ``"auto"`` (the default). A given γ is
+    component_rates : ``"reference"`` (the default: the IncSFA author's code, every vector at
+        η/(1.5 (1 + 1.2 i))), ``"decreasing"`` (the first vector at η, the later ones as in
+        ``"reference"``) or ``"equal"`` (the paper's eq 16: every vector at η); :func:`component_rates`.
+    gamma : the lateral weight γ > λ_1, ``"reference"`` (γ = 1.2 · 0.2/η, the IncSFA author's
+        code's, for whitened input) or ``"auto"`` (the default). A given γ is
         checked against the online estimate λ̂_1 after each ``partial_fit``: if γ ≤ λ̂_1
         the call is undone and raises ``ValueError``.
     random_state : seed of the initial vectors.
@@ -98,8 +114,8 @@ class MCA(Estimator):
     n_components: int = param(2, int, low=1)
     _: KW_ONLY
     learning_rate: float = param(0.05, float, low=0.0, high=0.5, low_open=True)  # eq 20
-    component_rates: str = param("decreasing", str, choices=RATE_RULES)
-    gamma: float | str = param("auto", float, low=0.0, low_open=True, choices=("auto",))
+    component_rates: str = param("reference", str, choices=RATE_RULES)
+    gamma: float | str = param("auto", float, low=0.0, low_open=True, choices=("auto", "reference"))
     random_state: int | np.random.SeedSequence | np.random.Generator | None = spec_param(None, RANDOM_STATE)
     _centred = False  # CIMCA learns the second moment E[z zᵀ], not the covariance
 
@@ -123,7 +139,7 @@ class MCA(Estimator):
         params = self._checked_params()
         first = not self.__sklearn_is_fitted__()
         X = self._check_X(X, learn=True)
-        gamma = gamma_code(params["gamma"])
+        gamma = gamma_code(params["gamma"], params["learning_rate"])
         rates = component_rates(params["learning_rate"], params["n_components"], params["component_rates"])
         if first:
             self._start(X.shape[1])
@@ -152,8 +168,9 @@ class MCA(Estimator):
 
     @property
     def gamma_(self) -> float:
-        """The γ in use: the given one, or AUTO_GAMMA_FACTOR × the current λ̂_1."""
-        gamma = gamma_code(self._checked_params()["gamma"])
+        """The γ in use: the given one (``"reference"``: 1.2 · 0.2/η), or AUTO_GAMMA_FACTOR × the current λ̂_1."""
+        params = self._checked_params()
+        gamma = gamma_code(params["gamma"], params["learning_rate"])
         if gamma > 0:
             return gamma
         self._check_fitted()

@@ -14,12 +14,18 @@ from .base import Probe, Region, Signal, register
 
 @dataclass(frozen=True)
 class ECParams:
-    """Every parameter is IncSFA's, with IncSFA's spec (type and range)."""
+    """Every parameter is IncSFA's, with IncSFA's spec (type and range). The defaults are the
+    reproduction's choices (docs/reproduction.md), pinned here rather than taken from IncSFA,
+    whose defaults are its author's code's."""
 
     n_components: int = learner_param(IncSFA, "n_components", 2, doc="J, slow features per module")
     n_pca: int = learner_param(IncSFA, "n_pca", 3, doc="K, whitened dimensions kept by CCIPCA")
     amnesic: float | AmnesicSchedule = learner_param(IncSFA, "amnesic", 2.0,
-                                                     doc="CCIPCA amnesic parameter l (or an AmnesicSchedule)")
+                                                     doc="CCIPCA amnesic parameter l (or an AmnesicSchedule, or 'reference')")
+    mean_rate: str = learner_param(IncSFA, "mean_rate", "amnesic",
+                                   doc="'amnesic' (the mean follows CCIPCA's rate) or 'cumulative' (the average of all samples)")
+    derivative: str = learner_param(IncSFA, "derivative", "current",
+                                    doc="'current' (both samples whitened by the current matrix) or 'successive' (z(t) - z(t-1))")
     var_fraction: float | None = learner_param(IncSFA, "var_fraction", None,
                                                doc="keep the fewest components explaining this variance fraction")
     eig_cutoff: float = learner_param(IncSFA, "eig_cutoff", 1e-3,
@@ -28,7 +34,7 @@ class ECParams:
                                         doc="re-orthonormalise the CCIPCA directions every this many samples (0: never, Algorithm 2)")
     mca_rate: float = learner_param(IncSFA, "mca_rate", 0.05, doc="MCA learning rate")
     mca_rates: str = learner_param(IncSFA, "mca_rates", "equal",
-                                   doc="'equal' (the paper) or 'decreasing' (slower rates for the faster features)")
+                                   doc="'equal' (the paper), 'decreasing' or 'reference' (slower rates for the faster features)")
     gamma: float | str = learner_param(IncSFA, "gamma", 4.0, doc="MCA deflation gamma")
     dtype: str = learner_param(IncSFA, "dtype", "float64",
                                doc="'float64' (exact) or 'float32' (faster, not bit-identical)")
@@ -103,7 +109,8 @@ class ECIncSFA(Region):
         p = self.params
         self._proj = self._offset = None
         self._seen: dict[int, np.ndarray] = {}  # context -> the slowest output's projection at its last visit
-        return IncSFA(p.n_components, p.n_pca, amnesic=p.amnesic, var_fraction=p.var_fraction,
+        return IncSFA(p.n_components, p.n_pca, amnesic=p.amnesic, mean_rate=p.mean_rate, derivative=p.derivative,
+                      var_fraction=p.var_fraction,
                       eig_cutoff=p.eig_cutoff, orthonormalize=p.orthonormalize, mca_rate=p.mca_rate,
                       mca_rates=p.mca_rates, gamma=p.gamma, random_state=int(self.rng.integers(2**63)), dtype=p.dtype)
 

@@ -137,9 +137,10 @@ def test_deterministic_and_params():
     b = CCIPCA(3, random_state=7).partial_fit(X)
     np.testing.assert_array_equal(a.whitening_matrix(), b.whitening_matrix())
     assert a.get_params() == {
-        "n_components": 3, "amnesic": 2.0, "var_fraction": None, "eig_cutoff": 1e-3, "orthonormalize": 0, "random_state": 7,
+        "n_components": 3, "amnesic": "reference", "mean_rate": "cumulative", "var_fraction": None, "eig_cutoff": 1e-3,
+        "orthonormalize": 0, "random_state": 7,
     }
-    assert repr(a).startswith("CCIPCA(n_components=3, amnesic=2.0")
+    assert repr(a).startswith("CCIPCA(n_components=3, amnesic='reference', mean_rate='cumulative'")
     c = a.copy()
     c.partial_fit(X)
     np.testing.assert_array_equal(a.whitening_matrix(), b.whitening_matrix())
@@ -158,9 +159,9 @@ def test_shapes_property(n, d, k, seed):
         return
     if n < 4:  # with the constant amnesic l = 2 the rate is 1 up to t = 3: those samples only set the mean
         with pytest.raises(ValueError, match="first 3 samples.*at least 4 rows"):
-            CCIPCA(k).partial_fit(X)
+            CCIPCA(k, amnesic=2.0).partial_fit(X)
         return
-    pca = CCIPCA(k, random_state=seed).partial_fit(X)
+    pca = CCIPCA(k, amnesic=2.0, random_state=seed).partial_fit(X)
     Z = pca.transform(X)
     assert Z.shape == (n, k)  # always n_components columns; inactive ones are zeros
     assert np.all(Z[:, pca.n_active_ :] == 0)

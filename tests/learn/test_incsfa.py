@@ -55,7 +55,7 @@ def abs_corr(a, b):
 def test_matches_batch_sfa(mixture, gamma):
     ref = batch_sfa(mixture, 3)
     model = IncSFA(3, 6, gamma=gamma, random_state=0)
-    train(model, mixture, passes=25)
+    train(model, mixture, passes=60)  # the default rates (the IncSFA author's) are 1.5 x slower than eq 16's
     y, yb = model.transform(mixture), ref.transform(mixture)
     assert abs_corr(y[:, 0], yb[:, 0]) >= 0.98
     assert min(abs_corr(y[:, j], yb[:, j]) for j in range(3)) >= 0.95
@@ -170,8 +170,9 @@ def test_deterministic_and_copy(mixture):
 def test_params():
     model = IncSFA(random_state=3)
     assert model.get_params() == {
-        "n_components": 2, "n_pca": 3, "amnesic": 2.0, "var_fraction": None, "eig_cutoff": 1e-3, "orthonormalize": 0,
-        "mca_rate": 0.05, "mca_rates": "decreasing", "gamma": 4.0, "random_state": 3, "dtype": "float64",
+        "n_components": 2, "n_pca": 3, "amnesic": "reference", "mean_rate": "cumulative", "derivative": "successive",
+        "var_fraction": None, "eig_cutoff": 1e-3, "orthonormalize": 0,
+        "mca_rate": 0.05, "mca_rates": "reference", "gamma": "reference", "random_state": 3, "dtype": "float64",
     }
     model.set_params(gamma="auto", mca_rate=0.02)
     assert model.gamma == "auto" and model.mca_rate == 0.02
@@ -181,8 +182,9 @@ def test_params():
     with pytest.raises(ValueError, match="Invalid parameter 'eta'"):
         model.set_params(eta=0.1)
     assert repr(model) == (
-        "IncSFA(n_components=2, n_pca=3, amnesic=2.0, var_fraction=None, eig_cutoff=0.001, "
-        "orthonormalize=0, mca_rate=0.02, mca_rates='decreasing', gamma='auto', random_state=3, dtype='float64')"
+        "IncSFA(n_components=2, n_pca=3, amnesic='reference', mean_rate='cumulative', derivative='successive', "
+        "var_fraction=None, eig_cutoff=0.001, orthonormalize=0, mca_rate=0.02, mca_rates='reference', gamma='auto', "
+        "random_state=3, dtype='float64')"
     )
     assert IncSFA(**model.get_params()).get_params() == model.get_params()
 
@@ -223,11 +225,11 @@ def test_bad_input(mixture):
 @given(n=st.integers(2, 40), d=st.integers(2, 6), seed=st.integers(0, 2**16))
 def test_shapes_property(n, d, seed):
     X = np.random.default_rng(seed).standard_normal((n, d))
-    if n < 4:  # with the default amnesic l = 2 the first 3 samples only set the mean
+    if n < 4:  # with the constant amnesic l = 2 the first 3 samples only set the mean
         with pytest.raises(ValueError, match="at least 4 rows"):
-            IncSFA(1, 2).partial_fit(X)
+            IncSFA(1, 2, amnesic=2.0).partial_fit(X)
         return
-    model = IncSFA(1, 2, random_state=seed).partial_fit(X)
+    model = IncSFA(1, 2, amnesic=2.0, random_state=seed).partial_fit(X)
     y = model.transform(X)
     assert y.shape == (n, 1)
     assert np.isfinite(y).all() and np.abs(y).max() < 1e3  # no whitening of round-off

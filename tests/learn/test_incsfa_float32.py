@@ -51,7 +51,7 @@ def test_matches_batch_sfa_and_the_float64_path(mixture):
     ref = batch_sfa(mixture, 3)
     fast, exact = IncSFA(3, 6, random_state=0, dtype="float32"), IncSFA(3, 6, random_state=0)
     for model in (fast, exact):
-        test_incsfa.train(model, mixture, passes=25)
+        test_incsfa.train(model, mixture, passes=60)
     y, yb, y64 = fast.transform(mixture), ref.transform(mixture), exact.transform(mixture)
     assert y.dtype == np.float64
     assert test_incsfa.abs_corr(y[:, 0], yb[:, 0]) >= 0.98
@@ -59,7 +59,10 @@ def test_matches_batch_sfa_and_the_float64_path(mixture):
     np.testing.assert_allclose(fast.delta(mixture), ref.delta, rtol=0.1)
     assert fast.n_active_ == exact.n_active_ == 4
     assert min(test_incsfa.abs_corr(y[:, j], y64[:, j]) for j in range(3)) >= 1 - 1e-6
-    np.testing.assert_allclose(fast.projection_, exact.projection_, atol=1e-4 * np.abs(exact.projection_).max())
+    # a feature's sign is arbitrary; with the default (slower) CIMCA rates the two paths' slowest
+    # features take opposite signs and their projections agree to 1.1e-3 of the largest entry
+    sign = np.sign(np.sum(fast.projection_ * exact.projection_, axis=0))
+    np.testing.assert_allclose(fast.projection_ * sign, exact.projection_, atol=2e-3 * np.abs(exact.projection_).max())
 
 
 def test_mdp_toolkit_comparison():
@@ -82,8 +85,8 @@ def test_icub_size_frames_follow_the_float64_path():
     cycles = np.array([1, 2, 3, 40, 47, 53, 61, 67, 71, 79, 83, 89])
     sources = np.sin(2 * np.pi * t * cycles / 3000 + rng.uniform(0, 6, cycles.size))
     X = 0.5 + sources @ rng.standard_normal((cycles.size, 7500)) / 20
-    models = [IncSFA(2, 15, amnesic=0.4, var_fraction=0.98, mca_rate=0.01, mca_rates="equal",
-                     random_state=3, dtype=dtype) for dtype in ("float32", "float64")]
+    models = [IncSFA(2, 15, amnesic=0.4, mean_rate="amnesic", derivative="current", var_fraction=0.98,
+                     mca_rate=0.01, mca_rates="equal", gamma=4.0, random_state=3, dtype=dtype) for dtype in ("float32", "float64")]
     for model in models:
         for start in range(0, len(X), 100):
             model.partial_fit(X[start : start + 100])

@@ -76,10 +76,10 @@ def test_out_of_range_parameter_is_named(cls, name, value):
 
 @pytest.mark.parametrize("cls, name, text", [
     (IncSFA, "mca_rate", "a number > 0 and <= 0.5"),
-    (MCA, "gamma", "a number > 0 or 'auto'"),
+    (MCA, "gamma", "a number > 0 or 'auto' or 'reference'"),
     (CCIPCA, "eig_cutoff", "a number >= 0 and < 1"),
     (CCIPCA, "var_fraction", "a number > 0 and <= 1 or None (omit the key)"),
-    (CCIPCA, "amnesic", "a number >= 0 or an AmnesicSchedule"),
+    (CCIPCA, "amnesic", "a number >= 0 or 'reference' or an AmnesicSchedule"),
     (CCIPCA, "random_state", "an integer >= 0 or a SeedSequence or a Generator or None (omit the key)"),
     (ROCBank, "max_clusters", "an integer >= 2"),
     (ROCBank, "amnesic", "a number >= 0 and <= 1"),

@@ -118,16 +118,17 @@ def test_first_block_must_reach_past_the_mean_only_samples(cls):
     centred values are round-off, and whitening them gave features of order 1e16."""
     X = slow_mixture(200)
     with pytest.raises(ValueError, match="first 3 samples.*at least 4 rows"):
-        cls().fit(X[:3])
-    assert cls().partial_fit(X[:4]).partial_fit(X[4:5]).n_samples_seen_ == 5  # later blocks may be short
-    assert np.abs(cls(random_state=0).fit(X[:4]).transform(X)).max() < 100
+        cls(amnesic=2.0).fit(X[:3])
+    assert cls(amnesic=2.0).partial_fit(X[:4]).partial_fit(X[4:5]).n_samples_seen_ == 5  # later blocks may be short
+    assert np.abs(cls(amnesic=2.0, random_state=0).fit(X[:4]).transform(X)).max() < 100
     assert cls(amnesic=0.0).fit(X[:2]).n_samples_seen_ == 2  # l = 0: only the first sample sets the mean
+    assert cls().fit(X[:2]).n_samples_seen_ == 2  # the default schedule: μ = 0 up to t1, likewise
 
 
 def test_incsfa_outputs_zeros_before_any_component_is_active():
     """No whitened component is active until one carries variance: the features are then zeros."""
     X = np.array([[0.0, 0.0, 0.0]] * 2 + [[1.0, 1.0, 1.0]] * 3)  # rows 4-5 equal the mean rows 1-3 set, exactly
-    model = IncSFA(random_state=0).fit(X)
+    model = IncSFA(amnesic=2.0, mean_rate="amnesic", random_state=0).fit(X)
     assert model.n_active_ == 0
     np.testing.assert_array_equal(model.transform(slow_mixture(50)), np.zeros((50, 2)))
 
