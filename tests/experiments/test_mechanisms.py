@@ -166,7 +166,8 @@ def test_near_equal_eigenvalues_need_orthonormal_ccipca_directions(every, spurio
     world = SyntheticWorld(**SA_WORLD)
     scripted(world, 10, lc=ScriptedLC(home=0))  # builds the circuit, which resets the world with seed 10
     frames = np.tile(world.context_frames(0), (18, 1))[:173 * world.visit_length]
-    model = IncSFA(2, 3, orthonormalize=every, mca_rates="equal", random_state=0)
+    model = IncSFA(2, 3, amnesic=2.0, mean_rate="amnesic", derivative="current", orthonormalize=every,
+                   mca_rates="equal", gamma=4.0, random_state=0)  # EC's reproduction choices, pinned
     for start in range(0, len(frames), world.visit_length):
         model.partial_fit(frames[start:start + world.visit_length])
     active = model._mask
