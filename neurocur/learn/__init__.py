@@ -18,9 +18,11 @@ are made with :func:`neurocur.config.param` (type, range, default), read back by
 
 IncSFA, CCIPCA and MCA are scikit-learn transformers (``fit``, ``partial_fit``,
 ``transform``, ``get_params``, ``clone``, ``Pipeline``, ``GridSearchCV``; see
-``_estimator``); they pass ``sklearn.utils.estimator_checks.check_estimator`` but for
-the checks :func:`expected_failed_checks` lists with their reasons. Their input must be
-finite and within a numerical range (``_scale.check_scale``).
+``_estimator``); with their defaults they pass every check of
+``sklearn.utils.estimator_checks.check_estimator`` (:func:`expected_failed_checks` lists the
+ones that more than 2 components fail, with the reason). As scikit-learn's do, they check
+their parameters at ``fit``/``partial_fit`` and show the changed ones in ``repr``. Their input
+must be finite and within a numerical range (``_scale.check_scale``).
 """
 
 from ._estimator import expected_failed_checks
