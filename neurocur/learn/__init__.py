@@ -11,7 +11,8 @@
 | exact batch SFA (the reference) | ``sfa_batch`` | eqs 4–7 |
 
 The sequential per-sample loops are compiled with numba in ``_kernels`` and
-``_roc_kernels``; the classes validate input and call them once per block. Each
+``_roc_kernels``; the classes validate input and call them once per block. numba caches them on
+disk; when it compiles them instead (the first run), ``_compiling`` prints one line to stderr. Each
 learner declares its parameters once, as regions and worlds do: a dataclass whose fields
 are made with :func:`neurocur.config.param` (type, range, default), read back by
 :func:`neurocur.config.param_specs`.
@@ -25,6 +26,7 @@ their parameters at ``fit``/``partial_fit`` and show the changed ones in ``repr`
 must be finite and within a numerical range (``_scale.check_scale``).
 """
 
+from ._compiling import announce_compiling
 from ._estimator import expected_failed_checks
 from .ccipca import CCIPCA, AmnesicSchedule
 from .incsfa import IncSFA
@@ -33,6 +35,8 @@ from .mca import MCA
 from .omega import derivative_eigenvalues, omega
 from .roc import ROCBank
 from .sfa_batch import BatchSFA, batch_sfa
+
+announce_compiling()
 
 __all__ = [
     "AmnesicSchedule",
