@@ -65,6 +65,10 @@ class Registry:
                 return self.register(name)(ep.load())
         raise UnknownType(name)
 
+    def loaded(self) -> dict[str, type]:
+        """``{name: class}`` of the types registered so far (entry points not yet asked for are not)."""
+        return dict(self._types)
+
     def names(self) -> list[str]:
         """Sorted names of the registered types and of the group's entry points (not yet loaded)."""
         return sorted(set(self._types) | {ep.name for ep in entry_points(group=self.group)})

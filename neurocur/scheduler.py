@@ -109,11 +109,19 @@ class Simulator:
 
     def run(self, n_steps: int, progress=None, checkpoint=None) -> Simulator:
         """Run whole episodes until ``n_steps`` more frames have been seen (at least one episode
-        when ``n_steps`` > 0). ``progress(frames_done)`` is called after every episode, and
-        ``checkpoint(simulator)`` too, at the boundary between two episodes: the moment a
-        simulator's state can be saved and continued from (:mod:`neurocur.results.agents`)."""
+        when ``n_steps`` > 0); returns ``self``.
+
+        ``progress``: ``None`` or ``False`` (the default: nothing), or a callable
+        ``progress(frames_done)`` called after every episode with the frames seen so far (e.g. a
+        ``tqdm`` bar's ``lambda n: bar.update(n - bar.n)``). ``checkpoint(simulator)`` is called
+        after every episode too, at the boundary between two episodes: the moment a simulator's
+        state can be saved and continued from (:mod:`neurocur.results.agents`)."""
         if isinstance(n_steps, bool) or not isinstance(n_steps, (int, np.integer)) or n_steps < 0:
             raise ValueError(f"n_steps must be a non-negative integer (frames); got {n_steps!r}")
+        if progress is False:
+            progress = None
+        if progress is not None and not callable(progress):
+            raise ValueError(f"progress must be None, False or a callable progress(frames_done); got {progress!r}")
         target = self.n_frames + int(n_steps)
         v = self._values
         step_plan, learn_plan, delayed = self._step_plan, self._learn_plan, self._delayed

@@ -240,8 +240,8 @@ def learner_param(owner, name: str, default, *, doc: str = ""):
     ``owner`` declares its parameters as fields too (the learners of :mod:`neurocur.learn`
     do, :func:`param_specs`), so a parameter passed on to a learner accepts exactly what
     the learner accepts: ``mca_rate: float = learner_param(IncSFA, "mca_rate", 0.05,
-    doc="MCA learning rate")`` in a region, ``n_pca: int = learner_param(CCIPCA,
-    "n_components", 3)`` in IncSFA, which whitens with a CCIPCA.
+    doc="MCA learning rate")`` in a region, ``eig_cutoff: float = learner_param(CCIPCA,
+    "eig_cutoff", 1e-3)`` in IncSFA, which whitens with a CCIPCA.
     """
     return spec_param(default, param_specs(owner)[name], doc=doc)
 

@@ -3,7 +3,8 @@
 ``synthetic`` (:mod:`.synthetic`, section 4.1: mixed driving forces, :mod:`.sources`),
 ``icub`` (:mod:`.icub`, section 4.2: MuJoCo episodes, :mod:`.icub_data`,
 :mod:`.icub_scene`) and ``gym`` (:mod:`.gym`: contexts made of gymnasium environments);
-every world is a ``gymnasium.Env`` through ``world.as_env()`` (:mod:`.env`). Shared by the worlds:
+every world is a ``gymnasium.Env`` through ``world.as_env()`` (:mod:`.env`), and every world type
+has a gymnasium id, ``gymnasium.make("neurocur/Synthetic-v0", **params)`` (:func:`make_env`). Shared by the worlds:
 :mod:`.rewards` (extrinsic reward per context, ``rewards`` in every world's table) and
 :mod:`.learnability` (Ω of every context); the synthetic world's declared sources (files,
 sinusoid pairs, noise) are :mod:`.user_sources`. Importing this package imports every module in it, so a world class
@@ -16,6 +17,7 @@ import pkgutil
 
 from ..config import make_params
 from .base import WORLDS, Episode, SourceSpec, World, register_world
+from .env import register_ids
 
 for _module in pkgutil.iter_modules(__path__):
     importlib.import_module(f"{__name__}.{_module.name}")
@@ -37,4 +39,13 @@ def build_world(table) -> World:
     return cls.from_params(params)
 
 
-__all__ = ["WORLDS", "Episode", "SourceSpec", "World", "build_world", "register_world", "world_params"]
+def make_env(type="synthetic", *, max_frames=None, render_mode="rgb_array", **params):
+    """The world of type ``type`` and ``params`` (the keys of its world table) as a ``gymnasium.Env``
+    (:meth:`World.as_env` with ``max_frames`` and ``render_mode``): what ``gymnasium.make`` of a
+    world's id calls."""
+    return build_world({"type": type, **params}).as_env(max_frames=max_frames, render_mode=render_mode)
+
+
+register_ids(WORLDS.loaded(), f"{__name__}:make_env")
+
+__all__ = ["WORLDS", "Episode", "SourceSpec", "World", "build_world", "make_env", "register_world", "world_params"]

@@ -15,6 +15,13 @@
   ``np_random`` *is* the world's generator;
 * ``render()``: the last frame shown, as an (H, W, 3) ``uint8`` gray image.
 
+Every world type registered when :mod:`neurocur.contexts` is imported also has a gymnasium id,
+``neurocur/<Class>-v0`` after its class without the ``World`` suffix (``neurocur/Synthetic-v0``,
+``neurocur/ICub-v0``, ...; :func:`register_ids`): ``gymnasium.make(id, **params)`` builds the world
+of those parameters (its world table's keys, e.g. ``visit_length=30``; ``max_frames`` and
+``render_mode`` go to the env), as ``gymnasium.make("neurocur.contexts:neurocur/Synthetic-v0")``
+does without importing neurocur first.
+
 The env knows the world only through its interface (``reset``, ``step``, ``close``,
 ``np_random`` and the generator it holds, ``n_contexts``, ``n_pixels``, ``n_states``,
 ``frame_shape``, ``max_frames``), so this module does not import :mod:`.base`, which builds
@@ -27,7 +34,7 @@ import gymnasium
 import numpy as np
 from gymnasium import spaces
 
-__all__ = ["WorldEnv"]
+__all__ = ["WorldEnv", "env_id", "register_ids"]
 
 
 class WorldEnv(gymnasium.Env):
@@ -108,3 +115,16 @@ class WorldEnv(gymnasium.Env):
         starts[episode.starts] = 1
         self._last = frames[n - 1].copy()
         return {"frames": frames, "states": states, "starts": starts, "n_frames": np.int64(n)}
+
+
+def env_id(cls: type) -> str:
+    """The gymnasium id of the world class ``cls``: ``neurocur/<name>-v0``, the class name without ``World``."""
+    return f"neurocur/{cls.__name__.removesuffix('World')}-v0"
+
+
+def register_ids(worlds: dict[str, type], entry_point: str) -> None:
+    """Register :func:`env_id` of every world class of ``worlds`` (``{type name: class}``) with
+    gymnasium, made by ``entry_point`` (``"module:function"``) called with ``type=`` the type name."""
+    for name, cls in worlds.items():
+        if env_id(cls) not in gymnasium.registry:
+            gymnasium.register(env_id(cls), entry_point=entry_point, kwargs={"type": name})

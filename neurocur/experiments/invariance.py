@@ -146,11 +146,11 @@ def load_invariance(path) -> InvarianceSpec:
     check_keys(incsfa, INCSFA_KEYS, source=path, prefix="incsfa")
     for key, value in incsfa.items():
         try:
-            IncSFA(**{key: value})
+            IncSFA(**{key: value}).validate_params()
         except (TypeError, ValueError) as exc:
             raise ConfigError(path, f"incsfa.{key}", f"a valid IncSFA parameter ({exc})", describe(value)) from None
     try:
-        IncSFA(**incsfa)
+        IncSFA(**incsfa).validate_params()
     except ValueError as exc:
         raise ConfigError(path, "incsfa", "consistent IncSFA parameters", f"an error: {exc}") from None
     return InvarianceSpec(name, description, source, epochs, seed, normalise, dict(incsfa))

@@ -11,18 +11,22 @@
 | exact batch SFA (the reference) | ``sfa_batch`` | eqs 4–7 |
 
 The sequential per-sample loops are compiled with numba in ``_kernels`` and
-``_roc_kernels``; the classes validate input and call them once per block. Each
+``_roc_kernels``; the classes validate input and call them once per block. numba caches them on
+disk; when it compiles them instead (the first run), ``_compiling`` prints one line to stderr. Each
 learner declares its parameters once, as regions and worlds do: a dataclass whose fields
 are made with :func:`neurocur.config.param` (type, range, default), read back by
 :func:`neurocur.config.param_specs`.
 
 IncSFA, CCIPCA and MCA are scikit-learn transformers (``fit``, ``partial_fit``,
 ``transform``, ``get_params``, ``clone``, ``Pipeline``, ``GridSearchCV``; see
-``_estimator``); they pass ``sklearn.utils.estimator_checks.check_estimator`` but for
-the checks :func:`expected_failed_checks` lists with their reasons. Their input must be
-finite and within a numerical range (``_scale.check_scale``).
+``_estimator``); with their defaults they pass every check of
+``sklearn.utils.estimator_checks.check_estimator`` (:func:`expected_failed_checks` lists the
+ones that more than 2 components fail, with the reason). As scikit-learn's do, they check
+their parameters at ``fit``/``partial_fit`` and show the changed ones in ``repr``. Their input
+must be finite and within a numerical range (``_scale.check_scale``).
 """
 
+from ._compiling import announce_compiling
 from ._estimator import expected_failed_checks
 from .ccipca import CCIPCA, AmnesicSchedule
 from .incsfa import IncSFA
@@ -31,6 +35,8 @@ from .mca import MCA
 from .omega import derivative_eigenvalues, omega
 from .roc import ROCBank
 from .sfa_batch import BatchSFA, batch_sfa
+
+announce_compiling()
 
 __all__ = [
     "AmnesicSchedule",

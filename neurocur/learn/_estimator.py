@@ -6,15 +6,17 @@ They subclass scikit-learn's ``BaseEstimator`` and ``TransformerMixin``, so ``ge
 raises scikit-learn's ``NotFittedError``.
 
 Parameters are declared as regions and worlds declare theirs: each learner is a
-dataclass (``@dataclass(eq=False)``: compared by identity, as estimators are) whose
-fields are made with :func:`~neurocur.config.param`, :func:`~neurocur.config.spec_param`
-or :func:`~neurocur.config.learner_param`, the one place each parameter's type, range and
-default are declared (regions that pass a parameter on to a learner reuse its spec,
-:func:`~neurocur.config.learner_param`). The dataclass's ``__init__`` is the
-keyword-argument constructor scikit-learn expects, storing every parameter under its
-name and unchanged; a copy is checked through the specs
-(:func:`~neurocur.config.param_specs`) at construction, by ``set_params`` (a rejected call
-changes nothing) and again by every ``fit`` and ``partial_fit``.
+dataclass (``@dataclass(eq=False, repr=False)``: compared by identity, as estimators are, and
+shown by scikit-learn's ``repr``) whose fields are made with :func:`~neurocur.config.param`,
+:func:`~neurocur.config.spec_param` or :func:`~neurocur.config.learner_param`, the one place
+each parameter's type, range and default are declared (regions that pass a parameter on to a
+learner reuse its spec, :func:`~neurocur.config.learner_param`). The dataclass's ``__init__``
+is the keyword-argument constructor scikit-learn expects, storing every parameter under its
+name and unchanged. As scikit-learn expects, neither the constructor nor ``set_params`` checks
+the values: every ``fit`` and ``partial_fit`` checks them through the specs
+(:func:`~neurocur.config.param_specs`), and a bad one raises a one-line ``ValueError`` (a
+``ConfigError``) naming the parameter and what was expected; :meth:`Estimator.validate_params`
+checks them without fitting.
 
 Learning is streaming: ``partial_fit`` continues from the learned state, ``fit`` forgets
 it first (``fit(X)`` is ``partial_fit(X)`` on a new instance with the same parameters).
@@ -24,8 +26,8 @@ learners' own scale check (:func:`~neurocur.learn._scale.check_scale`); a fresh
 learner's first block must also vary and, for IncSFA and CCIPCA, reach past the samples
 that only set the mean (:func:`~neurocur.learn.ccipca.check_first_block`).
 
-``copy`` returns an independent deep copy (learned state included), and ``repr`` (the
-dataclass's) shows every parameter. :func:`expected_failed_checks` lists the checks of scikit-learn's
+``copy`` returns an independent deep copy (learned state included), and ``repr`` is
+scikit-learn's: only the parameters changed from their defaults (``print_changed_only``). :func:`expected_failed_checks` lists the checks of scikit-learn's
 ``check_estimator`` that these learners fail by design, each with its reason.
 """
 
@@ -46,7 +48,7 @@ from ._scale import check_scale
 __all__ = ["TWO_FEATURE_CHECKS", "Estimator", "NotFittedError", "expected_failed_checks"]
 
 class Estimator(ClassNamePrefixFeaturesOutMixin, TransformerMixin, BaseEstimator):
-    """Base class: subclasses are dataclasses (``@dataclass(eq=False)``) whose fields are their
+    """Base class: subclasses are dataclasses (``@dataclass(eq=False, repr=False)``) whose fields are their
     parameters, each declared with a spec; they override ``_check_params`` for checks that
     involve several parameters or the fitted state, and implement ``partial_fit`` (setting
     ``n_samples_seen_`` when it starts a fresh state) and ``transform``."""
@@ -56,25 +58,30 @@ class Estimator(ClassNamePrefixFeaturesOutMixin, TransformerMixin, BaseEstimator
     #: whether the learner centres its input (see ``check_scale``)
     _centred: ClassVar[bool] = True
 
-    def __post_init__(self):
-        self._checked_params()
-
     def set_params(self, **params):
-        """Set parameters by name and re-validate them; returns ``self``.
+        """Set parameters by name; returns ``self``.
 
-        An unknown name or a value its spec rejects raises ``ValueError`` and changes
-        nothing. On an already fitted learner, parameters that fix array shapes cannot
-        change (a ``ValueError`` says so); the others take effect from the next
-        ``partial_fit``.
+        An unknown name raises ``ValueError`` and changes nothing. Values are not checked
+        here but by the next ``fit`` or ``partial_fit`` (scikit-learn's convention); on an
+        already fitted learner, parameters that fix array shapes cannot change unless ``fit``
+        starts afresh (``partial_fit`` says so), and the others take effect from the next call.
         """
         old = self.get_params(deep=False)
         try:
             super().set_params(**params)
-            self._checked_params()
         except ValueError:
             for name, value in old.items():
                 setattr(self, name, value)
             raise
+        return self
+
+    def validate_params(self):
+        """Check the parameters now, as ``fit`` and ``partial_fit`` do; returns ``self``.
+
+        For a caller that builds a learner from a file and wants a bad value reported where
+        it is read, before any data arrives.
+        """
+        self._checked_params()
         return self
 
     def _checked_params(self) -> dict:
@@ -182,24 +189,17 @@ def expected_failed_checks(estimator) -> dict[str, str]:
     or MCA) fails by design, mapped to the reason; pass it as ``check_estimator(estimator,
     expected_failed_checks=expected_failed_checks(estimator))``.
 
-    Always ``check_do_not_raise_errors_in_init_or_set_params``: parameters are checked at
-    construction. And, when the learner estimates more than 2 components (IncSFA's
-    default ``n_pca=3``), the checks whose data have 2 features: like PCA, a learner
-    cannot estimate more components than there are features.
+    The checks whose data have 2 features, when the learner is set to estimate more than 2
+    components (IncSFA's ``n_pca`` or CCIPCA's and MCA's ``n_components`` above 2): like
+    PCA, a learner cannot estimate more components than there are features. None otherwise:
+    the defaults pass every check.
     """
-    failed = {
-        "check_do_not_raise_errors_in_init_or_set_params": (
-            "parameters are checked by their ParamSpecs at construction and in set_params, so that a bad "
-            "value (from a circuit or experiment file) fails where it is given, naming the key; scikit-learn's "
-            "convention defers every check to fit"
-        )
-    }
     name = "n_pca" if hasattr(estimator, "n_pca") else "n_components"
     needed = getattr(estimator, name)
-    if needed > 2:
-        reason = f"the check fits data with 2 features, fewer than {name}={needed} (it must not exceed the features)"
-        failed.update(dict.fromkeys(TWO_FEATURE_CHECKS, reason))
-    return failed
+    if not isinstance(needed, int) or needed <= 2:
+        return {}
+    reason = f"the check fits data with 2 features, fewer than {name}={needed} (it must not exceed the features)"
+    return dict.fromkeys(TWO_FEATURE_CHECKS, reason)
 
 
 def _same(a: tuple, b: tuple) -> bool:

@@ -108,7 +108,7 @@ def init_directions(rng: np.random.Generator, n_components: int, n_features: int
     return np.ascontiguousarray(q.T)
 
 
-@dataclass(eq=False)
+@dataclass(eq=False, repr=False)
 class CCIPCA(Estimator):
     """Incremental PCA and whitening (Algorithm 2), a scikit-learn transformer.
 

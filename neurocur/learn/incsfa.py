@@ -42,11 +42,11 @@ states the agreement).
 
 from __future__ import annotations
 
-from dataclasses import KW_ONLY, dataclass
+from dataclasses import KW_ONLY, dataclass, replace
 
 import numpy as np
 
-from ..config import learner_param, param
+from ..config import learner_param, param, param_specs, spec_param
 from ..config.checks import check_random_state
 from ._estimator import Estimator
 from ._kernels import incsfa_fit
@@ -56,18 +56,21 @@ from .mca import AUTO_GAMMA_FACTOR, MCA, component_rates, gamma_code, init_weigh
 
 #: IncSFA's ``dtype`` choices: the exact default and the fast opt-in
 DTYPES = ("float64", "float32")
+#: K for ``n_pca=None``: min(DEFAULT_PCA, the input's features)
+DEFAULT_PCA = 3
 #: IncSFA's ``derivative`` choices (see the module docstring)
 DERIVATIVES = ("successive", "current")
 
 
-@dataclass(eq=False)
+@dataclass(eq=False, repr=False)
 class IncSFA(Estimator):
     """Online linear slow feature analysis, a scikit-learn transformer.
 
     Parameters
     ----------
-    n_components : J, the number of slow features (J ≤ n_pca).
-    n_pca : K, the number of CCIPCA components used for whitening (K ≤ input dims).
+    n_components : J, the number of slow features (J ≤ K).
+    n_pca : K, the number of CCIPCA components used for whitening (K ≤ input dims); ``None``
+        (the default) whitens min(3, input dims), so that 2-feature data fit too.
     amnesic : CCIPCA's amnesic parameter: ``"reference"`` (the default, the author's schedule),
         a constant l or an ``AmnesicSchedule``.
     mean_rate : ``"cumulative"`` (the default, the average of all samples) or ``"amnesic"``
@@ -93,7 +96,8 @@ class IncSFA(Estimator):
     ``fit(X)`` learns ``X`` as one episode on a fresh state; ``partial_fit`` continues
     the learned state with another episode; ``score`` is the negative slowness.
 
-    Attributes (after ``fit`` or ``partial_fit``): ``n_features_in_`` (D); ``mean_`` (D,);
+    Attributes (after ``fit`` or ``partial_fit``): ``n_features_in_`` (D); ``n_pca_`` (the K in
+    use: ``n_pca``, or min(3, D) for ``None``); ``mean_`` (D,);
     ``projection_`` (D, J) with ``transform(X) == (X − mean_) @ projection_``;
     ``n_samples_seen_``; ``n_active_`` (whitened components in use); ``eigenvalues_`` (K,)
     CCIPCA's estimates, descending; ``gamma_`` (the γ in use).
@@ -101,7 +105,7 @@ class IncSFA(Estimator):
 
     # the whitening's parameters are CCIPCA's, the slow-feature extraction's are MCA's
     n_components: int = learner_param(MCA, "n_components", 2)
-    n_pca: int = learner_param(CCIPCA, "n_components", 3)
+    n_pca: int | None = spec_param(None, replace(param_specs(CCIPCA)["n_components"], optional=True))
     _: KW_ONLY
     amnesic: float | AmnesicSchedule | str = learner_param(CCIPCA, "amnesic", "reference")
     mean_rate: str = learner_param(CCIPCA, "mean_rate", "cumulative")
@@ -118,16 +122,20 @@ class IncSFA(Estimator):
 
     def _check_params(self, params: dict) -> None:
         j, k = params["n_components"], params["n_pca"]
-        if j > k:
+        if k is not None and j > k:
             raise ValueError(f"n_components={j} must not exceed n_pca={k}")
-        if self.__sklearn_is_fitted__() and (j, k) != self._W.shape:
+        if self.__sklearn_is_fitted__() and (j, self.n_pca_ if k is None else k) != self._W.shape:
             raise ValueError("n_components and n_pca cannot change after the first partial_fit; make a new IncSFA")
         if self.__sklearn_is_fitted__() and np.dtype(params["dtype"]) != self._dirs.dtype:
             raise ValueError("dtype cannot change after the first partial_fit; make a new IncSFA")
 
     def _start(self, n_features: int) -> None:
         j, k = self.n_components, self.n_pca
-        if k > n_features:
+        if k is None:
+            k = min(DEFAULT_PCA, n_features)
+            if j > k:
+                raise ValueError(f"n_components={j} exceeds n_pca=None's min({DEFAULT_PCA}, n_features = {n_features}) = {k}")
+        elif k > n_features:
             raise ValueError(f"n_pca={k} exceeds the number of features of X (n_features = {n_features})")
         rng = check_random_state(self.random_state)
         store = np.dtype(self.dtype)
@@ -142,6 +150,7 @@ class IncSFA(Estimator):
         self._zprev = np.zeros(k)
         self._has_prev = False
         self.mean_ = np.zeros(n_features)
+        self.n_pca_ = k
         self.n_samples_seen_ = 0
         self.n_active_ = 0
         # u, dx (D,); ż, ż copy for the γ tracker (K,); lateral couplings (J,); new w (K,)

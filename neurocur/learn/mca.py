@@ -84,7 +84,7 @@ def init_weights(rng: np.random.Generator, n_components: int, n_features: int) -
     return w / np.linalg.norm(w, axis=1, keepdims=True)
 
 
-@dataclass(eq=False)
+@dataclass(eq=False, repr=False)
 class MCA(Estimator):
     """Online minor components (CIMCA) of the second moment of the rows of ``X``, a
     scikit-learn transformer.

@@ -19,7 +19,8 @@ class ECParams:
     whose defaults are its author's code's."""
 
     n_components: int = learner_param(IncSFA, "n_components", 2, doc="J, slow features per module")
-    n_pca: int = learner_param(IncSFA, "n_pca", 3, doc="K, whitened dimensions kept by CCIPCA")
+    n_pca: int | None = learner_param(IncSFA, "n_pca", 3,
+                                      doc="K, whitened dimensions kept by CCIPCA (None: min(3, the frame's dimensions))")
     amnesic: float | AmnesicSchedule = learner_param(IncSFA, "amnesic", 2.0,
                                                      doc="CCIPCA amnesic parameter l (or an AmnesicSchedule, or 'reference')")
     mean_rate: str = learner_param(IncSFA, "mean_rate", "amnesic",
@@ -43,7 +44,7 @@ class ECParams:
 
     def __post_init__(self):
         check_params(self)
-        if self.n_components > self.n_pca:
+        if self.n_pca is not None and self.n_components > self.n_pca:
             raise ConfigError(type(self).__name__, "n_components", f"at most n_pca = {self.n_pca}", repr(self.n_components))
 
 

@@ -52,7 +52,7 @@ class _Curiosity:
         self.coding = {"contexts": contexts, "bins": bins, "hash_bits": hash_bits, "image_size": image_size}
         self.build(np.random.SeedSequence(0))  # every argument is checked here, not at the first reset
         ec = self.sensory.circuit.specs.get("EC")
-        n_pca = getattr(ec.params, "n_pca", 0) if ec is not None else 0
+        n_pca = (getattr(ec.params, "n_pca", 0) or 0) if ec is not None else 0  # None: min(3, the frame's values)
         if n_pca > self.sensory.coder.n_pixels:
             raise ConfigError(f"{source} overrides", "EC.n_pca", f"at most the {self.sensory.coder.n_pixels} values "
                               "of an observation's frame (overrides={'EC.n_pca': ...})", repr(n_pca))

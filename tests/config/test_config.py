@@ -218,7 +218,8 @@ DERIVED = [
 ]
 P2 = np.array([[[1.0, 0.0], [0.0, 1.0]], [[0.0, 1.0], [1.0, 0.0]]])
 LEARNER_CALLS = {
-    IncSFA: lambda name, value: IncSFA(**{name: value}),
+    # checked when asked (scikit-learn's learners check at fit), with EC's n_pca unless probed
+    IncSFA: lambda name, value: IncSFA(**({"n_pca": 3} | {name: value})).validate_params(),
     ROCBank: lambda name, value: (ROCBank(3, 2).prune(value) if name == "min_weight"
                                   else ROCBank(3, 2, **{name: value})),
     LSPI: lambda name, value: LSPI(P2, **{name: value}),

@@ -99,13 +99,15 @@ def test_icub_size_frames_follow_the_float64_path():
 
 def test_dtype_parameter():
     assert IncSFA().dtype == "float64"
-    with pytest.raises(ValueError, match="dtype"):
-        IncSFA(dtype="float16")
-    model = IncSFA(random_state=0, dtype="float32").partial_fit(test_incsfa.sinusoids((3, 11, 29))[:200])
+    X = test_incsfa.sinusoids((3, 11, 29))[:200]
+    with pytest.raises(ValueError, match="key 'dtype'"):
+        IncSFA(dtype="float16").fit(X)
+    model = IncSFA(random_state=0, dtype="float32").partial_fit(X)
     assert model._dirs.dtype == np.float32
+    model.set_params(dtype="float64")
     with pytest.raises(ValueError, match="dtype cannot change"):
-        model.set_params(dtype="float64")
-    assert model.dtype == "float32"
+        model.partial_fit(X)
+    assert model.fit(X)._dirs.dtype == np.float64  # fit starts afresh
 
 
 def test_ec_passes_dtype_on():

@@ -62,7 +62,7 @@ def test_deterministic_and_blocks(known):
 )
 def test_bad_parameters(kwargs):
     with pytest.raises(ValueError):
-        MCA(**({"n_components": 1} | kwargs))
+        MCA(**({"n_components": 1} | kwargs)).fit(np.eye(3) * 0.5)
 
 
 def test_bad_input():

@@ -47,5 +47,5 @@ def test_orthonormal_at_every_multiple(cls, kwargs):
 
 @pytest.mark.parametrize("cls", [CCIPCA, IncSFA])
 def test_orthonormalize_must_be_a_count(cls):
-    with pytest.raises(ValueError, match="orthonormalize"):
-        cls(orthonormalize=-1)
+    with pytest.raises(ValueError, match="key 'orthonormalize'"):
+        cls(orthonormalize=-1).fit(np.random.default_rng(0).standard_normal((20, 4)))

@@ -22,14 +22,23 @@ R2 = np.array([[1.0, 0.0], [0.0, 1.0]])
 
 
 def make(cls, **kwargs):
-    """A learner with ``kwargs`` over valid required arguments."""
-    if cls is CCIPCA or cls is MCA:
-        return cls(**({"n_components": 1} | kwargs))
+    """A learner with ``kwargs`` over valid required arguments, its parameters checked (the
+    scikit-learn transformers check them at fit, or when asked: ``validate_params``)."""
+    if cls in TRANSFORMERS:
+        return construct(cls, **kwargs).validate_params()
     if cls is ROCBank:
         return cls(**({"n_states": 3, "n_features": 2} | kwargs))
     if cls is LSPI:
         return cls(P2, **kwargs)
     return cls(**kwargs)
+
+
+TRANSFORMERS = (CCIPCA, MCA, IncSFA)
+
+
+def construct(cls, **kwargs):
+    """A scikit-learn transformer constructed with ``kwargs``, unchecked."""
+    return cls(**(({"n_components": 1} if cls is not IncSFA else {}) | kwargs))
 
 
 def spec(cls, name):
@@ -72,6 +81,11 @@ def test_out_of_range_parameter_is_named(cls, name, value):
         make(cls, **{name: value})
     expected = spec(cls, name).expected()
     assert str(err.value) == f"{cls.__name__}: key '{name}': expected {expected}, got {describe(value)}"
+    if cls in TRANSFORMERS:  # constructed unchecked and set unchecked, as scikit-learn expects; fit says the same
+        learner = construct(cls).set_params(**{name: value})
+        with pytest.raises(ValueError) as at_fit:
+            learner.fit(np.random.default_rng(0).standard_normal((20, 4)))
+        assert str(at_fit.value) == str(err.value) and not hasattr(learner, "n_samples_seen_")
 
 
 @pytest.mark.parametrize("cls, name, text", [
@@ -133,7 +147,7 @@ def test_incsfa_reuses_ccipca_and_mca_specs():
     assert specs["n_components"] is mca["n_components"]
     for name in ("amnesic", "var_fraction", "eig_cutoff", "orthonormalize", "random_state"):
         assert specs[name] is ccipca[name]
-    assert specs["n_pca"] is ccipca["n_components"]
+    assert specs["n_pca"] == dataclasses.replace(ccipca["n_components"], optional=True)  # None: min(3, features)
 
 
 def test_arguments_stored_unchanged():
@@ -148,10 +162,11 @@ def test_arguments_stored_unchanged():
 def test_set_params_and_partial_fit_check_specs():
     X = np.random.default_rng(0).standard_normal((20, 4))
     model = IncSFA(random_state=0)
-    with pytest.raises(ValueError, match=r"^IncSFA: key 'eig_cutoff': expected a number >= 0 and < 1, got 1.0"):
-        model.set_params(eig_cutoff=1.0)
-    assert model.eig_cutoff == 1e-3
-    model.mca_rate = 0.9  # bypasses set_params: the next partial_fit checks it
+    assert model.set_params(eig_cutoff=1.0).eig_cutoff == 1.0  # stored unchecked, as scikit-learn expects
+    with pytest.raises(ValueError, match=r"^IncSFA: key 'eig_cutoff': expected a number >= 0 and < 1, got 1.0 \(float\)$"):
+        model.partial_fit(X)
+    model.set_params(eig_cutoff=1e-3)
+    model.mca_rate = 0.9  # likewise when set directly: the next partial_fit checks it
     with pytest.raises(ValueError, match=r"key 'mca_rate'"):
         model.partial_fit(X)
     assert not hasattr(model, "mean_")

@@ -24,12 +24,13 @@ def slow_mixture(n=3000, d=3, seed=0):
 LEARNERS = [IncSFA(), IncSFA(n_components=1, n_pca=2), CCIPCA(), MCA()]
 
 
-@pytest.mark.filterwarnings("ignore:.*It is recommended to delay parameter validation until fit")  # by design
 @pytest.mark.filterwarnings("ignore:Skipping check check_array_api_input")  # needs SCIPY_ARRAY_API
+@pytest.mark.filterwarnings("error:.*It is recommended to delay parameter validation until fit")
 @pytest.mark.parametrize("estimator", LEARNERS, ids=repr)
 def test_check_estimator(estimator):
-    """Every check passes except the declared ones, and each declared one does fail."""
+    """Every check passes except the declared ones (none for these), and each declared one does fail."""
     expected = expected_failed_checks(estimator)
+    assert len(expected) <= 3
     results = check_estimator(estimator, expected_failed_checks=expected, on_fail=None)
     failed = [(r["check_name"], r["exception"]) for r in results if r["status"] == "failed"]
     assert failed == []
@@ -38,11 +39,45 @@ def test_check_estimator(estimator):
 
 
 def test_expected_failures_and_their_reasons():
-    assert set(expected_failed_checks(CCIPCA())) == {"check_do_not_raise_errors_in_init_or_set_params"}
-    assert "at construction" in expected_failed_checks(MCA())["check_do_not_raise_errors_in_init_or_set_params"]
-    default = expected_failed_checks(IncSFA())  # n_pca=3 cannot fit the 2-feature data of some checks
-    assert set(default) == {"check_do_not_raise_errors_in_init_or_set_params", *TWO_FEATURE_CHECKS}
-    assert "n_pca=3" in default["check_fit_idempotent"]
+    """The defaults fail no check; more than 2 components cannot fit the 2-feature data of some checks."""
+    assert expected_failed_checks(CCIPCA()) == expected_failed_checks(MCA()) == expected_failed_checks(IncSFA()) == {}
+    three = expected_failed_checks(IncSFA(n_pca=3))
+    assert set(three) == set(TWO_FEATURE_CHECKS) and "n_pca=3" in three["check_fit_idempotent"]
+    assert set(expected_failed_checks(CCIPCA(3))) == set(TWO_FEATURE_CHECKS)
+
+
+@pytest.mark.parametrize("cls, bad, key", [(IncSFA, {"mca_rate": 0.9}, "mca_rate"), (CCIPCA, {"eig_cutoff": 1.5}, "eig_cutoff"),
+                                          (MCA, {"gamma": "big"}, "gamma")])
+def test_parameters_are_checked_at_fit_not_at_construction(cls, bad, key):
+    """scikit-learn's convention: construction and set_params store any value; fit names the bad one, in one line."""
+    X = slow_mixture(50)
+    learner = cls(**bad)
+    assert learner.get_params()[key] == bad[key]
+    with pytest.raises(ValueError, match=rf"^{cls.__name__}: key '{key}': expected .*, got ") as err:
+        learner.fit(X)
+    assert "\n" not in str(err.value) and not hasattr(learner, "n_samples_seen_")
+    with pytest.raises(ValueError, match=rf"key '{key}'"):
+        cls().set_params(**bad).validate_params()  # checked on request, as before any data
+    with pytest.raises(ValueError, match="must not exceed n_pca=2"):
+        IncSFA(3, 2).fit(X)
+
+
+def test_incsfa_default_n_pca_is_three_capped_at_the_features():
+    """n_pca=None whitens min(3, features): exactly n_pca=3 on wider data, n_pca=2 on 2 features."""
+    X = slow_mixture(400, d=5)
+    default, three = IncSFA(random_state=0).fit(X), IncSFA(n_pca=3, random_state=0).fit(X)
+    assert default.n_pca_ == three.n_pca_ == 3
+    np.testing.assert_array_equal(default.projection_, three.projection_)
+    narrow = IncSFA(random_state=0).fit(X[:, :2])
+    assert narrow.n_pca_ == 2 and narrow.eigenvalues_.shape == (2,)
+    np.testing.assert_array_equal(narrow.projection_, IncSFA(n_pca=2, random_state=0).fit(X[:, :2]).projection_)
+
+
+def test_repr_shows_the_changed_parameters_only():
+    assert repr(IncSFA()) == "IncSFA()" and repr(MCA()) == "MCA()"
+    assert repr(IncSFA(1, mca_rate=0.02, random_state=0)) == "IncSFA(mca_rate=0.02, n_components=1, random_state=0)"
+    assert repr(CCIPCA(3, amnesic=2.0)) == "CCIPCA(amnesic=2.0, n_components=3)"
+    assert repr(make_pipeline(StandardScaler(), IncSFA(dtype="float32"))).endswith("('incsfa', IncSFA(dtype='float32'))])")
 
 
 @pytest.mark.parametrize("estimator", LEARNERS, ids=repr)
@@ -153,12 +188,10 @@ def test_grid_search_tunes_mca_rate():
     assert search.best_estimator_.n_samples_seen_ == len(X)  # refit on all rows
 
 
-def test_set_params_rejects_and_rolls_back():
+def test_set_params_rejects_unknown_names_and_rolls_back():
     model = IncSFA(random_state=0)
     with pytest.raises(ValueError, match="Invalid parameter 'mca_rate_typo'"):
         model.set_params(mca_rate=0.1, gamma="auto", eig_cutoff=0.5, n_pca=4, mca_rate_typo=1)
-    with pytest.raises(ValueError, match="key 'eig_cutoff'"):
-        model.set_params(mca_rate=0.1, eig_cutoff=1.5)
     assert model.get_params() == IncSFA(random_state=0).get_params()
 
 

@@ -225,6 +225,10 @@ def test_bad_input_is_a_one_line_error_naming_what_was_expected():
         IntrinsicReward(gym.make("CartPole-v1"), "ec.incsfa")
     with pytest.raises(ConfigError, match=r"'EC.n_pca'.*at most the 2 values"):
         IntrinsicReward(gym.make("MountainCar-v0"), "vta.surprise")
+    fitted = IntrinsicReward(gym.make("MountainCar-v0"), "vta.surprise", overrides={"EC.n_pca": None})  # min(3, 2)
+    fitted.reset(seed=0)
+    for _ in range(3):
+        fitted.step(0)
     with pytest.raises(ConfigError, match=r"'frames'.*integer >= 4"):
         IntrinsicReward(gym.make("CartPole-v1"), "vta.surprise", frames=2)
     with pytest.raises(ConfigError, match=r"'frames'.*1 on the 'counts' path"):
