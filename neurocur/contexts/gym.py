@@ -167,7 +167,7 @@ class GymWorld(World):
         if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
             os.environ.setdefault("SDL_VIDEODRIVER", "dummy")  # headless: pygame renders off screen, quietly
         if any(_draws_with_pygame(env_id) for env_id in p.envs):
-            with extra("gym", "gymnasium's own rendering environments"):
+            with extra("gym", "a gym world of gymnasium's own environments"):
                 import pygame  # noqa: F401
         self.envs = [gymnasium.make(env_id, render_mode="rgb_array", max_episode_steps=p.max_episode_steps)
                      for env_id in p.envs]
