@@ -19,11 +19,13 @@ import numpy as np
 
 
 def main(argv=None) -> None:
-    import torch
-    from stable_baselines3 import PPO
-    from stable_baselines3.common.env_util import make_vec_env
-
+    from neurocur.config import extra
     from neurocur.rl import IntrinsicReward
+
+    with extra("rl", "examples/rl_ppo.py"):
+        import torch
+        from stable_baselines3 import PPO
+        from stable_baselines3.common.env_util import make_vec_env
 
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--model", default="vta.novelty", help="a VTA model, or 'none' for no bonus")

@@ -15,6 +15,8 @@ unchanged, so they check a copy: :func:`param_specs`, :func:`coerce_params`); a
 parameter passed on to a learner is declared with :func:`learner_param`, so it takes
 the learner's spec. Loading a configuration never executes code.
 
+A feature whose optional package is missing names the extra to install (:mod:`.extras`).
+
 The checks shared by every layer (input blocks, seeds, scalar arguments of functions called
 from Python) are :mod:`.checks`.
 """
@@ -28,6 +30,7 @@ from .checks import (
     check_random_state,
 )
 from .errors import ConfigError, describe, join_key
+from .extras import MissingExtra, extra
 from .params import (
     ParamSpec,
     check_params,
@@ -59,6 +62,8 @@ __all__ = [
     "path_values",
     "describe",
     "join_key",
+    "MissingExtra",
+    "extra",
     "RANDOM_STATE",
     "check_block",
     "check_fraction",

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import gymnasium
 import numpy as np
 
-from ..config import ConfigError, ParamSpec, check_params, describe, param, spec_param
+from ..config import ConfigError, ParamSpec, check_params, describe, extra, param, spec_param
 from .base import Episode, World, register_world
 from .rewards import Rewards, check_rewards, rewards_param
 
@@ -60,6 +60,12 @@ def to_frame(rgb: np.ndarray, shape: Sequence[int]) -> np.ndarray:
 def random_policy(env: gymnasium.Env, observation) -> object:
     """The default exploration policy: a uniform random action from the env's (seeded) action space."""
     return env.action_space.sample()
+
+
+def _draws_with_pygame(env_id: str) -> bool:
+    """Whether ``env_id`` is one of gymnasium's environments drawn with pygame (the ``gym`` extra)."""
+    entry = gymnasium.spec(env_id).entry_point
+    return isinstance(entry, str) and entry.startswith(("gymnasium.envs.classic_control", "gymnasium.envs.toy_text"))
 
 
 _ID = ParamSpec(str)
@@ -160,6 +166,9 @@ class GymWorld(World):
         self.policy = policy
         if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
             os.environ.setdefault("SDL_VIDEODRIVER", "dummy")  # headless: pygame renders off screen, quietly
+        if any(_draws_with_pygame(env_id) for env_id in p.envs):
+            with extra("gym", "a gym world of gymnasium's own environments"):
+                import pygame  # noqa: F401
         self.envs = [gymnasium.make(env_id, render_mode="rgb_array", max_episode_steps=p.max_episode_steps)
                      for env_id in p.envs]
         for env_id, env in zip(p.envs, self.envs):

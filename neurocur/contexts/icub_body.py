@@ -5,7 +5,7 @@ shoulder joint of its outstretched right arm. The scene (:mod:`.icub_scene`) mod
 with primitive geoms; this module draws it with the iCub's own meshes instead.
 
 The meshes are the iCub's, from the ``icub-models`` package (Istituto Italiano di Tecnologia,
-CC BY-SA 4.0; the optional extra ``neurocur[icub-body]``): the right arm of the model
+CC BY-SA 4.0; the optional extra ``neurocur[icub]``): the right arm of the model
 ``iCubGazeboV2_5`` from the upper arm to the hand. Its STL files are exported in one common
 assembly frame (the arm outstretched, in millimetres, the URDF scaling them by 0.001), so the
 parts fit together as they are; the URDF names each link's mesh and gives its frame, and so the
@@ -46,7 +46,7 @@ ROBOT = "iCubGazeboV2_5"
 PROXIMAL = {"r_shoulder_3": "shell", "r_upper_arm": "shell", "r_elbow_1": "joint", "r_forearm": "shell"}
 DISTAL = {"r_wrist_1": "joint", "r_hand": "hand"}
 #: the extra that installs the meshes
-EXTRA = "icub-body"
+EXTRA = "icub"
 
 
 def available() -> bool:

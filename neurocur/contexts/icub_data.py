@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..config import ConfigError, check_params, describe, param
+from ..config import ConfigError, check_params, describe, extra, param
 from .icub_scene import OBJECTS, SceneParams, scene_xml
 
 FRAME_SHAPE = (75, 100)
@@ -36,7 +36,8 @@ def _mujoco():
     backend = os.environ["MUJOCO_GL"].lower()
     if backend in ("egl", "osmesa"):
         os.environ.setdefault("PYOPENGL_PLATFORM", backend)
-    import mujoco
+    with extra("icub", "the iCub world"):
+        import mujoco
 
     return mujoco
 

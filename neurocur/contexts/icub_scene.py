@@ -83,7 +83,7 @@ class SceneParams:
     camera_target: tuple[float, float, float] = spec_param((0.34, -0.22, 0.0), _XYZ)
     camera_fovy: float = param(48.0, float, low=0.0, low_open=True, high=180.0, high_open=True)
     #: how the arm looks: "primitive" (capsules and spheres) or "icub" (the iCub's own meshes,
-    #: from the icub-body extra); the arm's physics is the same either way
+    #: from the icub extra); the arm's physics is the same either way
     arm: str = param("primitive", str, choices=ARMS)
 
     def __post_init__(self):

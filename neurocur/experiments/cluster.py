@@ -19,6 +19,7 @@ import itertools
 import logging
 from contextlib import ExitStack
 
+from neurocur.config import extra
 from neurocur.results import ResultsStore
 
 from .probe import probe_scheduler
@@ -37,8 +38,9 @@ def compute_on_dask(exp: Experiment, todo, jobs: int, store: ResultsStore, bar, 
     """Compute the (condition, run) pairs of ``todo`` on the cluster of ``scheduler`` and write
     each finished run through ``store``; ``jobs`` sizes a local cluster; ``save_agent``: the
     runs return their trained agents too, written with them."""
-    import dask
-    from distributed import Client, LocalCluster, wait
+    with extra("cluster", "a dask cluster (--scheduler)"):
+        import dask
+        from distributed import Client, LocalCluster, wait
 
     with ExitStack() as stack:
         if scheduler == "local":

@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..config import ConfigError
+from ..config import ConfigError, extra
 from .data import Behaviour
 
 __all__ = ["summaries", "train", "training_experiment", "training_set"]
@@ -109,9 +109,10 @@ def train(theta: np.ndarray, x: np.ndarray, prior: Mapping[str, tuple[float, flo
           max_epochs: int = 200):
     """A neural posterior estimator (sbi's NPE, a masked autoregressive flow) trained on (theta, x);
     returns a function ``sample(x_observed, n) -> (n, len(prior)) array``."""
-    import torch
-    from sbi.inference import NPE
-    from sbi.utils import BoxUniform
+    with extra("fit", "simulation-based inference"):
+        import torch
+        from sbi.inference import NPE
+        from sbi.utils import BoxUniform
 
     torch.manual_seed(seed)
     b = np.array(list(prior.values()), dtype=np.float32)

@@ -268,7 +268,7 @@ def test_a_bad_arm_names_the_key_and_the_choices():
 
 def test_the_icub_arm_without_its_package_names_the_extra(monkeypatch):
     monkeypatch.setattr(icub_body, "available", lambda: False)
-    with pytest.raises(ConfigError, match=r"key 'arm'.*pip install 'neurocur\[icub-body\]'"):
+    with pytest.raises(ConfigError, match=r"key 'arm'.*pip install 'neurocur\[icub\]'"):
         SceneParams(arm="icub")
     assert SceneParams().arm == "primitive"  # the default needs no package
 
