@@ -17,17 +17,20 @@ import pkgutil
 from ..config import make_params
 from .base import WORLDS, Episode, SourceSpec, World, register_world
 
+#: the world type of a world table that names none
+DEFAULT_WORLD = "synthetic"
+
 for _module in pkgutil.iter_modules(__path__):
     importlib.import_module(f"{__name__}.{_module.name}")
 
 
 def world_params(table, *, source="world table", prefix="world"):
-    """``(world class, its Params)`` of a world table (``type`` defaults to ``"synthetic"``).
+    """``(world class, its Params)`` of a world table (``type`` defaults to :data:`DEFAULT_WORLD`).
 
     Paths in the table must already be absolute; errors are ConfigErrors naming the key.
     """
     table = dict(table)
-    cls = WORLDS.get(table.pop("type", "synthetic"))
+    cls = WORLDS.get(table.pop("type", DEFAULT_WORLD))
     return cls, make_params(cls.Params, table, source=source, prefix=prefix)
 
 
@@ -37,4 +40,4 @@ def build_world(table) -> World:
     return cls.from_params(params)
 
 
-__all__ = ["WORLDS", "Episode", "SourceSpec", "World", "build_world", "register_world", "world_params"]
+__all__ = ["DEFAULT_WORLD", "WORLDS", "Episode", "SourceSpec", "World", "build_world", "register_world", "world_params"]

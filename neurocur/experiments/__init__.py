@@ -2,7 +2,11 @@
 
 | part | module |
 |---|---|
-| the spec: validation, conditions, seeds; each condition's circuit and world parameters built once | ``spec`` |
+| the entrance, :func:`load_experiment`: resolve → expand → build, each pass entered once | ``spec`` |
+| 1. resolve: the file, its ``extends`` chain, its circuit files (each read once) and ``--set`` → one table that remembers where each value came from | ``resolve`` |
+| 2. expand: conditions × sweep points (pure) | ``expand`` |
+| 3. build: each condition's circuit and world parameters, once | ``build`` |
+| what the entrance makes: :class:`Condition`, :class:`Experiment` (seeds of the runs) | ``conditions`` |
 | one run → tables (:class:`neurocur.results.RunResult`) | ``run`` |
 | the local worker pool (schedules only) | ``pool`` |
 
@@ -15,7 +19,7 @@ __all__ = ["Condition", "Experiment", "load_experiment", "parse_set", "run_exper
 
 #: where each name lives; imported on first use (PEP 562), so that ``neurocur.experiments.processes``
 #: stays light and the command line can start the fork server before importing the model
-_HOME = {"Condition": "spec", "Experiment": "spec", "load_experiment": "spec", "parse_set": "spec",
+_HOME = {"Condition": "conditions", "Experiment": "conditions", "load_experiment": "spec", "parse_set": "resolve",
          "run_experiment": "pool", "run_one": "run"}
 
 

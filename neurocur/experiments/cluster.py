@@ -21,9 +21,9 @@ from contextlib import ExitStack
 
 from neurocur.results import ResultsStore
 
+from .conditions import Experiment
 from .processes import note, single_threaded_children
 from .run import run_one
-from .spec import Experiment
 
 __all__ = ["compute_on_dask"]
 

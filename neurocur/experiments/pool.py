@@ -40,9 +40,9 @@ from neurocur.results import ResultsStore
 from neurocur.results.lock import describe_holder
 
 from .cluster import compute_on_dask
+from .conditions import Condition, Experiment
 from .processes import ctrl_c_held, fork_context, note, single_threaded_children, start_fork_server
 from .run import dry_run, run_one
-from .spec import Condition, Experiment
 
 __all__ = ["Interrupted", "run_experiment"]
 

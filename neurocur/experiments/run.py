@@ -22,7 +22,7 @@ import pandas as pd
 from neurocur.contract import MODULE_COLUMNS
 from neurocur.results import RunResult
 
-from .spec import Condition
+from .conditions import Condition
 
 __all__ = ["dry_run", "run_one"]
 
