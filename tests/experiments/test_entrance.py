@@ -69,3 +69,21 @@ def test_the_resolved_table_remembers_where_each_value_came_from(tmp_path):
     assert resolved.conditions["a"].params["LC.decay"].key == "conditions.a.params.LC.decay"
     assert resolved.set_params["EC.n_pca"].source == "--set EC.n_pca"
     assert [e.source.name for e in resolved.world] == ["synthetic.toml", "base.toml", "mine.toml"]
+
+
+def test_the_command_line_follows_an_experiment_file_through_each_module_once(monkeypatch):
+    from neurocur.cli import main
+    from neurocur.experiments import runner
+
+    built = []
+
+    def stop(exp, out, **kwargs):  # the runs are the runner's: stop once the conditions are built
+        built.append(exp)
+        raise ValueError("stopped before the runs")
+
+    monkeypatch.setattr(runner, "run_experiment", stop)
+    status, modules, _ = trace(lambda: main(["run", "sweep_pfc", "--set", "PFC.discount=0.5,0.9", "--runs", "1",
+                                             "--scheduler", "local"]))
+    assert status == 2 and len(built[0].conditions) == 6
+    # the executor first (a local pool would start its fork server here), then the three passes
+    assert modules == ["executors", "cluster", "experiments", "spec", "resolve", "expand", "build"]
