@@ -3,8 +3,10 @@ with its circuit built and its world's parameters checked (:func:`neurocur.exper
 
 **Seeds (paired design).** Run *i* of every condition uses the same seed,
 ``SeedSequence(seed, spawn_key=(i,))`` (the *i*-th child of ``SeedSequence(seed).spawn``):
-the world (mixing matrices, S-D, clock offsets) and every random draw of the circuit
-start from the same state, so conditions are compared run by run. The seeds do not
+the world (mixing matrices, S-D, clock offsets; seeded under its own key,
+:func:`neurocur.scheduler.world_seed`) and every random draw of the circuit (each region's
+under its name, :func:`neurocur.scheduler.region_seed`) start from the same state, so
+conditions are compared run by run. The seeds do not
 depend on the number of runs, the conditions chosen or the number of worker processes.
 """
 
