@@ -5,9 +5,9 @@
 A change that alters the results tables for the same seeds is shown with this table in
 its commit message and in ``docs/reproduction.md``. For every condition present in both
 folders, run i of BEFORE and run i of AFTER share their seed, so they are compared
-paired by run: the order metrics by :func:`neurocur.analysis.comparison.compare`
+paired by run: the order metrics by :func:`neurocur.analysis.stats.comparison.compare`
 (Wilcoxon signed-rank for numbers, McNemar's exact test for yes/no) and the efficiency
-metrics by :func:`neurocur.analysis.efficiency.compare_efficiency`, Holm-adjusted over all
+metrics by :func:`neurocur.analysis.stats.efficiency.compare_efficiency`, Holm-adjusted over all
 the metrics of a condition. The mean learning time of each source's first module
 (epochs, Figure 4F) follows, tested (Wilcoxon) on the runs that learned the source both
 times; ``n_pairs`` counts them. Several pairs of folders (e.g. one per seed set) are pooled:
@@ -21,15 +21,18 @@ import argparse
 import pandas as pd
 
 from neurocur.analysis import (
+    Results,
     adjust_pvalues,
     compare,
     compare_efficiency,
+    efficiency_per_run,
     learning_times,
     load,
+    per_run,
     source_specs,
     wilcoxon_signed_rank,
 )
-from neurocur.analysis.order import BINARY_METRICS, NUMERIC_METRICS
+from neurocur.analysis.stats.order import BINARY_METRICS, NUMERIC_METRICS
 
 
 def relabelled(tables, condition: str, label: str):
@@ -42,12 +45,12 @@ def condition_table(before, after, condition: str, spec) -> pd.DataFrame:
     """The paired before/after rows of one condition of the loaded folders ``before`` and
     ``after`` ((episodes, modules) each): metric, before, after, difference [CI], p, p (Holm)."""
     pairs = [relabelled(before, condition, "before"), relabelled(after, condition, "after")]
-    episodes, modules = (pd.concat(t, ignore_index=True) for t in zip(*pairs))
+    results = Results.of(*(pd.concat(t, ignore_index=True) for t in zip(*pairs)), spec)
     rows = pd.concat([
-        compare((episodes, modules), "after", "before", [*NUMERIC_METRICS, *BINARY_METRICS], spec, adjust=None),
-        compare_efficiency((episodes, modules), "after", "before", spec, adjust=None),
+        compare(per_run(results), "after", "before", [*NUMERIC_METRICS, *BINARY_METRICS], adjust=None),
+        compare_efficiency(efficiency_per_run(results), "after", "before", adjust=None),
     ], ignore_index=True)
-    times = learning_times(episodes, modules, spec).query("learnable and first_of_source")
+    times = learning_times(results).query("learnable and first_of_source")
     by_run = times.pivot_table(index="run", columns=["source", "condition"], values="epochs")
     for source in sorted(times["source"].unique()):
         a, b = by_run.get((source, "after")), by_run.get((source, "before"))

@@ -10,7 +10,7 @@ Pools the runs of the given folders (condition by condition) and prints:
   medians over runs of the stored source's epochs, its share of the adaptive module's input,
   the stay that ends the cycle, the frames per change of source and the share of decisions
   that disengaged;
-- over each run's first cycle (``neurocur.analysis.reward_model.decision_rewards``, with each
+- over each run's first cycle (``neurocur.analysis.stats.reward_model.decision_rewards``, with each
   folder's ``PFC.alpha``), the means over runs of the DA after an engage and after a disengage
   (and a Wilcoxon signed-rank test of the two, paired by run), of the current context's
   R(o, engage) and R(o, disengage) at the decisions, of the share of decisions at which
@@ -23,9 +23,8 @@ import argparse
 
 import pandas as pd
 
-from neurocur.analysis import cycle_behaviour, load, source_specs, wilcoxon_signed_rank
-from neurocur.analysis.reward_model import decision_rewards
-from neurocur.analysis.write import pfc_alphas
+from neurocur.analysis import Results, cycle_behaviour, wilcoxon_signed_rank
+from neurocur.analysis.stats.reward_model import decision_rewards
 
 CYCLE_COLUMNS = ["source_frames", "source_share", "final_stay", "frames_per_switch", "p_disengage"]
 REWARD_COLUMNS = ["da_after_engage", "da_after_disengage", "r_engage", "r_disengage", "engage_below",
@@ -36,11 +35,10 @@ def study(folders: list[str]) -> tuple[pd.DataFrame, pd.DataFrame]:
     """The cycle table and the first cycle's decision rewards of every run of ``folders``."""
     cycles, rewards = [], []
     for k, folder in enumerate(folders):
-        episodes, modules = load(folder)
-        specs = source_specs(folder)
-        table = cycle_behaviour(episodes, modules, specs).assign(folder=folder)
-        first = modules.groupby(["condition", "run"])["episode"].min()
-        found = decision_rewards(episodes, pfc_alphas(folder), specs, last_episode=first).assign(folder=folder)
+        results = Results.load(folder)
+        table = cycle_behaviour(results).assign(folder=folder)
+        first = results.modules.groupby(["condition", "run"])["episode"].min()
+        found = decision_rewards(results, last_episode=first).assign(folder=folder)  # each condition's own alpha
         for t in (table, found):
             t["run"] += 1000 * k  # runs of different folders stay apart when pooled
         cycles.append(table)

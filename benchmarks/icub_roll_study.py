@@ -22,7 +22,7 @@ import argparse
 import pandas as pd
 
 from neurocur.analysis import load, source_specs
-from neurocur.analysis.dwell import share_after
+from neurocur.analysis.stats.dwell import share_after
 
 
 def after_first_module(folders: list[str]) -> tuple[pd.DataFrame, pd.DataFrame]:

@@ -3,7 +3,7 @@
     neurocur run reproduction --out results/reproduction
     python benchmarks/reproduce_synthetic.py results/reproduction [--markdown]
 
-The table is :func:`neurocur.analysis.reproduction.study_table` (its module docstring
+The table is :func:`neurocur.analysis.stats.reproduction.study_table` (its module docstring
 defines the rows, the columns and the random-switching twins).
 """
 
@@ -13,7 +13,7 @@ import argparse
 
 import pandas as pd
 
-from neurocur.analysis.reproduction import markdown, study_table
+from neurocur.analysis.stats.reproduction import markdown, study_table
 
 
 def main(argv=None) -> None:

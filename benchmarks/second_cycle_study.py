@@ -23,8 +23,8 @@ import argparse
 import pandas as pd
 from scipy.stats import binomtest
 
-from neurocur.analysis import load, per_run, source_specs, wilcoxon_signed_rank
-from neurocur.analysis.significance import fisher_exact
+from neurocur.analysis import Results, load, per_run, source_specs, wilcoxon_signed_rank
+from neurocur.analysis.stats.significance import fisher_exact
 
 
 def second_cycles(folders: list[str], condition: str) -> tuple[pd.Series, pd.DataFrame]:
@@ -35,7 +35,7 @@ def second_cycles(folders: list[str], condition: str) -> tuple[pd.Series, pd.Dat
         spec = source_specs(folder)[condition]
         easiest, b, c = spec.learnable
         contexts = {s: [i for i, name in enumerate(spec.context_sources) if name == s] for s in (b, c)}
-        runs = per_run(episodes, modules, spec)
+        runs = per_run(Results.of(episodes, modules, spec))
         runs = runs[runs["condition"] == condition]
         orders += [" → ".join(dict.fromkeys(s for s in o.split(",") if s in spec.learnable)) or "(none)"
                    for o in runs["order"]]

@@ -1,7 +1,7 @@
 """The ``neurocur`` command: run experiments, draw their figures, measure Ω, show invariance.
 
 A thin layer: it parses arguments and calls :mod:`neurocur.experiments`,
-:mod:`neurocur.analysis` (and :mod:`neurocur.analysis.invariance`) and
+:mod:`neurocur.analysis` (and :mod:`neurocur.experiments.invariance`) and
 :mod:`neurocur.learn.omega`.
 Every user-facing error (arguments, configuration, a results folder that cannot be
 written or resumed, unreadable files) is printed as one line naming what was wrong and
@@ -34,7 +34,7 @@ examples:
   neurocur invariance invariance             Figure 5: invariance of a learned slow feature
 
 EXPERIMENT is a path, or the name of an experiment shipped in the package
-(neurocur/experiments_data/NAME.toml): synthetic, reproduction, sweep_pfc, icub, gym_classic.
+(neurocur/experiments_data/NAME.toml); 'neurocur list' shows them all, one line each.
 
 Running again into the same results folder resumes: finished runs are kept. One process at a
 time writes into a results folder; resuming refuses changed input files and (unless
@@ -115,6 +115,11 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--max-memory", type=_memory, metavar="SIZE",
                      help="memory the workers may use together, e.g. 8G (default: what the machine has available); "
                      "estimated from each condition's first episode before any worker starts")
+    run.add_argument("--checkpoint-every", type=_int_at_least(0, "an integer >= 0"), metavar="N",
+                     help="save each run's state every N episodes into OUT/checkpoints/, so that a stopped run "
+                     "continues from there (0: never; default: every 200 episodes for runs of 200000 steps or more)")
+    run.add_argument("--save-agent", action="store_true",
+                     help="write each run's trained agent into its run folder (agent/; neurocur.load_agent reads it)")
     run.add_argument("--accept-code-change", action="store_true",
                      help="resume into a folder whose runs other code computed (the folder records every code "
                      "version that wrote runs into it); changed input files are always refused")
@@ -158,6 +163,9 @@ def build_parser() -> argparse.ArgumentParser:
         formatter_class=argparse.RawDescriptionHelpFormatter)
     invariance.add_argument("experiment", metavar="EXPERIMENT", help="invariance TOML file or shipped name (invariance)")
     invariance.add_argument("--out", metavar="DIR", help="output folder (default: results/<name in the file>)")
+
+    sub.add_parser("list", help="the shipped experiments and circuits, one line each",
+                   description="List the experiments, invariance demonstrations and circuits shipped in the package.")
     return parser
 
 
@@ -181,9 +189,15 @@ def _cmd_run(args) -> int:
         nonlocal tables
         tables = ResultsStore(folder).load()
         write_summary(folder, tables=tables)
+        if any(condition.world_class.figures_after_run for condition in exp.conditions.values()):
+            from neurocur.analysis.figures import write_all  # a small task's figures (docs/validation.md)
+
+            for path in write_all(folder):
+                print(path)
 
     run_experiment(exp, out, conditions=args.condition, progress=args.progress, max_memory=args.max_memory,
-                   accept_code_change=args.accept_code_change, executor=executor, finish=summarise)
+                   accept_code_change=args.accept_code_change, executor=executor, finish=summarise,
+                   checkpoint_every=args.checkpoint_every, save_agent=args.save_agent)
     from neurocur.analysis import order_tables
 
     print(f"results: {out}")
@@ -193,7 +207,7 @@ def _cmd_run(args) -> int:
 
 
 def _cmd_figures(args) -> int:
-    from neurocur.analysis.write import write_all
+    from neurocur.analysis.figures.sets import write_all
 
     if args.out is not None:
         _check_writable_folder(Path(args.out), "--out")
@@ -203,6 +217,7 @@ def _cmd_figures(args) -> int:
 
 
 def _cmd_omega(args) -> int:
+    from neurocur.config.npy import load_npy
     from neurocur.learn.omega import omega
 
     if (args.file is None) == (args.experiment is None):
@@ -214,13 +229,14 @@ def _cmd_omega(args) -> int:
         if not path.is_file():
             raise ValueError(f"omega: FILE.npy: expected an existing .npy file, got {str(path)!r} (no such file)")
         try:
-            X = np.load(path, allow_pickle=False)
+            X = load_npy(path)
         except (ValueError, OSError, EOFError) as exc:
-            raise ValueError(f"omega: {path}: expected a .npy array written by numpy.save, got a file numpy "
-                             f"cannot read as one ({exc})") from None
-        if not isinstance(X, np.ndarray):  # a .npz archive
-            X.close()
-            raise ValueError(f"omega: {path}: expected a .npy array written by numpy.save, got a .npz archive")
+            raise ValueError(f"omega: {path}: {exc}") from None
+        if X.dtype.kind in "fiu":
+            with np.errstate(over="ignore", invalid="ignore"):
+                if not np.isfinite(np.var(X, axis=0, dtype=np.float64)).all():
+                    raise ValueError(f"omega: {path}: expected a signal whose variance is finite in float64 "
+                                     f"(|x| up to about 1e150), got values up to {np.nanmax(np.abs(X)):.3g}")
         try:
             value = omega(X, args.eta)
         except ValueError as exc:
@@ -246,16 +262,24 @@ def _cmd_omega(args) -> int:
 
 
 def _cmd_invariance(args) -> int:
-    from neurocur.analysis.invariance import load_invariance, write_invariance
-    from neurocur.experiments.spec import resolve_experiment
+    from neurocur.analysis.figures.invariance import save_invariance
+    from neurocur.experiments.invariance import load_invariance, write_invariance
+    from neurocur.tables import resolve_file
 
-    spec = load_invariance(resolve_experiment(args.experiment))
+    spec = load_invariance(resolve_file(args.experiment, Path(), "invariance", source=args.experiment, key=None))
     out = Path(args.out) if args.out else Path("results") / spec.name
-    demo, paths = write_invariance(spec, out)
+    demo, result = write_invariance(spec, out)
     print(f"{spec.source}: corr = {demo.corr:.5f} (first feature before/after the swap), "
           f"quality = {demo.quality:.5f} (|corr| with the slow source dimension)")
-    for path in paths:
+    for path in (save_invariance(demo, out), result):
         print(path)
+    return 0
+
+
+def _cmd_list(args) -> int:
+    from neurocur.experiments.catalog import format_catalog
+
+    print(format_catalog())
     return 0
 
 
@@ -276,11 +300,15 @@ def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     command = {"run": _cmd_run, "figures": _cmd_figures, "omega": _cmd_omega,
-               "invariance": _cmd_invariance}[args.command]
+               "invariance": _cmd_invariance, "list": _cmd_list}[args.command]
     try:
         return command(args)
     except (ValueError, OSError) as exc:  # ConfigError is a ValueError; OSError: a file that cannot be read or written
         print(f"neurocur {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+    except MemoryError:
+        print(f"neurocur {args.command}: error: out of memory: a setting asks for more memory than this process may "
+              "allocate (e.g. world.frame_shape, steps, a source file); use smaller settings", file=sys.stderr)
         return 2
     except KeyboardInterrupt as exc:
         if threading.current_thread() is threading.main_thread():

@@ -123,9 +123,11 @@ class Simulator:
         self.n_frames = 0
         self.n_episodes = 0
 
-    def run(self, n_steps: int, progress=None) -> Simulator:
+    def run(self, n_steps: int, progress=None, checkpoint=None) -> Simulator:
         """Run whole episodes until ``n_steps`` more frames have been seen (at least one episode
-        when ``n_steps`` > 0). ``progress(frames_done)`` is called after every episode."""
+        when ``n_steps`` > 0). ``progress(frames_done)`` is called after every episode, and
+        ``checkpoint(simulator)`` too, at the boundary between two episodes: the moment a
+        simulator's state can be saved and continued from (:mod:`neurocur.results.agents`)."""
         if isinstance(n_steps, bool) or not isinstance(n_steps, (int, np.integer)) or n_steps < 0:
             raise ValueError(f"n_steps must be a non-negative integer (frames); got {n_steps!r}")
         target = self.n_frames + int(n_steps)
@@ -159,6 +161,8 @@ class Simulator:
             self.n_episodes += 1
             if progress is not None:
                 progress(self.n_frames)
+            if checkpoint is not None:
+                checkpoint(self)
         return self
 
     # ------------------------------------------------------------------ tables

@@ -16,8 +16,10 @@ from __future__ import annotations
 
 import atexit
 import contextlib
+import functools
 import importlib.resources
 import os
+import stat
 import tomllib
 from collections.abc import Mapping
 from pathlib import Path
@@ -28,22 +30,34 @@ __all__ = ["check_keys", "deep_merge", "load_toml", "require", "resolve_file", "
 
 
 def load_toml(path) -> dict:
-    """Read a TOML file into a dict; a missing, unreadable or binary file, a directory or a
-    syntax error is a ConfigError."""
+    """Read a TOML file into a dict; a missing, unreadable or binary file, a directory, a FIFO or
+    other file that is not a regular file (never opened for reading: it could block), a syntax
+    error or tables nested too deeply for the parser is a ConfigError."""
     path = Path(path)
-    if path.is_dir():
-        raise ConfigError(path, None, "a TOML file", "a directory")
     try:
-        with path.open("rb") as fh:
-            return tomllib.load(fh)
+        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | os.O_CLOEXEC)
     except FileNotFoundError:
         raise ConfigError(path, None, "an existing TOML file", "no such file") from None
     except OSError as exc:
         raise ConfigError(path, None, "a readable TOML file", f"{exc.strerror or exc}") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(path, None, "valid TOML", f"a syntax error ({exc})") from None
-    except UnicodeDecodeError:
-        raise ConfigError(path, None, "a TOML file (UTF-8 text)", "a binary file") from None
+    mode = os.fstat(fd).st_mode
+    if not stat.S_ISREG(mode):
+        os.close(fd)
+        if stat.S_ISDIR(mode):
+            raise ConfigError(path, None, "a TOML file", "a directory")
+        raise ConfigError(path, None, "a TOML file (a regular file)", "a FIFO, socket or device")
+    os.set_blocking(fd, True)
+    with open(fd, "rb") as fh:
+        try:
+            return tomllib.load(fh)
+        except OSError as exc:
+            raise ConfigError(path, None, "a readable TOML file", f"{exc.strerror or exc}") from None
+        except tomllib.TOMLDecodeError as exc:
+            raise ConfigError(path, None, "valid TOML", f"a syntax error ({exc})") from None
+        except UnicodeDecodeError:
+            raise ConfigError(path, None, "a TOML file (UTF-8 text)", "a binary file") from None
+        except RecursionError:
+            raise ConfigError(path, None, "valid TOML", "arrays or tables nested too deeply to read") from None
 
 
 def check_keys(table: Mapping, allowed, *, source, prefix: str = "", required=()) -> None:
@@ -85,13 +99,18 @@ def deep_merge(base: Mapping, override: Mapping) -> dict:
 
 
 #: kind -> folder of the package that holds the shipped TOML files of that kind
-SHIPPED = {"circuit": "circuits", "experiment": "experiments_data"}
+SHIPPED = {"circuit": "circuits", "experiment": "experiments_data", "invariance": "experiments_data"}
+#: the top-level key that tells an invariance demonstration (``neurocur invariance``) from an experiment
+#: (``neurocur run``) among the files of ``experiments_data/``
+INVARIANCE_KEY = "source"
 _extracted = contextlib.ExitStack()
 atexit.register(_extracted.close)
 
 
 def shipped_files(kind: str) -> dict[str, Path]:
-    """The TOML files of ``kind`` (``"circuit"`` or ``"experiment"``) shipped in the package, by name."""
+    """The TOML files of ``kind`` (``"circuit"``, ``"experiment"`` or ``"invariance"``) shipped in the
+    package, by name. Experiments and invariance demonstrations share ``experiments_data/``; a file
+    with a top-level :data:`INVARIANCE_KEY` is an invariance demonstration."""
     folder = importlib.resources.files("neurocur").joinpath(SHIPPED[kind])
     if not folder.is_dir():
         return {}
@@ -99,21 +118,33 @@ def shipped_files(kind: str) -> dict[str, Path]:
     for item in sorted(folder.iterdir(), key=lambda t: t.name):
         if item.name.endswith(".toml") and item.is_file():
             path = item if isinstance(item, Path) else _extracted.enter_context(importlib.resources.as_file(item))
-            found[item.name[: -len(".toml")]] = Path(path)
+            if kind == "circuit" or _shipped_kind(Path(path)) == kind:
+                found[item.name[: -len(".toml")]] = Path(path)
     return found
+
+
+@functools.cache
+def _shipped_kind(path: Path) -> str:
+    return "invariance" if INVARIANCE_KEY in load_toml(path) else "experiment"
 
 
 def resolve_file(value, base_dir: Path, kind: str, *, source, key) -> Path:
     """The file that ``value`` names: a path (relative to ``base_dir``) when it is an existing
     path, ends with ``.toml`` or contains a path separator (returned as ``base_dir / value``,
-    not resolved); otherwise the name of a shipped file of ``kind``. An unknown name is a ConfigError (``source``, ``key``) listing the names."""
+    not resolved); otherwise the name of a shipped file of ``kind``. A directory never shadows a
+    shipped name (``--out icub`` leaves ``icub`` the shipped experiment). An unknown name is a
+    ConfigError (``source``, ``key``) listing the names."""
     text = os.fspath(value)
     path = Path(base_dir) / text
     seps = tuple(s for s in (os.sep, os.altsep) if s)
-    if path.exists() or text.endswith(".toml") or any(s in text for s in seps) or not text:
-        return path
     shipped = shipped_files(kind)
+    existing = path.exists() and not (path.is_dir() and text in shipped)
+    if existing or text.endswith(".toml") or any(s in text for s in seps) or not text:
+        return path
     if text in shipped:
         return shipped[text]
+    other = next((k for k in SHIPPED if k != kind and text in shipped_files(k)), None)
+    got = f"{text!r} (a shipped {other} file: 'neurocur list' says how to use it)" if other else \
+        f"{text!r} (no such file or name)"
     raise ConfigError(source, key, f"an existing {kind} file or the name of a shipped {kind} "
-                                   f"({', '.join(shipped) or 'none'})", f"{text!r} (no such file or name)")
+                                   f"({', '.join(shipped) or 'none'})", got)

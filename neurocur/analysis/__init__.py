@@ -1,43 +1,48 @@
 """Analysis of a results folder: tidy tables, statistics and seaborn figures.
 
-``load(DIR)`` reads the episodes and modules tables of every run (through
-:class:`neurocur.results.ResultsStore`), and ``write_summary(DIR)`` writes ``summary.json``.
-One module per question, all re-exported here:
+``Results.load(DIR)`` (:mod:`~neurocur.analysis.results`) reads a folder's episodes and modules
+tables (through :class:`neurocur.results.ResultsStore`), each condition's sources and its
+``config.toml``; every statistic and figure that needs more than one table takes that
+:class:`~neurocur.analysis.results.Results`. ``write_summary(DIR)`` writes ``summary.json``
+(:mod:`~neurocur.analysis.io`). Two rooms, every public name re-exported here:
 
-- :mod:`~neurocur.analysis.order` — the module order per run, its counts (Clopper–Pearson
+:mod:`~neurocur.analysis.stats` — one module per question:
+
+- :mod:`~neurocur.analysis.stats.order` — the module order per run, its counts (Clopper–Pearson
   intervals) and Kendall τ;
-- :mod:`~neurocur.analysis.learning_time` — the learning time of each source (Figure 4F);
-- :mod:`~neurocur.analysis.comparison` — one condition against another (paired by run), many
+- :mod:`~neurocur.analysis.stats.learning_time` — the learning time of each source (Figure 4F);
+- :mod:`~neurocur.analysis.stats.comparison` — one condition against another (paired by run), many
   against a reference, and the multiple-comparison adjustment;
-- :mod:`~neurocur.analysis.significance` — the two-sample tests (Wilcoxon signed-rank and
+- :mod:`~neurocur.analysis.stats.significance` — the two-sample tests (Wilcoxon signed-rank and
   McNemar exact, paired; Mann–Whitney U and Fisher exact, unpaired);
-- :mod:`~neurocur.analysis.bootstrap` — percentile bootstrap intervals over runs and pairs;
-- :mod:`~neurocur.analysis.sweeps` — every sweep point against a reference point, every
+- :mod:`~neurocur.analysis.stats.bootstrap` — percentile bootstrap intervals over runs and pairs;
+- :mod:`~neurocur.analysis.stats.sweeps` — every sweep point against a reference point, every
   condition against a reference condition at each point;
-- :mod:`~neurocur.analysis.report` — the order table beside the paper's numbers, and the summary;
-- :mod:`~neurocur.analysis.dwell` — visits, dwell per context, occupancy over time, the share
+- :mod:`~neurocur.analysis.stats.report` — the order table beside the paper's numbers, and the summary;
+- :mod:`~neurocur.analysis.stats.degenerate` — conditions whose runs repeat another's, left out of
+  the comparisons;
+- :mod:`~neurocur.analysis.stats.dwell` — visits, dwell per context, occupancy over time, the share
   of frames in chosen contexts after an event;
-- :mod:`~neurocur.analysis.efficiency` — frames until every learnable source is learned, frames in
-  the unlearnable contexts, modules per 10⁵ frames, compared paired by run;
-- :mod:`~neurocur.analysis.inverted_u` — the two-lines test of an interior peak (Simonsohn 2018),
-  a quadratic fit beside it, the peak's location with a bootstrap interval;
-- :mod:`~neurocur.analysis.goldilocks` — engagement against learnability, the two-lines test per
-  model, its figure;
-- :mod:`~neurocur.analysis.event_locked` — DA and NE averaged around events (module storage,
+- :mod:`~neurocur.analysis.stats.efficiency` — frames until every learnable source is learned, frames
+  in the unlearnable contexts, modules per 10⁵ frames, compared paired by run;
+- :mod:`~neurocur.analysis.stats.inverted_u` — the two-lines test of an interior peak (Simonsohn
+  2018), a quadratic fit beside it, the peak's location with a bootstrap interval;
+- :mod:`~neurocur.analysis.stats.goldilocks` — engagement against learnability, the two-lines test
+  per model;
+- :mod:`~neurocur.analysis.stats.event_locked` — DA and NE averaged around events (module storage,
   context switches, familiarity onset) with intervals across runs; tonic against phasic NE;
-- :mod:`~neurocur.analysis.cycles` — the estimation error per learning cycle, aligned to module
-  storage (Figure 4D), and the agent's behaviour in each cycle;
-- :mod:`~neurocur.analysis.figures` — matplotlib Figures (paper Figures 4D–G);
-- :mod:`~neurocur.analysis.write` — every figure of a results folder as PNG files (``write_all``);
-- :mod:`~neurocur.analysis.figures_neuro` — the figures of the neuromodulator and behaviour
-  analyses (inverted U, occupancy, signals over time, event-locked traces, efficiency).
+- :mod:`~neurocur.analysis.stats.cycles` — the estimation error per learning cycle, aligned to module
+  storage (Figure 4D), and the agent's behaviour in each cycle.
+
+:mod:`~neurocur.analysis.figures` — matplotlib Figures (paper Figures 4D–G, the neuromodulator
+and behaviour analyses, Goldilocks, iCub Figures 6–7, Figure 5), and the figure set of each
+world type with ``write_all`` (every figure of a results folder as PNG files).
 
 Not re-exported: :mod:`~neurocur.analysis.paper` (the paper's numbers, with their sections),
-:mod:`~neurocur.analysis.style` (the figure style and saving),
-:mod:`~neurocur.analysis.reproduction` (the reproduction study's table),
-:mod:`~neurocur.analysis.icub` (the iCub experiment, Figures 6B–D and 7),
-:mod:`~neurocur.analysis.invariance` (Figure 5) and :mod:`~neurocur.analysis.reward_model` (the
-PFC's eq-14 model replayed from a run's recorded DA and decisions).
+:mod:`~neurocur.analysis.stats.reproduction` (the reproduction study's table),
+:mod:`~neurocur.analysis.stats.icub` (the iCub experiment's tables) and
+:mod:`~neurocur.analysis.stats.reward_model` (the value estimator's eq-14 model replayed from a
+run's recorded DA and decisions).
 """
 
 import ast
@@ -45,10 +50,18 @@ import functools
 import importlib
 from pathlib import Path
 
-from neurocur.analysis import (
+from neurocur.analysis.io import load as load
+from neurocur.analysis.io import order_tables as order_tables
+from neurocur.analysis.io import run_dirs as run_dirs
+from neurocur.analysis.io import throughput as throughput
+from neurocur.analysis.io import write_summary as write_summary
+from neurocur.analysis.results import Results as Results
+from neurocur.analysis.results import source_specs as source_specs
+from neurocur.analysis.stats import (
     bootstrap,
     comparison,
     cycles,
+    degenerate,
     dwell,
     efficiency,
     event_locked,
@@ -58,51 +71,59 @@ from neurocur.analysis import (
     significance,
     sweeps,
 )
-from neurocur.analysis.bootstrap import *  # noqa: F403
-from neurocur.analysis.comparison import *  # noqa: F403
-from neurocur.analysis.cycles import *  # noqa: F403
-from neurocur.analysis.dwell import *  # noqa: F403
-from neurocur.analysis.efficiency import *  # noqa: F403
-from neurocur.analysis.event_locked import *  # noqa: F403
-from neurocur.analysis.io import load as load
-from neurocur.analysis.io import order_tables as order_tables
-from neurocur.analysis.io import run_dirs as run_dirs
-from neurocur.analysis.io import source_specs as source_specs
-from neurocur.analysis.io import throughput as throughput
-from neurocur.analysis.io import write_summary as write_summary
-from neurocur.analysis.learning_time import *  # noqa: F403
-from neurocur.analysis.order import *  # noqa: F403
-from neurocur.analysis.report import *  # noqa: F403
-from neurocur.analysis.significance import *  # noqa: F403
-from neurocur.analysis.sweeps import *  # noqa: F403
+from neurocur.analysis.stats.bootstrap import *  # noqa: F403
+from neurocur.analysis.stats.comparison import *  # noqa: F403
+from neurocur.analysis.stats.cycles import *  # noqa: F403
+from neurocur.analysis.stats.degenerate import *  # noqa: F403
+from neurocur.analysis.stats.dwell import *  # noqa: F403
+from neurocur.analysis.stats.efficiency import *  # noqa: F403
+from neurocur.analysis.stats.event_locked import *  # noqa: F403
+from neurocur.analysis.stats.learning_time import *  # noqa: F403
+from neurocur.analysis.stats.order import *  # noqa: F403
+from neurocur.analysis.stats.report import *  # noqa: F403
+from neurocur.analysis.stats.significance import *  # noqa: F403
+from neurocur.analysis.stats.sweeps import *  # noqa: F403
 from neurocur.contexts.base import SourceSpec as SourceSpec
 from neurocur.contexts.synthetic import SYNTHETIC as SYNTHETIC
 
-_EAGER = ["load", "order_tables", "run_dirs", "source_specs", "throughput", "write_summary", "SourceSpec", "SYNTHETIC",
-          *order.__all__, *learning_time.__all__, *comparison.__all__, *significance.__all__, *bootstrap.__all__,
-          *sweeps.__all__, *report.__all__, *dwell.__all__, *efficiency.__all__, *event_locked.__all__,
-          *cycles.__all__]
+_EAGER = ["load", "order_tables", "run_dirs", "source_specs", "throughput", "write_summary", "Results", "SourceSpec",
+          "SYNTHETIC", *order.__all__, *learning_time.__all__, *comparison.__all__, *significance.__all__,
+          *bootstrap.__all__, *sweeps.__all__, *report.__all__, *dwell.__all__, *efficiency.__all__,
+          *event_locked.__all__, *cycles.__all__, *degenerate.__all__]
 
 #: Re-exported, but imported on first use (PEP 562): they import matplotlib, seaborn or
 #: statsmodels' full API (about 1.5 s), which loading results and writing a summary do not need.
-_DEFERRED = ("figures", "figures_neuro", "goldilocks", "inverted_u", "write")
+#: The figures are the whole :mod:`~neurocur.analysis.figures` package (its ``__all__``).
+_DEFERRED = ("figures", "stats.goldilocks", "stats.inverted_u")
 
 
 def _deferred(name: str):
     return importlib.import_module(f"{__name__}.{name}")
 
 
+def _all_of(path: Path) -> list[str]:
+    """The public names of a module's source, read without importing it: its literal ``__all__``;
+    for a package, the ``__all__`` of each module its ``__init__`` star-imports."""
+    if path.is_dir():
+        tree = ast.parse((path / "__init__.py").read_text(encoding="utf-8"))
+        return [name for node in tree.body if isinstance(node, ast.ImportFrom) and node.level == 1
+                and [a.name for a in node.names] == ["*"] for name in _all_of(path / f"{node.module}.py")]
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    value = next(node.value for node in tree.body if isinstance(node, ast.Assign)
+                 and any(isinstance(t, ast.Name) and t.id == "__all__" for t in node.targets))
+    return ast.literal_eval(value)
+
+
 @functools.cache
 def _deferred_names() -> dict[str, str]:
-    """Each deferred module's public name -> that module, read from the literal ``__all__`` of its
-    source without importing it, so that ``dir()`` (a notebook's tab completion) and a lookup of a
-    name that is not there stay cheap."""
+    """Each deferred module's public name -> that module, read from its source without importing
+    it, so that ``dir()`` (a notebook's tab completion) and a lookup of a name that is not there
+    stay cheap."""
+    here = Path(__file__).parent
     names = {}
     for sub in _DEFERRED:
-        tree = ast.parse(Path(__file__).with_name(f"{sub}.py").read_text(encoding="utf-8"))
-        value = next(node.value for node in tree.body if isinstance(node, ast.Assign)
-                     and any(isinstance(t, ast.Name) and t.id == "__all__" for t in node.targets))
-        names.update(dict.fromkeys(ast.literal_eval(value), sub))
+        path = here.joinpath(*sub.split("."))
+        names.update(dict.fromkeys(_all_of(path if path.is_dir() else path.with_suffix(".py")), sub))
     return names
 
 

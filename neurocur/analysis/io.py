@@ -1,9 +1,9 @@
 """Reading a results folder for the analysis, and writing its ``summary.json``.
 
 The folder belongs to :class:`neurocur.results.ResultsStore`; this module reads it
-through the store. Nothing here rebuilds a world or a circuit: what a condition's world
-showed (its contexts, their sources, the learnable sources in Ω order) is in each run's
-``run.json``.
+through the store (as a :class:`~neurocur.analysis.results.Results`). Nothing here rebuilds
+a world or a circuit: what a condition's world showed (its contexts, their sources, the
+learnable sources in Ω order) is in each run's ``run.json``.
 """
 
 from __future__ import annotations
@@ -15,82 +15,64 @@ import pandas as pd
 from neurocur.contexts.base import SourceSpec
 from neurocur.results import ResultsStore, load, run_dirs
 
-from .report import order_table, paired_test_rows, summary
+from .results import Results, source_specs
+from .stats.efficiency import censoring_horizon
+from .stats.report import order_table, paired_test_rows, summary
 
 __all__ = ["load", "run_dirs", "source_specs", "order_tables", "throughput", "write_summary"]
 
 
-def source_specs(results_dir: str | Path) -> dict[str, SourceSpec]:
-    """Each condition's :class:`~neurocur.contexts.base.SourceSpec`, read from its first run's
-    ``run.json``; conditions in the order of the folder's ``config.toml``, then the others."""
-    store = ResultsStore(results_dir)
-    specs: dict[str, SourceSpec] = {}
-    for path in store.run_dirs():
-        condition = path.parent.name
-        if condition not in specs:
-            info = store.run_info(path)
-            specs[condition] = SourceSpec(tuple(c["name"] for c in info["contexts"]),
-                                          tuple(c["source"] for c in info["contexts"]), tuple(info["learnable"]))
-    order = list((store.config() or {}).get("conditions", {}))
-    return {c: specs[c] for c in sorted(specs, key=lambda c: (order.index(c) if c in order else len(order), c))}
-
-
 def order_tables(
     results_dir: str | Path, conditions=None, *, reference: str | None = None, tests: bool = True,
-    tables: tuple[pd.DataFrame, pd.DataFrame] | None = None,
+    tables: tuple[pd.DataFrame, pd.DataFrame] | None = None, exclude_degenerate: bool = True,
 ) -> pd.DataFrame:
-    """The order table (:func:`~neurocur.analysis.report.order_table`) of every condition
+    """The order table (:func:`~neurocur.analysis.stats.report.order_table`) of every condition
     (or of ``conditions``), each with its own world's sources, side by side.
 
-    With ``tests``, the rows of :func:`~neurocur.analysis.report.paired_test_rows` follow: the
+    With ``tests``, the rows of :func:`~neurocur.analysis.stats.report.paired_test_rows` follow: the
     paired tests of ``reference`` (default: the first condition of the folder's
     ``config.toml`` that has runs) against every other shown condition with the same world's
     sources, the efficiency metrics and the order metrics each Holm-adjusted as one family;
-    each row names its test and adjustment. ``tables``: the folder's ``(episodes, modules)``
-    when already loaded (:func:`load`), so that they are not read again.
+    each row names its test and adjustment; a degenerate condition (its runs repeat another's) is
+    left out of them unless ``exclude_degenerate`` is false, and a row says so. The frames to learn all of every shown condition and
+    their tests are censored at one cut-off, the shortest run of the shown conditions.
+    ``tables``: the folder's ``(episodes, modules)`` when already loaded (:func:`load`), so that
+    they are not read again.
     """
-    episodes, modules = load(results_dir) if tables is None else tables
-    specs = {c: s for c, s in source_specs(results_dir).items() if conditions is None or c in conditions}
-    blocks = []
-    for condition, spec in specs.items():
-        keep_e, keep_m = episodes["condition"] == condition, modules["condition"] == condition
-        blocks.append(order_table(episodes[keep_e], modules[keep_m], spec))
-    table = pd.concat(blocks, axis=1)
+    results = Results.load(results_dir, tables=tables)
+    specs = {c: s for c, s in results.specs.items() if conditions is None or c in conditions}
+    horizon = censoring_horizon(results.select(specs))
+    table = pd.concat([order_table(results.select([condition]), horizon=horizon) for condition in specs], axis=1)
     table = table.loc[:, ~table.columns.duplicated()]
     reference = next(iter(specs), None) if reference is None else reference
     if tests and reference in specs:
-        group = [c for c, s in specs.items() if s == specs[reference]]
-        keep_e, keep_m = episodes["condition"].isin(group), modules["condition"].isin(group)
-        rows = paired_test_rows(episodes[keep_e], modules[keep_m], reference, specs[reference])
+        group = results.select([c for c, s in specs.items() if s == specs[reference]])
+        rows = paired_test_rows(group, reference, horizon=horizon, exclude_degenerate=exclude_degenerate)
         if len(rows):
             table = pd.concat([table, rows.reindex(columns=table.columns, fill_value="—")])
     return table
 
 
 def write_summary(results_dir: str | Path, *, tables: tuple[pd.DataFrame, pd.DataFrame] | None = None) -> dict:
-    """Aggregate every finished run into ``summary.json`` (:func:`~neurocur.analysis.report.summary`).
+    """Aggregate every finished run into ``summary.json`` (:func:`~neurocur.analysis.stats.report.summary`).
 
     One summary when every condition's world has the same sources, else one per condition.
-    The reference of the comparisons is the first condition of the folder's ``config.toml``.
-    ``throughput`` records the runs' own compute time (``seconds`` of each ``run.json``, one
-    core each): seconds per run and runs per core-hour. ``tables``: the folder's ``(episodes,
-    modules)`` when already loaded (:func:`load`).
+    The reference of the comparisons is the first condition of the folder's ``config.toml``
+    (:attr:`~neurocur.analysis.results.Results.reference`). ``throughput`` records the runs' own
+    compute time (``seconds`` of each ``run.json``, one core each): seconds per run and runs per
+    core-hour. ``tables``: the folder's ``(episodes, modules)`` when already loaded (:func:`load`).
     """
-    store = ResultsStore(results_dir)
-    episodes, modules = store.load() if tables is None else tables
-    specs = source_specs(results_dir)
-    reference = next(iter((store.config() or {}).get("conditions", specs)))
-    if len(set(specs.values())) <= 1:
-        spec = next(iter(specs.values()))
-        result = {"spec": _spec_dict(spec), **summary(episodes, modules, spec, reference=reference)}
+    results = Results.load(results_dir, tables=tables)
+    reference = results.reference
+    if len(set(results.specs.values())) <= 1:
+        result = {"spec": _spec_dict(next(iter(results.specs.values()))), **summary(results, reference=reference)}
     else:
         result = {"conditions": {}}
-        for name, spec in specs.items():
-            keep_e, keep_m = episodes["condition"] == name, modules["condition"] == name
+        for name, spec in results.specs.items():
             result["conditions"][name] = {"spec": _spec_dict(spec),
-                                          **summary(episodes[keep_e], modules[keep_m], spec, reference=reference)}
+                                          **summary(results.select([name]), reference=reference)}
     result["throughput"] = throughput(results_dir)
-    store.write_summary(result)
+    ResultsStore(results_dir).write_summary(result)
     return result
 
 

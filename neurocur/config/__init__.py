@@ -9,12 +9,24 @@ Parameters of regions (and of anything else configured from a file) are frozen
 dataclasses whose fields are declared with :func:`param` (or :func:`spec_param` for a
 ready :class:`ParamSpec`, e.g. a list, a table or nested parameters);
 :func:`check_params` validates type and range, and :func:`make_params` builds an
-instance from a TOML table. The learners of :mod:`neurocur.learn` declare a
-:class:`ParamSpec` per parameter (``param_specs``), checked by :func:`coerce_params`;
-a region parameter passed on to a learner is declared with :func:`learner_param`, so
-it takes the learner's spec. Loading a configuration never executes code.
+instance from a TOML table. The learners of :mod:`neurocur.learn` declare their
+parameters the same way, as fields of dataclasses (scikit-learn estimators store them
+unchanged, so they check a copy: :func:`param_specs`, :func:`coerce_params`); a
+parameter passed on to a learner is declared with :func:`learner_param`, so it takes
+the learner's spec. Loading a configuration never executes code.
+
+The checks shared by every layer (input blocks, seeds, scalar arguments of functions called
+from Python) are :mod:`.checks`.
 """
 
+from .checks import (
+    RANDOM_STATE,
+    check_block,
+    check_fraction,
+    check_nonconstant,
+    check_positive_int,
+    check_random_state,
+)
 from .errors import ConfigError, describe, join_key
 from .params import (
     ParamSpec,
@@ -24,6 +36,7 @@ from .params import (
     learner_param,
     make_params,
     param,
+    param_specs,
     params_to_dict,
     path_values,
     resolve_paths,
@@ -36,6 +49,7 @@ __all__ = [
     "param",
     "spec_param",
     "learner_param",
+    "param_specs",
     "coerce_params",
     "check_params",
     "check_table",
@@ -45,4 +59,10 @@ __all__ = [
     "path_values",
     "describe",
     "join_key",
+    "RANDOM_STATE",
+    "check_block",
+    "check_fraction",
+    "check_nonconstant",
+    "check_positive_int",
+    "check_random_state",
 ]

@@ -4,17 +4,19 @@ that carry one, and checking, building and reading parameter dataclasses from TO
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
+from types import MappingProxyType
 from typing import Any
 
 import numpy as np
 
 from .errors import ConfigError, describe, join_key
 
-__all__ = ["ParamSpec", "param", "spec_param", "learner_param", "coerce_params", "check_params", "check_table",
+__all__ = ["ParamSpec", "param", "spec_param", "learner_param", "param_specs", "coerce_params", "check_params", "check_table",
            "make_params", "resolve_paths", "params_to_dict", "path_values"]
 
 
@@ -223,7 +225,8 @@ def param(default, kind: type, *, low=None, high=None, low_open=False, high_open
 def spec_param(default, spec: ParamSpec, *, doc: str = ""):
     """A dataclass field carrying a ready :class:`ParamSpec`, e.g. a composite one.
 
-    A table (dict) default is copied for each instance.
+    A table (dict) default is copied for each instance; ``dataclasses.MISSING`` makes the
+    parameter required.
     """
     metadata = {"spec": spec, "doc": doc}
     if isinstance(default, dict):
@@ -234,12 +237,25 @@ def spec_param(default, spec: ParamSpec, *, doc: str = ""):
 def learner_param(owner, name: str, default, *, doc: str = ""):
     """A dataclass field checked by the spec that ``owner`` declares for its parameter ``name``.
 
-    ``owner.param_specs[name]`` is the spec (learners in :mod:`neurocur.learn` declare
-    one per parameter), so a region parameter that is passed on to a learner accepts
-    exactly what the learner accepts: ``mca_rate: float = learner_param(IncSFA,
-    "mca_rate", 0.05, doc="MCA learning rate")``.
+    ``owner`` declares its parameters as fields too (the learners of :mod:`neurocur.learn`
+    do, :func:`param_specs`), so a parameter passed on to a learner accepts exactly what
+    the learner accepts: ``mca_rate: float = learner_param(IncSFA, "mca_rate", 0.05,
+    doc="MCA learning rate")`` in a region, ``n_pca: int = learner_param(CCIPCA,
+    "n_components", 3)`` in IncSFA, which whitens with a CCIPCA.
     """
-    return spec_param(default, owner.param_specs[name], doc=doc)
+    return spec_param(default, param_specs(owner)[name], doc=doc)
+
+
+def param_specs(owner) -> Mapping[str, ParamSpec]:
+    """``{name: spec}`` of every field of the dataclass ``owner`` (a class or an instance) that
+    carries a spec (made with :func:`param`, :func:`spec_param` or :func:`learner_param`), in
+    field order; read-only."""
+    return _field_specs(owner if isinstance(owner, type) else type(owner))
+
+
+@functools.cache
+def _field_specs(cls: type) -> Mapping[str, ParamSpec]:
+    return MappingProxyType({f.name: f.metadata["spec"] for f in dataclasses.fields(cls) if "spec" in f.metadata})
 
 
 def coerce_params(specs: Mapping[str, ParamSpec], values: Mapping, *, source) -> dict:

@@ -2,8 +2,8 @@
 
 ``synthetic`` (:mod:`.synthetic`, section 4.1: mixed driving forces, :mod:`.sources`),
 ``icub`` (:mod:`.icub`, section 4.2: MuJoCo episodes, :mod:`.icub_data`,
-:mod:`.icub_scene`) and ``gym`` (:mod:`.gym`: contexts made of gymnasium environments;
-every world is a ``gymnasium.Env`` through ``world.as_env()``). Shared by the worlds:
+:mod:`.icub_scene`) and ``gym`` (:mod:`.gym`: contexts made of gymnasium environments);
+every world is a ``gymnasium.Env`` through ``world.as_env()`` (:mod:`.env`). Shared by the worlds:
 :mod:`.rewards` (extrinsic reward per context, ``rewards`` in every world's table) and
 :mod:`.learnability` (Ω of every context); the synthetic world's declared sources (files,
 sinusoid pairs, noise) are :mod:`.user_sources`. Importing this package imports every module in it, so a world class

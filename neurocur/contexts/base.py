@@ -18,7 +18,7 @@ generator as it stands (seeded from the OS only if it never was). ``options`` ma
 :attr:`Episode.reward`: 0.0 unless the world declares rewards per context (``rewards``,
 :mod:`.rewards`), which :meth:`World.reset` and :meth:`World.step` pay into each episode.
 Episodes never terminate the world. :meth:`World.as_env` wraps a world as a real
-``gymnasium.Env`` (:class:`neurocur.contexts.gym.WorldEnv`).
+``gymnasium.Env`` (:class:`neurocur.contexts.env.WorldEnv`).
 
 **The frame contract** (:func:`conform_frames`) is enforced by :meth:`World.reset`,
 :meth:`World.step` and :meth:`World.visits`, where every episode leaves a world: frames are
@@ -41,6 +41,7 @@ import numpy as np
 from numba import njit
 
 from ..registry import Registry
+from .env import WorldEnv
 from .rewards import Rewards
 
 __all__ = ["FRAME_TOLERANCE", "WORLDS", "Episode", "SourceSpec", "World", "concatenate_episodes", "conform_frames",
@@ -218,6 +219,10 @@ class World(ABC):
     #: world checks what it renders, once): :meth:`reset`, :meth:`step` and :meth:`visits` then
     #: skip :func:`conform_frames`, a pass over every episode's frames.
     frames_conform: ClassVar[bool] = False
+    #: True for a small task whose experiments are read through their figures (the canonical tasks of
+    #: docs/validation.md): ``neurocur run`` then draws the folder's figures after its runs, as
+    #: ``neurocur figures`` would.
+    figures_after_run: ClassVar[bool] = False
     #: The extrinsic reward of each visit (:mod:`.rewards`); None pays 0.0. Subclasses set it
     #: from their parameters' ``rewards`` (``Rewards.of(params.rewards)``).
     rewards: Rewards | None = None
@@ -309,11 +314,9 @@ class World(ABC):
         raise NotImplementedError(f"{cls.__name__} has no parameter class: build it from Python")
 
     def as_env(self, *, max_frames: int | None = None, render_mode: str | None = "rgb_array"):
-        """This world as a ``gymnasium.Env`` (:class:`neurocur.contexts.gym.WorldEnv`): the action is
+        """This world as a ``gymnasium.Env`` (:class:`neurocur.contexts.env.WorldEnv`): the action is
         the context to visit, the observation the visit padded to ``max_frames`` (default
         :attr:`max_frames`) rows. The env shares this world and its generator."""
-        from .gym import WorldEnv  # here, not at the top: .gym builds on this module
-
         return WorldEnv(self, max_frames=max_frames, render_mode=render_mode)
 
     def close(self) -> None:

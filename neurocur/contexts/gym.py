@@ -1,19 +1,4 @@
-"""Worlds and gymnasium, both ways: any world as a ``gymnasium.Env``, any rendering env as a world.
-
-:class:`WorldEnv` (``world.as_env()``) is a world as a real ``gymnasium.Env``:
-
-* **action**: the context to visit, ``Discrete(n_contexts)``;
-* **observation**: the whole visit (an :class:`~.base.Episode`) padded to ``max_frames``
-  rows, a ``Dict`` of ``"frames"`` (``Box(0, 1, (max_frames, n_pixels), float64)``, rows
-  are time, zeros after the visit), ``"states"`` (``MultiDiscrete``, the context-state of
-  each row, 0 after the visit), ``"starts"`` (``MultiBinary``, 1 where an independent
-  episode begins) and ``"n_frames"`` (``Discrete(max_frames, start=1)``, the visit's length);
-* **reward** the visit's extrinsic reward (:attr:`~.base.Episode.reward`, 0.0 unless the
-  world declares ``rewards``, :mod:`.rewards`), never terminated or truncated;
-* ``reset(seed=None, options=None)``: a new run of the world, whose first visit is of
-  ``options["context"]`` (default 0), with the world's seeding (:mod:`.base`): the env's
-  ``np_random`` *is* the world's generator;
-* ``render()``: the last frame shown, as an (H, W, 3) ``uint8`` gray image.
+"""Any rendering ``gymnasium.Env`` as a world (the other way, any world as an env, is :mod:`.env`).
 
 :class:`GymWorld` (world type ``"gym"``) makes CD-MISFA contexts of gymnasium
 environments that render ``rgb_array`` frames: context ``i`` is environment ``envs[i]``
@@ -41,13 +26,12 @@ from dataclasses import dataclass
 
 import gymnasium
 import numpy as np
-from gymnasium import spaces
 
 from ..config import ConfigError, ParamSpec, check_params, describe, param, spec_param
 from .base import Episode, World, register_world
 from .rewards import Rewards, check_rewards, rewards_param
 
-__all__ = ["GymParams", "GymWorld", "WorldEnv", "random_policy", "to_frame"]
+__all__ = ["GymParams", "GymWorld", "random_policy", "to_frame"]
 
 _LUMA = np.array([0.299, 0.587, 0.114])
 
@@ -76,86 +60,6 @@ def to_frame(rgb: np.ndarray, shape: Sequence[int]) -> np.ndarray:
 def random_policy(env: gymnasium.Env, observation) -> object:
     """The default exploration policy: a uniform random action from the env's (seeded) action space."""
     return env.action_space.sample()
-
-
-class WorldEnv(gymnasium.Env):
-    """A :class:`~.base.World` as a ``gymnasium.Env`` (spaces and seeding: the module docstring).
-
-    ``max_frames``: the observation's rows (default ``world.max_frames``); a visit longer
-    than that raises. The env and the world share state: stepping one steps the other.
-    """
-
-    metadata = {"render_modes": ["rgb_array"], "render_fps": 30}
-
-    def __init__(self, world: World, *, max_frames: int | None = None, render_mode: str | None = "rgb_array"):
-        length = world.max_frames if max_frames is None else max_frames
-        if not (isinstance(length, (int, np.integer)) and length >= 1):
-            raise ValueError(f"{type(world).__name__} does not bound its visits: give max_frames (an int >= 1); "
-                             f"got {length!r}")
-        if render_mode not in (None, "rgb_array"):
-            raise ValueError(f"render_mode must be 'rgb_array' or None; got {render_mode!r}")
-        self.world, self.max_frames, self.render_mode = world, int(length), render_mode
-        self.action_space = spaces.Discrete(world.n_contexts)
-        self.observation_space = spaces.Dict({
-            "frames": spaces.Box(0.0, 1.0, (self.max_frames, world.n_pixels), np.float64),
-            "states": spaces.MultiDiscrete(np.full(self.max_frames, world.n_states, dtype=np.int64)),
-            "starts": spaces.MultiBinary(self.max_frames),
-            "n_frames": spaces.Discrete(self.max_frames, start=1),
-        })
-        self._seed = -1
-        self._last = np.zeros(world.n_pixels)
-
-    @property
-    def np_random(self) -> np.random.Generator:
-        """The world's generator."""
-        return self.world.np_random
-
-    @np_random.setter
-    def np_random(self, value: np.random.Generator) -> None:
-        self.world.np_random = value
-        self._seed = -1
-
-    @property
-    def _np_random(self) -> np.random.Generator | None:
-        return self.world._np_random
-
-    @property
-    def np_random_seed(self) -> int:
-        """The seed of the last seeded reset, or -1 if the generator was not seeded through :meth:`reset`."""
-        return self._seed
-
-    def reset(self, *, seed: int | None = None, options: dict | None = None):
-        episode, info = self.world.reset(seed=seed, options=options)
-        if seed is not None:
-            self._seed = seed
-        return self._observe(episode), info
-
-    def step(self, action):
-        episode, reward, terminated, truncated, info = self.world.step(action)
-        return self._observe(episode), reward, terminated, truncated, info
-
-    def render(self) -> np.ndarray | None:
-        """The last frame shown (black before the first reset), as an (H, W, 3) ``uint8`` image."""
-        if self.render_mode is None:
-            return None
-        gray = np.round(self._last.reshape(self.world.frame_shape) * 255.0).astype(np.uint8)
-        return np.repeat(gray[:, :, None], 3, axis=2)
-
-    def close(self) -> None:
-        self.world.close()
-
-    def _observe(self, episode: Episode) -> dict:
-        n = len(episode.frames)
-        if n > self.max_frames:
-            raise RuntimeError(f"a visit of {n} frames is longer than the env's max_frames = {self.max_frames}")
-        frames = np.zeros((self.max_frames, self.world.n_pixels))
-        frames[:n] = episode.frames
-        states = np.zeros(self.max_frames, dtype=np.int64)
-        states[:n] = episode.states
-        starts = np.zeros(self.max_frames, dtype=np.int8)
-        starts[episode.starts] = 1
-        self._last = frames[n - 1].copy()
-        return {"frames": frames, "states": states, "starts": starts, "n_frames": np.int64(n)}
 
 
 _ID = ParamSpec(str)

@@ -33,7 +33,7 @@ import numpy as np
 import pandas as pd
 
 from ..config import ConfigError, ParamSpec, check_params, describe, param, spec_param
-from ..learn._validation import check_fraction
+from ..config.checks import check_fraction
 from ..learn.correlation import abs_corr
 from ..learn.omega import omega
 from .base import Episode, SourceSpec, World, register_world
@@ -319,7 +319,7 @@ def pca_reduce(episodes, var_fraction: float = 0.98) -> list[np.ndarray]:
     together and reduced to the leading directions that keep ``var_fraction`` of the
     variance (as CCIPCA does in section 4.2.1). Returns one (T, n) block per episode.
     """
-    var_fraction = check_fraction(var_fraction, "var_fraction")
+    var_fraction = check_fraction(var_fraction, "var_fraction", source="pca_reduce")
     blocks = [np.asarray(e.frames if isinstance(e, Episode) else e, dtype=np.float64) for e in episodes]
     if not blocks or any(b.ndim != 2 or len(b) < 2 for b in blocks):
         raise ValueError("episodes must be a non-empty list of (T, D) blocks with T >= 2")

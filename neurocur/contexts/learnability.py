@@ -10,7 +10,7 @@
   (:func:`~.icub.omega_episodes`).
 
 The ``level`` column orders the contexts by learnability for analyses against it (the
-Goldilocks curve, :mod:`neurocur.analysis.goldilocks`): the dense rank of Ω, where a
+Goldilocks curve, :mod:`neurocur.analysis.stats.goldilocks`): the dense rank of Ω, where a
 redrawn source counts as Ω = 1. It has no fixed slowest direction to converge to: the
 expected derivative covariance of its whitened signal is isotropic, so the Ω of the
 process is 1, while a finite sample of it measures below 1 by sampling error alone

@@ -49,7 +49,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from neurocur.learn._validation import check_positive_int, check_random_state
+from neurocur.config.checks import check_positive_int, check_random_state
 from neurocur.learn.omega import omega
 
 __all__ = [
@@ -83,9 +83,9 @@ UNLEARNABLE = ("S-D",)
 
 def sinusoid_pair(fast_cycles: int, n_steps: int = N_STEPS, slow_cycles: int = 1) -> np.ndarray:
     """``[sin(2π·slow·t/n), cos(2π·fast·t/n)]`` for t = 0..n−1, shape (n, 2); dim 0 is slow."""
-    n_steps = check_positive_int(n_steps, "n_steps")
-    fast_cycles = check_positive_int(fast_cycles, "fast_cycles")
-    slow_cycles = check_positive_int(slow_cycles, "slow_cycles")
+    n_steps = check_positive_int(n_steps, "n_steps", source="sinusoid_pair")
+    fast_cycles = check_positive_int(fast_cycles, "fast_cycles", source="sinusoid_pair")
+    slow_cycles = check_positive_int(slow_cycles, "slow_cycles", source="sinusoid_pair")
     if fast_cycles <= slow_cycles:
         raise ValueError(f"fast_cycles must exceed slow_cycles={slow_cycles}; got {fast_cycles}")
     phase = 2.0 * np.pi * np.arange(n_steps, dtype=np.float64) / n_steps
@@ -102,8 +102,8 @@ def isotropic_random_walk(random_state=None, n_steps: int = N_STEPS) -> np.ndarr
     equal variances and zero covariance exactly, so the whitened derivative's
     eigenvalues are equal (Ω = 1 in eq 40) and no direction is slower than another.
     """
-    rng = check_random_state(random_state)
-    n_steps = check_positive_int(n_steps, "n_steps")
+    rng = check_random_state(random_state, source="isotropic_random_walk")
+    n_steps = check_positive_int(n_steps, "n_steps", source="isotropic_random_walk")
     if n_steps < 8:
         raise ValueError(f"n_steps must be at least 8 for a random walk source; got {n_steps}")
     k = np.arange(1, n_steps // 2, dtype=np.float64)
@@ -154,8 +154,10 @@ NOISE_KINDS = ("white", "random_walk", "isotropic_walk")
 
 def white_noise(random_state=None, n_steps: int = N_STEPS, dims: int = 2) -> np.ndarray:
     """i.i.d. standard normal samples, shape (n_steps, dims)."""
-    rng = check_random_state(random_state)
-    return rng.standard_normal((check_positive_int(n_steps, "n_steps"), check_positive_int(dims, "dims")))
+    rng = check_random_state(random_state, source="white_noise")
+    shape = (check_positive_int(n_steps, "n_steps", source="white_noise"),
+             check_positive_int(dims, "dims", source="white_noise"))
+    return rng.standard_normal(shape)
 
 
 def random_walk(random_state=None, n_steps: int = N_STEPS, dims: int = 2) -> np.ndarray:

@@ -113,16 +113,22 @@ class SyntheticParams:
     learnable: tuple[str, ...] | None = spec_param(None, ParamSpec.sequence(_NAME, min_length=1, optional=True),
                                                    doc="learnable sources in Omega order, for the analysis")
     rewards: tuple | None = rewards_param()
+    swap: tuple[str, ...] | None = spec_param(None, ParamSpec.sequence(_NAME, min_length=1, optional=True),
+                                              doc="the source of each context from swap_at on (a world event)")
+    swap_at: int = param(0, int, low=0, doc="frames delivered before the swap takes effect (with swap)")
 
     def __post_init__(self):
         check_params(self)
         where = type(self).__name__
-        object.__setattr__(self, "_n_states", check_sources(self.sources, self.contexts, where))
         n = len(self.contexts)
+        if self.swap is not None and len(self.swap) != n:
+            raise ConfigError(where, "swap", f"{n} source names (one per context)", describe(self.swap))
+        object.__setattr__(self, "_n_states", check_sources(self.sources, self.contexts + (self.swap or ()), where))
         if self.context_names is not None and (len(self.context_names) != n or len(set(self.context_names)) != n):
             raise ConfigError(where, "context_names", f"{n} distinct names (one per context)", describe(self.context_names))
-        if self.learnable is not None and any(s not in self.contexts for s in self.learnable):
-            raise ConfigError(where, "learnable", f"sources shown by a context ({', '.join(dict.fromkeys(self.contexts))})",
+        shown = self.contexts + (self.swap or ())
+        if self.learnable is not None and any(s not in shown for s in self.learnable):
+            raise ConfigError(where, "learnable", f"sources shown by a context ({', '.join(dict.fromkeys(shown))})",
                               describe(self.learnable))
         if isinstance(self.clock_offsets, tuple) and (
                 len(self.clock_offsets) != n or max(self.clock_offsets) >= self.n_states):
@@ -213,7 +219,7 @@ class SyntheticWorld(World):
                                      context_names=context_names, nonstationary=nonstationary, learnable=learnable,
                                      rewards=rewards)
         p = self.params = params
-        self._sources = make_sources(p.contexts, p.sources, p.n_states, p.nonstationary)
+        self._sources = make_sources(p.contexts + (p.swap or ()), p.sources, p.n_states, p.nonstationary)
         self.rewards = Rewards.of(p.rewards)
         self.source_names = p.contexts
         self.context_names = p.names
@@ -253,6 +259,7 @@ class SyntheticWorld(World):
             shown = self._shown[name] = SourceFrames(mixing, self.normalise, symmetric=source.centred,
                                                      whole=not source.redraws)
             shown.show(signal)
+        self.source_names, self.frames_delivered = self.params.contexts, 0
         if self.clock_offsets == "random":
             self._clocks = rng.integers(0, self.n_states, size=self.n_contexts).astype(np.int64)
         elif self.clock_offsets == "zero":
@@ -265,7 +272,12 @@ class SyntheticWorld(World):
 
     def _visits(self, context: int, n: int) -> Episode:
         """The next ``n`` visits of ``context`` (the next ``n * visit_length`` steps of its clock),
-        unpaid. Read-only frames: a view of the rendered frames when the clock does not wrap."""
+        unpaid. Read-only frames: a view of the rendered frames when the clock does not wrap.
+        The swap (a world event) takes effect at the first visit that starts once ``swap_at``
+        frames have been delivered: from then on context c shows ``swap[c]``, its clock going on."""
+        if self.params.swap is not None and self.frames_delivered >= self.params.swap_at:
+            self.source_names = self.params.swap
+        self.frames_delivered += n * self.visit_length
         shown, source = self._require(self.source_names[context]), self._sources[self.source_names[context]]
         T, N = n * self.visit_length, self.n_states
         start = int(self._clocks[context])
@@ -291,7 +303,7 @@ class SyntheticWorld(World):
         """Learnable sources: ``learnable`` if given, else the built-in learnable sources shown
         (S-A, S-B, S-C, in Ω order) followed by the other replayed sources (files, sinusoid
         pairs) in context order."""
-        learnable = [name for name, source in self._sources.items() if source.learnable]
+        learnable = [name for name, source in self._sources.items() if source.learnable and name in self.source_names]
         default = [s for s in LEARNABLE if s in learnable] + [s for s in learnable if s not in LEARNABLE]
         learnable = default if self.learnable is None else self.learnable
         return SourceSpec(tuple(self.context_names), tuple(self.source_names), tuple(learnable))
@@ -301,7 +313,7 @@ class SyntheticWorld(World):
         frames, with the source's slow dimension (:data:`~neurocur.contexts.sources.SLOW_DIM`)."""
         sources, quality = [], []
         for row in modules.itertuples(index=False):
-            source = self.source_of(int(row.context))
+            source = self.source_at(int(row.context), int(row.step))
             sources.append(source)
             output = library[int(row.module)].transform(self.context_frames(int(row.context)))[:, 0]
             quality.append(abs_corr(output, self.source_signal(source)[:, SLOW_DIM]))
@@ -312,6 +324,11 @@ class SyntheticWorld(World):
     def source_of(self, context) -> str:
         """Name of the source shown by ``context`` (index or context name)."""
         return self.source_names[self._index(context)]
+
+    def source_at(self, context: int, step: int) -> str:
+        """The source ``context`` showed at global frame ``step`` (before or after the swap)."""
+        p = self.params
+        return (p.swap if p.swap is not None and step >= p.swap_at else p.contexts)[context]
 
     def source_signal(self, name: str) -> np.ndarray:
         """This run's driving force ``name``, shape (n_steps, n_dims), read-only."""

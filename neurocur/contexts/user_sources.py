@@ -66,7 +66,8 @@ from pathlib import Path
 import numpy as np
 
 from neurocur.config import ConfigError, ParamSpec, check_params, describe, param, spec_param
-from neurocur.learn._validation import check_block, check_nonconstant
+from neurocur.config.checks import check_block, check_nonconstant
+from neurocur.config.npy import load_npy
 
 from .sources import LEARNABLE, N_STEPS, NOISE_KINDS, PAPER_FAST_CYCLES, UNLEARNABLE, noise_source, sinusoid_pair
 
@@ -107,7 +108,7 @@ def load_source(value, name: str) -> np.ndarray:
         if not Path(value).is_file():
             raise ConfigError(label, None, "an existing .npy file", f"{value!r} (no such file)")
         try:
-            value = np.load(value, allow_pickle=False)
+            value = load_npy(value)
         except (ValueError, OSError) as exc:
             raise ConfigError(label, None, "a .npy file written by numpy.save", f"{file[4:]!r} ({exc})") from None
     try:

@@ -36,7 +36,7 @@ def build(resolved: Resolved, plans: list[Plan]) -> Experiment:
         conditions[plan.label] = Condition(plan.label, plan.condition.circuit, plan.params, world, circuit,
                                            world_params, plan.condition.description, plan.point)
     return Experiment(name=resolved.name, path=resolved.path, description=resolved.description, runs=resolved.runs,
-                      steps=resolved.steps, seed=resolved.seed, conditions=conditions)
+                      steps=resolved.steps, seed=resolved.seed, conditions=conditions, control=resolved.control)
 
 
 def condition_world(layers: tuple[Entry, ...], source: Path):

@@ -16,17 +16,21 @@ at once. Either way the finished runs are kept.
 
 from __future__ import annotations
 
+import itertools
 import logging
-import socket
 from contextlib import ExitStack
 
 from neurocur.results import ResultsStore
 
 from .conditions import Experiment
+from .probe import probe_scheduler
 from .processes import note, single_threaded_children, worker_count
 from .run import run_one
 
 __all__ = ["DaskCluster"]
+
+#: the most runs submitted to the cluster at once (more are submitted as these finish)
+WINDOW = 1024
 
 
 class DaskCluster:
@@ -42,9 +46,12 @@ class DaskCluster:
     def workers(self, runs: int) -> int:
         return worker_count(self.jobs, runs)
 
-    def compute(self, exp: Experiment, todo, store: ResultsStore, bar, ctrl_c) -> None:
+    def compute(self, exp: Experiment, todo, store: ResultsStore, bar, ctrl_c, *, checkpoint_every: int | None = None,
+                save_agent: bool = False) -> None:
         """Compute the (condition, run) pairs of ``todo`` on the cluster and write each finished run
-        through ``store``."""
+        through ``store``; ``save_agent``: the runs return their trained agents too, written with them.
+        ``checkpoint_every`` is the local pool's: a cluster's workers need not see the results folder,
+        so a run on the cluster saves no checkpoints."""
         import dask
         from distributed import Client, LocalCluster, wait
 
@@ -59,13 +66,19 @@ class DaskCluster:
                 client = stack.enter_context(Client(cluster))
             else:
                 try:
-                    _reachable(self.scheduler)
+                    probe_scheduler(self.scheduler)
                     client = stack.enter_context(Client(self.scheduler, timeout="20s"))
                 except OSError as exc:
                     raise ValueError(f"--scheduler {self.scheduler}: expected a reachable dask.distributed scheduler, "
                                      f"got {exc}") from None
-            running = {client.submit(run_one, c, i, exp.steps, exp.run_seed(i), pure=False,
-                                     key=f"neurocur-{c.name}-run-{i:03d}"): (c, i) for c, i in todo}
+            queue, running = iter(todo), {}
+
+            def top_up() -> None:  # at most WINDOW runs submitted at a time: a huge --runs streams its seeds
+                for c, i in itertools.islice(queue, max(0, WINDOW - len(running))):
+                    running[client.submit(run_one, c, i, exp.steps, exp.run_seed(i), save_agent=save_agent,
+                                          pure=False, key=f"neurocur-{c.name}-run-{i:03d}")] = (c, i)
+
+            top_up()
             announced = False
             while running:
                 if ctrl_c.count and not announced:
@@ -83,12 +96,6 @@ class DaskCluster:
                     running.pop(future)
                     store.write_run(future.result())
                     bar.update(1)
-
-
-def _reachable(address: str) -> None:
-    """Raise OSError at once when nothing listens at a ``tcp://HOST:PORT`` address (before Dask's
-    own connection attempts, which retry for their whole timeout)."""
-    host, _, port = address.removeprefix("tcp://").rpartition(":")
-    if address.startswith("tcp://") and port.isdigit():
-        socket.create_connection((host.strip("[]"), int(port)), timeout=5).close()
+                if not ctrl_c.count:
+                    top_up()
 

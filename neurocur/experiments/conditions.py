@@ -22,6 +22,7 @@ import neurocur
 from neurocur.circuit import Circuit
 from neurocur.config import ConfigError
 from neurocur.contexts import DEFAULT_WORLD, WORLDS, World
+from neurocur.results.runinfo import seeds_record
 
 __all__ = ["Condition", "Experiment"]
 
@@ -64,6 +65,8 @@ class Experiment:
     steps: int
     seed: int | None
     conditions: dict[str, Condition]
+    #: the condition the others are a test against (the file's ``control``), if any
+    control: str | None = None
 
     def run_seed(self, run: int) -> np.random.SeedSequence:
         """The seed of run ``run`` (the same for every condition: paired comparison)."""
@@ -107,9 +110,7 @@ class Experiment:
             "description": self.description,
             "runs": self.runs,
             "steps": self.steps,
-            "seeds": {
-                "entropy": self.seed,
-                "spawn_keys": [list(self.run_seed(i).spawn_key) for i in range(self.runs)],
-            },
+            "seeds": seeds_record(self.seed),
             "conditions": conditions,
+            **({"control": self.control} if self.control is not None else {}),
         }

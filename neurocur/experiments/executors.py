@@ -13,6 +13,7 @@ the command line can start the local pool's fork server before it imports the mo
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from typing import TYPE_CHECKING, Protocol
 
 from .pool import LocalPool
@@ -35,10 +36,15 @@ class Executor(Protocol):
     def workers(self, runs: int) -> int:
         """The processes that compute ``runs`` runs at once (the memory estimate's count)."""
 
-    def compute(self, exp: Experiment, todo: list[tuple[Condition, int]], store: ResultsStore, bar, ctrl_c) -> None:
-        """Compute the pairs of ``todo`` and write each through ``store`` as it finishes; ``bar``
-        counts them; ``ctrl_c.count`` is the number of Ctrl-C pressed (once: finish what runs,
-        twice: stop at once)."""
+    def compute(self, exp: Experiment, todo: Iterable[tuple[Condition, int]], store: ResultsStore, bar, ctrl_c, *,
+                checkpoint_every: int | None = None, save_agent: bool = False) -> None:
+        """Compute the pairs of ``todo`` (sized, generated as they are asked for:
+        :class:`~neurocur.experiments.pending.Pending`) and write each through ``store`` as it
+        finishes; ``bar`` counts them; ``ctrl_c.count`` is the number of Ctrl-C pressed (once:
+        finish what runs, twice: stop at once). ``checkpoint_every``: episodes between two
+        checkpoints of a run, where the executor's workers write into the results folder (None:
+        :func:`neurocur.results.agents.checkpoint_every`'s default, 0: none); ``save_agent``: write
+        each run's trained agent into its run folder."""
 
 
 def executor_for(scheduler: str | None = None, jobs: int | None = None) -> Executor:

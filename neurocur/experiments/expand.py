@@ -1,5 +1,6 @@
 """The entrance's second pass: a :class:`~.resolve.Resolved` experiment → its conditions × sweep
-points, each a :class:`Plan` that :mod:`.build` makes. Pure: nothing is read or checked here.
+points, each a :class:`Plan` that :mod:`.build` makes. Pure: nothing is read here, and only the
+names that become folders are checked (:mod:`neurocur.results.names`).
 
 An experiment file may sweep parameters of the circuit (``"REGION.param"``) and of the
 world (``"world.KEY"``, or a nested ``"world.TABLE.KEY"``)::
@@ -9,7 +10,9 @@ world (``"world.KEY"``, or a nested ``"world.TABLE.KEY"``)::
     "world.normalise" = ["global", "image"]
 
 Every condition is run at every point of the product (here 3 × 2 = 6 points), each as
-its own condition named ``<condition>@<KEY>=<value>,<KEY>=<value>``; run *i* of every
+its own condition named ``<condition>@<KEY>=<value>,<KEY>=<value>`` (keys sorted:
+:func:`neurocur.results.names.condition_label`, which checks the condition's name and that no
+two points share a label, before anything runs); run *i* of every
 condition and point uses the same seed (paired). Each swept key is a column of every
 results table. ``--set KEY=V1,V2`` replaces a key's values (a single value restricts the
 sweep to it) or adds a swept key (:mod:`.resolve`).
@@ -18,15 +21,15 @@ sweep to it) or adds a swept key (:mod:`.resolve`).
 from __future__ import annotations
 
 import itertools
-import json
 from collections.abc import Mapping
 from dataclasses import dataclass
 
+from neurocur.results.names import condition_label
 from neurocur.tables import deep_merge
 
 from .resolve import ConditionTable, Entry, Resolved
 
-__all__ = ["Plan", "expand", "grid", "point_label", "world_layer"]
+__all__ = ["Plan", "expand", "grid", "world_layer"]
 
 
 @dataclass(frozen=True)
@@ -47,6 +50,12 @@ class Plan:
     set_params: dict[str, Entry]
     params: dict
 
+    @property
+    def sweep(self) -> dict:
+        """The sweep point, by the name a :class:`~.conditions.Condition` gives it (a label's collision
+        names both points: :func:`~neurocur.results.names.condition_label`)."""
+        return self.point
+
 
 def expand(resolved: Resolved) -> list[Plan]:
     """Every condition of ``resolved`` at every point of its sweep, in order."""
@@ -56,7 +65,7 @@ def expand(resolved: Resolved) -> list[Plan]:
         world_sets = deep_merge(world_sets, world_layer({key: entry.value}))
     here = next((e.here for e in resolved.world_sets.values()), resolved.path.parent)
     set_world = Entry(world_sets, "--set", "world", here)
-    plans = []
+    plans: dict[str, Plan] = {}
     for table in resolved.conditions.values():
         for point in grid({k: e.value for k, e in sweep.items()}):
             swept_world = tuple(
@@ -66,31 +75,23 @@ def expand(resolved: Resolved) -> list[Plan]:
             point_params = {k: Entry(v, sweep[k].source, sweep[k].key, sweep[k].here)
                             for k, v in point.items() if not k.startswith("world.")}
             overrides = {**resolved.params, **table.params, **point_params}
-            plans.append(Plan(
-                label=f"{table.name}@{point_label(point)}" if point else table.name,
+            label = condition_label(table.name, point, table.source, plans)
+            plans[label] = Plan(
+                label=label,
                 condition=table,
                 point=point,
                 world=(*resolved.world, table.world, *swept_world, set_world),
                 overrides=overrides,
                 set_params=dict(resolved.set_params),
                 params={k: e.value for k, e in {**overrides, **resolved.set_params}.items()},
-            ))
-    return plans
+            )
+    return list(plans.values())
 
 
 def grid(sweep: Mapping[str, list]) -> list[dict]:
     """The points of the product of the swept values, in order (``[{}]`` without a sweep)."""
     keys = list(sweep)
     return [dict(zip(keys, values)) for values in itertools.product(*(sweep[k] for k in keys))]
-
-
-def point_label(point: Mapping) -> str:
-    """``"KEY=value,KEY=value"`` (values as TOML/JSON literals, strings bare); a folder-safe name."""
-    def text(v):
-        return v if isinstance(v, str) else json.dumps(v)
-
-    label = ",".join(f"{k}={text(v)}" for k, v in point.items())
-    return label.replace("/", "_").replace("\\", "_")
 
 
 def world_layer(point: Mapping) -> dict:

@@ -39,8 +39,11 @@ class LocalPool:
     def workers(self, runs: int) -> int:
         return worker_count(self.jobs, runs)
 
-    def compute(self, exp, todo, store, bar, ctrl_c) -> None:
-        """The pool loop: at most :meth:`workers` runs in flight; Ctrl-C once drains them, twice kills them."""
+    def compute(self, exp, todo, store, bar, ctrl_c, *, checkpoint_every: int | None = None,
+                save_agent: bool = False) -> None:
+        """The pool loop: at most :meth:`workers` runs in flight; Ctrl-C once drains them, twice kills them.
+        Each worker saves a checkpoint of its run every ``checkpoint_every`` episodes and continues from
+        the last one (:func:`~neurocur.experiments.checkpointed.compute_and_write`)."""
         jobs = self.workers(len(todo))
         out = str(store.root)
         queue = iter(todo)
@@ -57,7 +60,8 @@ class LocalPool:
                             break
                         c, i = item
                         with ctrl_c_held():  # submit() starts the worker processes
-                            running[pool.submit(_worker, c, i, exp.steps, exp.run_seed(i), out)] = item
+                            running[pool.submit(_worker, c, i, exp.steps, exp.run_seed(i), out, every=checkpoint_every,
+                                                         save_agent=save_agent)] = item
                     if ctrl_c.count and not announced:
                         announced = True
                         note(f"interrupted; finishing the {len(running)} run(s) in progress, then stopping "
@@ -89,14 +93,12 @@ class LocalPool:
             raise error
 
 
-def _worker(condition, run: int, steps: int, seed, out: str) -> tuple[str, int]:
-    """In a worker: compute one run and write it (the fork server has imported both already)."""
-    from neurocur.results import ResultsStore
+def _worker(condition, run: int, steps: int, seed, out: str, **options) -> tuple[str, int]:
+    """In a worker: compute one run with its checkpoints and write it (the fork server has imported
+    the model already)."""
+    from .checkpointed import compute_and_write
 
-    from .run import run_one
-
-    ResultsStore(out).write_run(run_one(condition, run, steps, seed))
-    return condition.name, run
+    return compute_and_write(condition, run, steps, seed, out, **options)
 
 
 def _init_worker() -> None:

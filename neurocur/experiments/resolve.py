@@ -19,6 +19,9 @@ errors name it. How the files combine:
 - ``[params]``: merged, later files winning per ``"REGION.param"``;
 - ``[sweep]`` and ``[conditions]``: the last file's table as a whole (they are what an
   experiment is about, so they are not mixed across files);
+- ``control`` (the condition the others are a test against, :mod:`.spec`) goes with
+  ``[conditions]``: the file that gives the conditions, or a file extending it, names it; a
+  file with conditions of its own has only the control it names;
 - ``name`` and ``description``: the file's own only (default: the file's name).
 
 **--set.** ``KEY=VALUE`` items (VALUE a TOML literal, else a string) win over the files and
@@ -47,7 +50,8 @@ from neurocur.tables import check_keys, require, resolve_file, shipped_files
 __all__ = ["ConditionTable", "Entry", "Resolved", "Values", "parse_set", "resolve", "resolve_experiment",
            "shipped_experiments"]
 
-TOP_KEYS = ("extends", "name", "description", "circuit", "runs", "steps", "seed", "world", "params", "sweep", "conditions")
+TOP_KEYS = ("extends", "name", "description", "circuit", "runs", "steps", "seed", "world", "params", "sweep", "conditions",
+            "control")
 #: keys that describe one file and are not inherited from the file it extends
 OWN_KEYS = ("name", "description")
 SCALAR_KEYS = ("name", "description", "circuit", "runs", "steps", "seed")
@@ -92,7 +96,8 @@ class Resolved:
     command line's ``world.KEY`` values (dotted keys); ``params``: the files' ``[params]``;
     ``set_params``: the command line's ``REGION.param`` values, which win over every
     condition; ``sweep``: each swept key's values; ``circuits``: the tables of every circuit
-    file a condition names, read once."""
+    file a condition names, read once; ``control``: the condition the others are compared with,
+    if the files name one."""
 
     path: Path
     name: str
@@ -107,6 +112,7 @@ class Resolved:
     sweep: dict[str, Entry]
     conditions: dict[str, ConditionTable]
     circuits: dict[Path, dict]
+    control: str | None = None
 
 
 def resolve(path, *, sets: Sequence[str] = (), runs: int | None = None, steps: int | None = None,
@@ -145,8 +151,8 @@ def resolve(path, *, sets: Sequence[str] = (), runs: int | None = None, steps: i
         params.update({k: Entry(v, layer.path, f"params.{k}", layer.here)
                        for k, v in _flatten_params(table, layer.path, "params").items()})
 
-    conditions = _conditions(_last_with(layers, "conditions") or layers[-1], scalars.get("circuit"),
-                             "circuit" in top_sets, path)
+    conditions_layer = _last_with(layers, "conditions") or layers[-1]
+    conditions = _conditions(conditions_layer, scalars.get("circuit"), "circuit" in top_sets, path)
     return Resolved(
         path=path,
         name=scalars.get("name", path.stem),
@@ -161,6 +167,7 @@ def resolve(path, *, sets: Sequence[str] = (), runs: int | None = None, steps: i
         sweep=sweep,
         conditions=conditions,
         circuits=_circuit_tables(dict.fromkeys(c.circuit for c in conditions.values())),
+        control=_control(layers, conditions_layer, conditions),
     )
 
 
@@ -195,6 +202,17 @@ def _conditions(layer: Layer, circuit: Path | None, circuit_set: bool, path: Pat
             name, description, own, {k: Entry(v, source, f"{prefix}.params.{k}", here) for k, v in params.items()},
             Entry(world, source, f"{prefix}.world", here), {k: table[k] for k in VARIANT_KEYS if k in table}, source)
     return out
+
+
+def _control(layers: list[Layer], conditions_layer: Layer, conditions: Mapping) -> str | None:
+    """The ``control`` of the last file that names one, looking no further back than the file
+    whose ``[conditions]`` these are; checked to name one of ``conditions``."""
+    layer = next(layer for layer in reversed(layers) if layer is conditions_layer or "control" in layer.raw)
+    control = require(layer.raw, "control", str, source=layer.path, default=None,
+                      expected="the name of one of the conditions")
+    if control is not None and control not in conditions:
+        raise ConfigError(layer.path, "control", f"one of the conditions {', '.join(conditions)}", describe(control))
+    return control
 
 
 def _last_with(layers: list[Layer], key: str) -> Layer | None:
@@ -287,6 +305,8 @@ def _literal(text: str):
         return tomllib.loads(f"v = {text}")["v"]
     except tomllib.TOMLDecodeError:
         return text
+    except RecursionError:
+        raise ConfigError("--set", None, "a TOML value", "arrays or tables nested too deeply to read") from None
 
 
 def _classify_sets(sets, cwd: Path):

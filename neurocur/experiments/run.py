@@ -21,6 +21,8 @@ import pandas as pd
 
 from neurocur.contract import MODULE_COLUMNS
 from neurocur.results import RunResult
+from neurocur.results.agents import agent_state
+from neurocur.results.runinfo import seed_json
 
 from .conditions import Condition
 
@@ -36,7 +38,8 @@ def _gates(episodes: pd.DataFrame, modules: pd.DataFrame, names: Sequence[str]) 
     return out
 
 
-def run_one(condition: Condition, run: int, steps: int, seed: np.random.SeedSequence, *, progress=None) -> RunResult:
+def run_one(condition: Condition, run: int, steps: int, seed: np.random.SeedSequence, *, progress=None,
+            checkpoints=None, save_agent: bool = False) -> RunResult:
     """Simulate one run of ``condition`` for ``steps`` frames from ``seed``.
 
     Adds ``condition``, ``run`` and the condition's sweep values (one column per swept key)
@@ -45,11 +48,17 @@ def run_one(condition: Condition, run: int, steps: int, seed: np.random.SeedSequ
     world's further columns (:meth:`~neurocur.contexts.base.World.module_report`, which
     may also add per-run tables, e.g. the iCub's ``features``), and ``gates`` (the names
     of the contexts whose episodes it gated after it was stored, comma-separated).
+
+    ``checkpoints`` (:class:`~neurocur.results.agents.Checkpoints`): continue from the run's last
+    checkpoint, if any, and save one every so many episodes. ``save_agent``: keep the trained
+    agent's state in the result (written as the run folder's ``agent/``).
     """
     started = time.perf_counter()
     world = condition.make_world()
     sim = condition.circuit.build(world, seed=seed)
-    sim.run(steps, progress=progress)
+    if checkpoints is not None:
+        checkpoints.resume(sim)
+    sim.run(max(0, steps - sim.n_frames), progress=progress, checkpoint=checkpoints)
     episodes = sim.episodes()
     products = sim.products()
     empty = pd.DataFrame({c.name: np.empty(0, np.int64) for c in MODULE_COLUMNS})
@@ -69,7 +78,7 @@ def run_one(condition: Condition, run: int, steps: int, seed: np.random.SeedSequ
         "condition": condition.name,
         "run": int(run),
         **({"sweep": dict(condition.sweep)} if condition.sweep else {}),
-        "seed": {"entropy": seed.entropy, "spawn_key": list(seed.spawn_key)},
+        "seed": seed_json(seed),
         "steps": int(steps),
         "frames": int(episodes["n_frames"].sum()),
         "n_episodes": len(episodes),
@@ -81,7 +90,9 @@ def run_one(condition: Condition, run: int, steps: int, seed: np.random.SeedSequ
         "learnable": list(world.source_spec().learnable),
         "seconds": round(time.perf_counter() - started, 3),
     }
-    return RunResult(condition.name, int(run), episodes, modules, summary, tables)
+    agent = agent_state(sim, {"condition": condition.name, "run": int(run), "steps": int(steps),
+                              "seed": summary["seed"]}) if save_agent else None
+    return RunResult(condition.name, int(run), episodes, modules, summary, tables, agent)
 
 
 def dry_run(condition: Condition, seed: np.random.SeedSequence) -> int:

@@ -41,6 +41,7 @@ from neurocur.results.lock import describe_holder
 
 from .conditions import Experiment
 from .executors import Executor, executor_for
+from .pending import Pending
 from .processes import note
 from .run import dry_run
 
@@ -86,7 +87,8 @@ def _progress_bar(total: int, initial: int, enabled: bool | None):
 def run_experiment(exp: Experiment, out, *, jobs: int | None = None, conditions=None, progress: bool | None = None,
                    max_memory: int | None = None, accept_code_change: bool = False,
                    scheduler: str | None = None, executor: Executor | None = None,
-                   finish: Callable[[Path], object] | None = None) -> Path:
+                   finish: Callable[[Path], object] | None = None, checkpoint_every: int | None = None,
+                   save_agent: bool = False) -> Path:
     """Run every (selected condition × run) of ``exp`` into the results folder ``out``.
 
     ``executor``: what computes the runs (:mod:`neurocur.experiments.executors`); by default
@@ -98,7 +100,10 @@ def run_experiment(exp: Experiment, out, *, jobs: int | None = None, conditions=
     it only when stderr is a terminal. ``max_memory``: bytes the workers may use together
     (default: the memory available). ``accept_code_change``: resume into a folder whose runs
     other code computed. ``finish``: called with ``out`` after the runs, the folder's lock
-    still held (the command line writes the summary). Returns ``out``;
+    still held (the command line writes the summary). ``checkpoint_every``: episodes between two
+    checkpoints of a run in the local pool (None: :func:`neurocur.results.agents.checkpoint_every`'s
+    default, 0: none); a run started again continues from its last one. ``save_agent``: write each
+    run's trained agent into its run folder (``agent/``). Returns ``out``;
     :func:`neurocur.analysis.write_summary` aggregates the folder into ``summary.json``.
 
     Raises ValueError (one line) for every refusal before a worker starts, and
@@ -116,7 +121,7 @@ def run_experiment(exp: Experiment, out, *, jobs: int | None = None, conditions=
         grown = store.check(config, inputs=inputs, accept_code_change=accept_code_change)
         names = [c.name for c in selected]
         done = store.completed(names, exp.runs)
-        todo = [(c, i) for c in selected for i in range(exp.runs) if (c.name, i) not in done]
+        todo = Pending(selected, exp.runs, done)
         if todo:
             executor.start()  # the local pool's fork server: its imports overlap the pre-flight checks
             _preflight(exp, todo, executor.workers(len(todo)), max_memory)
@@ -127,7 +132,8 @@ def run_experiment(exp: Experiment, out, *, jobs: int | None = None, conditions=
             with _CtrlC() as ctrl_c:
                 try:
                     if todo:
-                        executor.compute(exp, todo, store, bar, ctrl_c)
+                        executor.compute(exp, todo, store, bar, ctrl_c, checkpoint_every=checkpoint_every,
+                                         save_agent=save_agent)
                 finally:
                     store.clear_partial()
         finally:
@@ -148,12 +154,10 @@ def _seeded(exp: Experiment, store: ResultsStore) -> Experiment:
     return exp.with_seed(existing["seeds"]["entropy"] if existing else int(np.random.SeedSequence().entropy % 2**63))
 
 
-def _preflight(exp: Experiment, todo, jobs: int, max_memory: int | None) -> None:
+def _preflight(exp: Experiment, todo: Pending, jobs: int, max_memory: int | None) -> None:
     """Prepare each world once, run each condition's first episode here, and refuse when the
     workers' estimated memory exceeds ``max_memory`` or the memory available."""
-    first = {}
-    for c, i in todo:
-        first.setdefault(c.name, (c, i))
+    first = todo.first_of_each()
     for c in {json.dumps(c.world, sort_keys=True): c for c, _ in first.values()}.values():
         c.world_class.prepare(c.world_params)
     peaks = {name: dry_run(c, exp.run_seed(i)) for name, (c, i) in first.items()}

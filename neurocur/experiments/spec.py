@@ -9,6 +9,7 @@ runs and steps, the root seed, parameter overrides and, optionally, conditions::
     runs = 25
     steps = 350000                            # frames per run
     seed = 2013
+    control = "random_switching"              # optional: the conditions' control (see below)
 
     [world]                                   # neurocur.contexts.synthetic.SyntheticWorld
     contexts = ["S-A", "S-A", "S-B", "S-C", "S-D"]
@@ -37,7 +38,14 @@ of a circuit shipped in ``neurocur/circuits/`` (:func:`neurocur.tables.resolve_f
 A file may extend another, ``extends = "synthetic"``, and state only what differs
 (:mod:`neurocur.experiments.resolve`: what is inherited, merged or replaced).
 
-Without a ``[conditions]`` table there is one condition, ``default``. Command-line
+Without a ``[conditions]`` table there is one condition, ``default``. ``control`` names the
+condition the others are a test against (e.g. random switching, section 4.3); it goes with the
+``[conditions]`` table: a file that extends another inherits its control with its conditions (and
+may name another of them), a file with conditions of its own has only the control it names. It is
+recorded in ``config.toml``, where the analysis reads it (the efficiency figure of the first
+condition against the control, :mod:`neurocur.analysis.figures.sets`). The first condition is the
+reference of every comparison. Condition names and sweep labels become folder names
+(:mod:`neurocur.results.names`). Command-line
 ``--set KEY=VALUE`` settings (values are TOML literals; a bare word is a string) win
 over the file and over every condition: ``runs``, ``steps``, ``seed``, ``circuit``,
 ``world.KEY`` or ``REGION.param``. The seeds of the runs: :mod:`neurocur.experiments.conditions`.

@@ -12,14 +12,15 @@
 
 The sequential per-sample loops are compiled with numba in ``_kernels`` and
 ``_roc_kernels``; the classes validate input and call them once per block. Each
-learner declares the type and range of its parameters once, as
-:class:`neurocur.config.ParamSpec` objects in its ``param_specs``.
+learner declares its parameters once, as regions and worlds do: a dataclass whose fields
+are made with :func:`neurocur.config.param` (type, range, default), read back by
+:func:`neurocur.config.param_specs`.
 
 IncSFA, CCIPCA and MCA are scikit-learn transformers (``fit``, ``partial_fit``,
 ``transform``, ``get_params``, ``clone``, ``Pipeline``, ``GridSearchCV``; see
 ``_estimator``); they pass ``sklearn.utils.estimator_checks.check_estimator`` but for
 the checks :func:`expected_failed_checks` lists with their reasons. Their input must be
-finite and within a numerical range (``_validation.check_scale``).
+finite and within a numerical range (``_scale.check_scale``).
 """
 
 from ._estimator import expected_failed_checks

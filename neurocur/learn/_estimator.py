@@ -5,23 +5,27 @@ They subclass scikit-learn's ``BaseEstimator`` and ``TransformerMixin``, so ``ge
 ``GridSearchCV`` work as for any scikit-learn transformer, and an unfitted learner
 raises scikit-learn's ``NotFittedError``.
 
-Parameters are exactly the keyword arguments of ``__init__``, stored under the same
-names and unchanged; each has a :class:`~neurocur.config.ParamSpec` in the class's
-``param_specs``, the one place its type and range are declared (regions that pass a
-parameter on to a learner reuse it, see :func:`neurocur.config.learner_param`). They
-are checked through those specs at construction, by ``set_params`` (a rejected call
+Parameters are declared as regions and worlds declare theirs: each learner is a
+dataclass (``@dataclass(eq=False)``: compared by identity, as estimators are) whose
+fields are made with :func:`~neurocur.config.param`, :func:`~neurocur.config.spec_param`
+or :func:`~neurocur.config.learner_param`, the one place each parameter's type, range and
+default are declared (regions that pass a parameter on to a learner reuse its spec,
+:func:`~neurocur.config.learner_param`). The dataclass's ``__init__`` is the
+keyword-argument constructor scikit-learn expects, storing every parameter under its
+name and unchanged; a copy is checked through the specs
+(:func:`~neurocur.config.param_specs`) at construction, by ``set_params`` (a rejected call
 changes nothing) and again by every ``fit`` and ``partial_fit``.
 
 Learning is streaming: ``partial_fit`` continues from the learned state, ``fit`` forgets
 it first (``fit(X)`` is ``partial_fit(X)`` on a new instance with the same parameters).
 Input is checked once per call, never per sample: scikit-learn's ``validate_data``
 (2-d, numeric, finite, the feature count seen first, ``n_features_in_``), then the
-learners' own scale check (:func:`~neurocur.learn._validation.check_scale`); a fresh
+learners' own scale check (:func:`~neurocur.learn._scale.check_scale`); a fresh
 learner's first block must also vary and, for IncSFA and CCIPCA, reach past the samples
 that only set the mean (:func:`~neurocur.learn.ccipca.check_first_block`).
 
-``copy`` returns an independent deep copy (learned state included), and ``repr`` shows
-every parameter. :func:`expected_failed_checks` lists the checks of scikit-learn's
+``copy`` returns an independent deep copy (learned state included), and ``repr`` (the
+dataclass's) shows every parameter. :func:`expected_failed_checks` lists the checks of scikit-learn's
 ``check_estimator`` that these learners fail by design, each with its reason.
 """
 
@@ -35,27 +39,25 @@ from sklearn.base import BaseEstimator, ClassNamePrefixFeaturesOutMixin, Transfo
 from sklearn.exceptions import NotFittedError
 from sklearn.utils.validation import check_is_fitted, validate_data
 
-from ..config import ParamSpec, coerce_params
-from ._validation import check_nonconstant, check_scale
+from ..config import coerce_params, param_specs
+from ..config.checks import check_nonconstant
+from ._scale import check_scale
 
-__all__ = ["RANDOM_STATE", "TWO_FEATURE_CHECKS", "Estimator", "NotFittedError", "expected_failed_checks"]
-
-#: ``random_state``: None, a seed, a numpy SeedSequence or a numpy Generator.
-RANDOM_STATE = ParamSpec(int, low=0, optional=True, classes=(np.random.SeedSequence, np.random.Generator))
-
+__all__ = ["TWO_FEATURE_CHECKS", "Estimator", "NotFittedError", "expected_failed_checks"]
 
 class Estimator(ClassNamePrefixFeaturesOutMixin, TransformerMixin, BaseEstimator):
-    """Base class: subclasses store every ``__init__`` argument as an attribute of the same
-    name, declare a :class:`~neurocur.config.ParamSpec` for each in ``param_specs``,
-    override ``_check_params`` for checks that involve several parameters or the fitted
-    state, and implement ``partial_fit`` (setting ``n_samples_seen_`` when it starts a
-    fresh state) and ``transform``."""
+    """Base class: subclasses are dataclasses (``@dataclass(eq=False)``) whose fields are their
+    parameters, each declared with a spec; they override ``_check_params`` for checks that
+    involve several parameters or the fitted state, and implement ``partial_fit`` (setting
+    ``n_samples_seen_`` when it starts a fresh state) and ``transform``."""
 
-    param_specs: ClassVar[dict[str, ParamSpec]] = {}
     #: rows the first block of a fresh learner needs
     _min_first_rows: ClassVar[int] = 1
     #: whether the learner centres its input (see ``check_scale``)
     _centred: ClassVar[bool] = True
+
+    def __post_init__(self):
+        self._checked_params()
 
     def set_params(self, **params):
         """Set parameters by name and re-validate them; returns ``self``.
@@ -79,11 +81,12 @@ class Estimator(ClassNamePrefixFeaturesOutMixin, TransformerMixin, BaseEstimator
         """The parameters checked by their specs and by ``_check_params``, coerced (ints to
         float, ...); a bad one raises a ``ValueError`` (a ``ConfigError``) naming it, what
         was expected and what was given."""
-        raw = tuple(getattr(self, k) for k in self.param_specs)
+        specs = param_specs(self)
+        raw = tuple(getattr(self, k) for k in specs)
         cached = self.__dict__.get("_params_checked")
         if cached is not None and _same(cached[0], raw):  # unchanged since the last check
             return dict(cached[1])
-        params = coerce_params(self.param_specs, self.get_params(deep=False), source=type(self).__name__)
+        params = coerce_params(specs, self.get_params(deep=False), source=type(self).__name__)
         self._check_params(params)
         self._params_checked = (raw, params)
         return dict(params)
@@ -161,10 +164,6 @@ class Estimator(ClassNamePrefixFeaturesOutMixin, TransformerMixin, BaseEstimator
     def copy(self):
         """An independent deep copy, learned state included."""
         return _copy.deepcopy(self)
-
-    def __repr__(self) -> str:
-        args = ", ".join(f"{k}={getattr(self, k)!r}" for k in self.param_specs)  # in the signature's order
-        return f"{type(self).__name__}({args})"
 
 
 #: The checks of scikit-learn 1.9 that fit data with only 2 features.

@@ -23,15 +23,14 @@ fresh learner must reach past them (:func:`check_first_block`).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from typing import ClassVar
+from dataclasses import KW_ONLY, dataclass
 
 import numpy as np
 
-from ..config import ConfigError, ParamSpec, check_params, describe, param
-from ._estimator import RANDOM_STATE, Estimator
+from ..config import ConfigError, ParamSpec, check_params, describe, param, spec_param
+from ..config.checks import RANDOM_STATE, check_random_state
+from ._estimator import Estimator
 from ._kernels import active_mask, amnesic_rate, ccipca_fit
-from ._validation import check_random_state
 
 
 @dataclass(frozen=True)
@@ -94,6 +93,7 @@ def init_directions(rng: np.random.Generator, n_components: int, n_features: int
     return np.ascontiguousarray(q.T)
 
 
+@dataclass(eq=False)
 class CCIPCA(Estimator):
     """Incremental PCA and whitening (Algorithm 2), a scikit-learn transformer.
 
@@ -117,25 +117,14 @@ class CCIPCA(Estimator):
     ``n_samples_seen_``.
     """
 
-    param_specs: ClassVar[dict[str, ParamSpec]] = {
-        "n_components": ParamSpec(int, low=1),
-        "amnesic": ParamSpec(float, low=0.0, classes=(AmnesicSchedule,)),
-        "var_fraction": ParamSpec(float, low=0.0, high=1.0, low_open=True, optional=True),
-        "eig_cutoff": ParamSpec(float, low=0.0, high=1.0, high_open=True),
-        "orthonormalize": ParamSpec(int, low=0),
-        "random_state": RANDOM_STATE,
-    }
+    n_components: int = param(2, int, low=1)
+    _: KW_ONLY
+    amnesic: float | AmnesicSchedule = spec_param(2.0, ParamSpec(float, low=0.0, classes=(AmnesicSchedule,)))
+    var_fraction: float | None = param(None, float, low=0.0, high=1.0, low_open=True, optional=True)
+    eig_cutoff: float = param(1e-3, float, low=0.0, high=1.0, high_open=True)
+    orthonormalize: int = param(0, int, low=0)
+    random_state: int | np.random.SeedSequence | np.random.Generator | None = spec_param(None, RANDOM_STATE)
     _min_first_rows = 2  # a variance needs two samples
-
-    def __init__(self, n_components=2, *, amnesic=2.0, var_fraction=None, eig_cutoff=1e-3, orthonormalize=0,
-                 random_state=None):
-        self.n_components = n_components
-        self.amnesic = amnesic
-        self.var_fraction = var_fraction
-        self.eig_cutoff = eig_cutoff
-        self.orthonormalize = orthonormalize
-        self.random_state = random_state
-        self._checked_params()
 
     def _check_params(self, params: dict) -> None:
         if self.__sklearn_is_fitted__() and params["n_components"] != self._dirs.shape[0]:

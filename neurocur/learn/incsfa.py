@@ -33,22 +33,23 @@ states the agreement).
 
 from __future__ import annotations
 
-from typing import ClassVar
+from dataclasses import KW_ONLY, dataclass
 
 import numpy as np
 
-from ..config import ParamSpec
+from ..config import learner_param, param
+from ..config.checks import check_random_state
 from ._estimator import Estimator
 from ._kernels import incsfa_fit
 from ._kernels_fast import incsfa_fit_fast
-from ._validation import check_random_state
-from .ccipca import CCIPCA, amnesic_params, check_first_block, init_directions
+from .ccipca import CCIPCA, AmnesicSchedule, amnesic_params, check_first_block, init_directions
 from .mca import AUTO_GAMMA_FACTOR, MCA, component_rates, gamma_code, init_weights
 
 #: IncSFA's ``dtype`` choices: the exact default and the fast opt-in
 DTYPES = ("float64", "float32")
 
 
+@dataclass(eq=False)
 class IncSFA(Estimator):
     """Online linear slow feature analysis, a scikit-learn transformer.
 
@@ -83,48 +84,19 @@ class IncSFA(Estimator):
     """
 
     # the whitening's parameters are CCIPCA's, the slow-feature extraction's are MCA's
-    param_specs: ClassVar[dict[str, ParamSpec]] = {
-        "n_components": MCA.param_specs["n_components"],
-        "n_pca": CCIPCA.param_specs["n_components"],
-        "amnesic": CCIPCA.param_specs["amnesic"],
-        "var_fraction": CCIPCA.param_specs["var_fraction"],
-        "eig_cutoff": CCIPCA.param_specs["eig_cutoff"],
-        "orthonormalize": CCIPCA.param_specs["orthonormalize"],
-        "mca_rate": MCA.param_specs["learning_rate"],
-        "mca_rates": MCA.param_specs["component_rates"],
-        "gamma": MCA.param_specs["gamma"],
-        "random_state": CCIPCA.param_specs["random_state"],
-        "dtype": ParamSpec(str, choices=DTYPES),
-    }
+    n_components: int = learner_param(MCA, "n_components", 2)
+    n_pca: int = learner_param(CCIPCA, "n_components", 3)
+    _: KW_ONLY
+    amnesic: float | AmnesicSchedule = learner_param(CCIPCA, "amnesic", 2.0)
+    var_fraction: float | None = learner_param(CCIPCA, "var_fraction", None)
+    eig_cutoff: float = learner_param(CCIPCA, "eig_cutoff", 1e-3)
+    orthonormalize: int = learner_param(CCIPCA, "orthonormalize", 0)
+    mca_rate: float = learner_param(MCA, "learning_rate", 0.05)
+    mca_rates: str = learner_param(MCA, "component_rates", "decreasing")
+    gamma: float | str = learner_param(MCA, "gamma", 4.0)
+    random_state: int | np.random.SeedSequence | np.random.Generator | None = learner_param(CCIPCA, "random_state", None)
+    dtype: str = param("float64", str, choices=DTYPES)
     _min_first_rows = 2  # a derivative needs two samples
-
-    def __init__(
-        self,
-        n_components=2,
-        n_pca=3,
-        *,
-        amnesic=2.0,
-        var_fraction=None,
-        eig_cutoff=1e-3,
-        orthonormalize=0,
-        mca_rate=0.05,
-        mca_rates="decreasing",
-        gamma=4.0,
-        random_state=None,
-        dtype="float64",
-    ):
-        self.n_components = n_components
-        self.n_pca = n_pca
-        self.amnesic = amnesic
-        self.var_fraction = var_fraction
-        self.eig_cutoff = eig_cutoff
-        self.orthonormalize = orthonormalize
-        self.mca_rate = mca_rate
-        self.mca_rates = mca_rates
-        self.gamma = gamma
-        self.random_state = random_state
-        self.dtype = dtype
-        self._checked_params()
 
     def _check_params(self, params: dict) -> None:
         j, k = params["n_components"], params["n_pca"]

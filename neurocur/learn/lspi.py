@@ -22,12 +22,12 @@ policy (Howard's policy improvement), so the loop cannot cycle.
 from __future__ import annotations
 
 import warnings
-from typing import ClassVar
+from dataclasses import KW_ONLY, InitVar, dataclass
 
 import numpy as np
 from numba import njit
 
-from ..config import ParamSpec, coerce_params
+from ..config import check_params, coerce_params, param, param_specs
 
 
 def _as_finite(x, name: str, ndim: int, shape_doc: str) -> np.ndarray:
@@ -106,6 +106,7 @@ def _improve(Q, policy, tol, w_new, w_old, first):  # pragma: no cover - compile
     return new, moved < tol
 
 
+@dataclass(eq=False)
 class LSPI:
     """Model-based LSPI for a fixed transition model: validate and factor once, solve often.
 
@@ -118,20 +119,21 @@ class LSPI:
     if ``max_iter`` is reached. A singular A (redundant features) is solved in the
     least-squares, minimum-norm sense.
 
-    ``param_specs`` declares ``discount``, ``max_iter`` and ``tol`` (also of :func:`lspi`
-    and :func:`value_iteration`); ``P``, ``R`` and ``features`` are data, checked as such.
+    The parameters ``discount``, ``max_iter`` and ``tol`` (also of :func:`lspi` and
+    :func:`value_iteration`) are dataclass fields, stored checked and coerced; ``P``, ``R``
+    and ``features`` are data, checked as such.
     """
 
-    param_specs: ClassVar[dict[str, ParamSpec]] = {
-        "discount": ParamSpec(float, low=0.0, high=1.0, high_open=True),
-        "max_iter": ParamSpec(int, low=1),
-        "tol": ParamSpec(float, low=0.0),
-    }
+    P: InitVar[np.ndarray]
+    discount: float = param(0.9, float, low=0.0, high=1.0, high_open=True)
+    _: KW_ONLY
+    features: InitVar[np.ndarray | None] = None
+    max_iter: int = param(100, int, low=1)
+    tol: float = param(1e-10, float, low=0.0)
 
-    def __init__(self, P, discount=0.9, *, features=None, max_iter=100, tol=1e-10):
+    def __post_init__(self, P, features):
         P, _ = _check_mdp(P, np.zeros(np.shape(P)[:2]))
-        params = coerce_params(self.param_specs, dict(discount=discount, max_iter=max_iter, tol=tol), source="LSPI")
-        gamma, self.max_iter, self.tol = params["discount"], params["max_iter"], params["tol"]
+        check_params(self)
         S, A, _ = P.shape
         if features is None:
             phi = np.eye(S * A).reshape(S, A, S * A)
@@ -139,7 +141,7 @@ class LSPI:
             phi = _as_finite(features, "features", 3, f"(S, A, k) = ({S}, {A}, k)")
             if phi.shape[:2] != (S, A) or phi.shape[2] == 0:
                 raise ValueError(f"features must have shape (S, A, k) = ({S}, {A}, k ≥ 1); got {phi.shape}")
-        self.shape, self.gamma, self.phi = (S, A), gamma, phi
+        self.shape, self.phi = (S, A), phi
         self.Phi = phi.reshape(S * A, -1)
         self.P_flat = P.reshape(S * A, S)
         self._states = np.arange(S)
@@ -149,7 +151,7 @@ class LSPI:
         R = _as_finite(R, "R", 2, f"(S, A) = {self.shape}")
         if R.shape != self.shape:
             raise ValueError(f"R must have shape (S, A) = {self.shape} to match P; got {R.shape}")
-        Phi, gamma = self.Phi, self.gamma
+        Phi, gamma = self.Phi, self.discount
         b = Phi.T @ R.ravel()
         policy = greedy(R, self.tol) if policy is None else np.asarray(policy, dtype=np.int64)
         w = b  # unused before the first iteration
@@ -179,7 +181,7 @@ def lspi(P, R, discount=0.9, *, features=None, max_iter=100, tol=1e-10) -> tuple
 def value_iteration(P, R, discount, tol=1e-12, max_iter=100000) -> np.ndarray:
     """Optimal Q (S, A) by value iteration, Q ← R + γ P max_a Q, until max|ΔQ| < ``tol``."""
     P, R = _check_mdp(P, R)
-    params = coerce_params(LSPI.param_specs, dict(discount=discount, max_iter=max_iter, tol=tol),
+    params = coerce_params(param_specs(LSPI), dict(discount=discount, max_iter=max_iter, tol=tol),
                            source="value_iteration")
     gamma, max_iter, tol = params["discount"], params["max_iter"], params["tol"]
     Q = R.copy()

@@ -29,14 +29,14 @@ features 2–4; ``tests/learn/test_incsfa.py``).
 
 from __future__ import annotations
 
-from typing import ClassVar
+from dataclasses import KW_ONLY, dataclass
 
 import numpy as np
 
-from ..config import ParamSpec
-from ._estimator import RANDOM_STATE, Estimator
+from ..config import param, spec_param
+from ..config.checks import RANDOM_STATE, check_random_state
+from ._estimator import Estimator
 from ._kernels import cimca_fit
-from ._validation import check_random_state
 
 #: Safety factor over the online estimate of λ_1 when ``gamma="auto"``.
 AUTO_GAMMA_FACTOR = 2.0
@@ -70,6 +70,7 @@ def init_weights(rng: np.random.Generator, n_components: int, n_features: int) -
     return w / np.linalg.norm(w, axis=1, keepdims=True)
 
 
+@dataclass(eq=False)
 class MCA(Estimator):
     """Online minor components (CIMCA) of the second moment of the rows of ``X``, a
     scikit-learn transformer.
@@ -94,23 +95,13 @@ class MCA(Estimator):
     ``gamma_`` (the γ in use); ``n_samples_seen_``.
     """
 
-    param_specs: ClassVar[dict[str, ParamSpec]] = {
-        "n_components": ParamSpec(int, low=1),
-        "learning_rate": ParamSpec(float, low=0.0, high=0.5, low_open=True),  # eq 20
-        "component_rates": ParamSpec(str, choices=RATE_RULES),
-        "gamma": ParamSpec(float, low=0.0, low_open=True, choices=("auto",)),
-        "random_state": RANDOM_STATE,
-    }
+    n_components: int = param(2, int, low=1)
+    _: KW_ONLY
+    learning_rate: float = param(0.05, float, low=0.0, high=0.5, low_open=True)  # eq 20
+    component_rates: str = param("decreasing", str, choices=RATE_RULES)
+    gamma: float | str = param("auto", float, low=0.0, low_open=True, choices=("auto",))
+    random_state: int | np.random.SeedSequence | np.random.Generator | None = spec_param(None, RANDOM_STATE)
     _centred = False  # CIMCA learns the second moment E[z zᵀ], not the covariance
-
-    def __init__(self, n_components=2, *, learning_rate=0.05, component_rates="decreasing", gamma="auto",
-                 random_state=None):
-        self.n_components = n_components
-        self.learning_rate = learning_rate
-        self.component_rates = component_rates
-        self.gamma = gamma
-        self.random_state = random_state
-        self._checked_params()
 
     def _check_params(self, params: dict) -> None:
         if self.__sklearn_is_fitted__() and params["n_components"] != self._W.shape[0]:

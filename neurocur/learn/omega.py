@@ -11,7 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._validation import check_block, check_nonconstant
+from ..config import param_specs
+from ..config.checks import check_block, check_nonconstant
 from .mca import MCA
 from .sfa_batch import whiten_batch
 
@@ -61,7 +62,7 @@ def omega(X, eta: float = 0.05, *, rank_tol: float = 1e-10, starts=None) -> floa
     The convergence conditions of eq 20 (η λ_1 < 0.5, 0 < η ≤ 0.5) must hold for Ω to
     be meaningful; a ``ValueError`` says so when they do not.
     """
-    eta = MCA.param_specs["learning_rate"].coerce(eta, source="omega", key="eta")  # MCA's η
+    eta = param_specs(MCA)["learning_rate"].coerce(eta, source="omega", key="eta")  # MCA's η
     lam = derivative_eigenvalues(X, rank_tol=rank_tol, starts=starts)
     if eta * lam[-1] >= 0.5:
         raise ValueError(

@@ -42,15 +42,19 @@ possible for ξ ≥ 3) takes their plain mean, the limit of equal weights.
 
 from __future__ import annotations
 
-from typing import ClassVar
+from dataclasses import KW_ONLY, MISSING, dataclass
 
 import numpy as np
 
-from ..config import ParamSpec, coerce_params
+from ..config import ParamSpec, check_params, param
+from ..config.checks import check_block
 from ._roc_kernels import first_bad, roc_episode_error, roc_error, roc_partial_fit
-from ._validation import check_block
+
+#: ``min_weight`` of :meth:`ROCBank.prune`: weights are never negative
+MIN_WEIGHT = ParamSpec(float, low=0.0)
 
 
+@dataclass(eq=False)
 class ROCBank:
     """One ROC-Amnesic clusterer (Algorithm 3) per context-state, in dense arrays.
 
@@ -71,23 +75,19 @@ class ROCBank:
     latest_ : (n_states,) int64, the slot of each state's latest-sample cluster (-1 before
         the state's first sample).
 
-    The parameters are stored checked and coerced (ints, floats); ``param_specs`` declares
-    them and ``prune``'s ``min_weight``.
+    The parameters are dataclass fields, stored checked and coerced (ints, floats);
+    ``prune``'s ``min_weight`` is checked by :data:`MIN_WEIGHT`.
     """
 
-    param_specs: ClassVar[dict[str, ParamSpec]] = {
-        "n_states": ParamSpec(int, low=1),
-        "n_features": ParamSpec(int, low=1),
-        "max_clusters": ParamSpec(int, low=2),  # Algorithm 3 merges pairs
-        "amnesic": ParamSpec(float, low=0.0, high=1.0),
-        "width": ParamSpec(float, low=0.0, low_open=True),
-        "min_weight": ParamSpec(float, low=0.0),  # of prune: weights are never negative
-    }
+    n_states: int = param(MISSING, int, low=1)
+    n_features: int = param(MISSING, int, low=1)
+    _: KW_ONLY
+    max_clusters: int = param(2, int, low=2)  # Algorithm 3 merges pairs
+    amnesic: float = param(0.01, float, low=0.0, high=1.0)
+    width: float = param(1.0, float, low=0.0, low_open=True)
 
-    def __init__(self, n_states, n_features, *, max_clusters=2, amnesic=0.01, width=1.0):
-        given = dict(n_states=n_states, n_features=n_features, max_clusters=max_clusters, amnesic=amnesic, width=width)
-        for name, value in coerce_params(self.param_specs, given, source="ROCBank").items():
-            setattr(self, name, value)
+    def __post_init__(self):
+        check_params(self)
         self.centers_ = np.zeros((self.n_states, self.max_clusters, self.n_features))
         self.weights_ = np.zeros((self.n_states, self.max_clusters))
         self.n_clusters_ = np.zeros(self.n_states, dtype=np.int64)
@@ -157,7 +157,7 @@ class ROCBank:
         a stale mean. Remaining clusters keep their order and are packed to the front.
         Returns the number of clusters removed.
         """
-        m = self.param_specs["min_weight"].coerce(min_weight, source="ROCBank.prune", key="min_weight")
+        m = MIN_WEIGHT.coerce(min_weight, source="ROCBank.prune", key="min_weight")
         slot = np.arange(self.max_clusters)
         used = slot < self.n_clusters_[:, None]
         keep = used & ((self.weights_ >= m) | (slot == self.latest_[:, None]))

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validation import check_block, check_nonconstant, check_positive_int
+from ..config.checks import check_block, check_nonconstant, check_positive_int
 
 
 @dataclass(frozen=True)
@@ -52,7 +52,7 @@ def batch_sfa(X, n_components: int, *, rank_tol: float = 1e-10) -> BatchSFA:
     """Exact linear SFA of ``X`` (rows are time) with ``n_components`` slow features."""
     X = check_block(X, min_rows=3)
     check_nonconstant(X)
-    n_components = check_positive_int(n_components, "n_components")
+    n_components = check_positive_int(n_components, "n_components", source="batch_sfa")
     Z, S, mean = whiten_batch(X, rank_tol)
     if n_components > Z.shape[1]:
         raise ValueError(

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..config import ConfigError, check_params, learner_param
+from ..config import ConfigError, check_params, learner_param, param
 from ..learn.ccipca import AmnesicSchedule
 from ..learn.incsfa import IncSFA
 from .base import Probe, Region, Signal, register
@@ -32,6 +32,8 @@ class ECParams:
     gamma: float | str = learner_param(IncSFA, "gamma", 4.0, doc="MCA deflation gamma")
     dtype: str = learner_param(IncSFA, "dtype", "float64",
                                doc="'float64' (exact) or 'float32' (faster, not bit-identical)")
+    ne_gain: float = param(0.0, float, low=0.0,
+                           doc="k: MCA rate x (1 + k NE), NE the learn input 'ne' (0: off, and no such input)")
 
     def __post_init__(self):
         check_params(self)
@@ -67,16 +69,22 @@ class ECIncSFA(Region):
 
     Params = ECParams
     inputs = (Signal("episode", "Episode", ()),)
-    learn_inputs = (
+    GATING = (
         Signal("familiar", "bool", (), "some frozen module's error is below threshold: do not learn"),
         Signal("module_learned", "bool", (), "freeze the adaptive module now"),
     )
+    NE = Signal("ne", "float64", (), "noradrenaline that scales the MCA rate (only with ne_gain > 0)")
     outputs = (
         Signal("features", "float64", ("T", "J"), "adaptive module's slow features per frame"),
         Signal("library_features", "float64", ("T", "M", "J"), "every frozen module's slow features per frame"),
         Signal("slowness_progress", "float64", (), "drop of the slowest output's delta on this episode's frames "
                "since the context's previous visit (NaN while undefined or unread)", optional=True),
     )
+
+    @property
+    def learn_inputs(self):
+        """HPC's gating signals, and ``ne`` when ``ne_gain`` > 0 (the NE-gated variant)."""
+        return (*self.GATING, self.NE) if self.params.ne_gain > 0 else self.GATING
 
     @property
     def frame_probes(self):
@@ -123,7 +131,7 @@ class ECIncSFA(Region):
             return np.nan
         return _delta(episode.frames @ before, episode) - _delta(y[:, 0], episode)  # offsets cancel in Δ
 
-    def learn(self, familiar, module_learned) -> None:
+    def learn(self, familiar, module_learned, ne=None) -> None:
         if module_learned:
             self.library.append(self.adaptive.copy())
             self._lib_proj = np.concatenate([m.projection_ for m in self.library], axis=1)
@@ -131,6 +139,8 @@ class ECIncSFA(Region):
             self.adaptive = self._new_module()
         elif not familiar:
             a = self.adaptive
+            if self.params.ne_gain > 0:
+                a.set_params(mca_rate=ne_rate(self.params, ne))
             for frames, _ in self.episode.segments():  # the frame contract has checked them (float64, [0, 1])
                 a.partial_fit(frames, check_input=False)
             self._proj = a.projection_
@@ -142,6 +152,15 @@ class ECIncSFA(Region):
     def products(self, events):
         """``"library"``: the frozen modules (IncSFA), in storage order."""
         return {"library": list(self.library)}
+
+
+def ne_rate(p: ECParams, ne) -> float:
+    """The NE-gated MCA rate, eta (1 + k NE) capped at 0.5 (eq 20's convergence bound); NE = 0 on
+    the first pass (a delayed edge delivers None) and below 0 counts as 0. A learning-rate gain
+    in the spirit of Yu & Dayan (2005, Neuron 46:681): NE reports unexpected uncertainty and
+    speeds learning; not in the paper."""
+    level = 0.0 if ne is None else max(0.0, float(ne))
+    return min(0.5, p.mca_rate * (1.0 + p.ne_gain * level))
 
 
 def _delta(y: np.ndarray, episode) -> float:

@@ -7,9 +7,9 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from ..config import check_params, learner_param, param
+from ..config import check_params, learner_param, param, spec_param
 from ..contract import MODULE_COLUMNS
-from ..learn.roc import ROCBank
+from ..learn.roc import MIN_WEIGHT, ROCBank
 from ._hpc_kernels import store_errors
 from .base import Probe, Region, Signal, register
 
@@ -24,8 +24,7 @@ class HPCParams:
                                       doc="xi, clusters per context-state (Algorithm 3 merges pairs)")
     amnesic: float = learner_param(ROCBank, "amnesic", 0.01, doc="phi, ROC weight leak per update")
     width: float = learner_param(ROCBank, "width", 1.0, doc="sigma of the Gaussian ROC response")
-    prune_min_weight: float = learner_param(ROCBank, "min_weight", 0.5,
-                                            doc="clusters lighter than this are pruned at storage")
+    prune_min_weight: float = spec_param(0.5, MIN_WEIGHT, doc="clusters lighter than this are pruned at storage")
     freeze: str = param("context_mean", str, choices=FREEZE_RULES, doc="module storage rule")
     ordered: bool = param(False, bool,
                           doc="variant: store a module only if its outputs on the context are ordered by slowness (eq 4)")

@@ -5,14 +5,15 @@ Gilzenrat, Holmes, Rajkowski, Aston-Jones & Cohen (2002, Neural Networks 15:647)
 mean-field of the coupled LC units of Usher et al. (1999, Science 283:549), is a
 FitzHugh-Nagumo system with activation v and recovery u:
 
-    tau_v dv/dt = v (alpha - v)(v - 1) - u + x(t)
+    tau_v dv/dt = v (alpha - v)(v - 1) - u + x(t) + sigma xi(t)
     tau_u du/dt = h(v) - u,     h(v) = C v + (1 - C) d
 
 The mode parameter C (their electrotonic coupling) sets the mode: C = 1 is the phasic
 mode (v rests at 0 and an input drives a burst, then refractoriness); lowering C moves
 the recovery towards the constant d and the rest point up the v-nullcline, so the
-baseline firing rises and the evoked burst shrinks (the tonic mode). The LC's output
-gain is g = G + k v (their eq for the gain of the decision units); here v is read as a
+baseline firing rises and the evoked burst shrinks (the tonic mode). xi is white noise
+(their LC units are noisy); without it the phasic mode rests exactly at v = 0 and the
+baseline is flat. The LC's output gain is g = G + k v (their eq for the gain of the decision units); here v is read as a
 firing rate, clipped to [0, 1], and averaged over the decision window (the NE released
 during it). The gain is the inverse temperature of the softmax decision of
 :mod:`.lc_softmax`.
@@ -44,6 +45,7 @@ class FHNLCParams:
     substeps: int = param(200, int, low=1, doc="Euler steps per episode: the decision window is substeps x dt")
     pulse: float = param(0.1, float, low=0.0, doc="duration of the evidence input from the window's start (time units)")
     drive: float = param(0.5, float, low=0.0, doc="w, input per unit of engage evidence (a.u. of v per time unit)")
+    noise: float = param(0.01, float, low=0.0, doc="sigma, the input noise's standard deviation (a.u. of v per sqrt time unit)")
     gain_base: float = param(0.5, float, low=0.0, doc="G, gain of the decision at zero firing (1 / DA units)")
     gain_scale: float = param(3.0, float, low=0.0, doc="k, gain per unit of mean firing rate (1 / DA units)")
 
@@ -55,18 +57,27 @@ class FHNLCParams:
 
 
 @njit(cache=True, fastmath=False)
-def integrate(v, u, x, n_pulse, n, dt, alpha, tau_v, tau_u, mode, baseline, trace):
-    """``n`` Euler steps of the FitzHugh-Nagumo LC from (v, u), input ``x`` for the first
-    ``n_pulse`` steps; writes (v, u) after step k into ``trace[k]`` and returns the final (v, u)."""
-    for k in range(n):
-        inp = x if k < n_pulse else 0.0
-        dv = (v * (alpha - v) * (v - 1.0) - u + inp) / tau_v
+def integrate(v, u, inputs, dt, alpha, tau_v, tau_u, mode, baseline, trace):
+    """``len(inputs)`` Euler steps of the FitzHugh-Nagumo LC from (v, u), input ``inputs[k]`` at
+    step k; writes (v, u) after step k into ``trace[k]`` and returns the final (v, u)."""
+    for k in range(inputs.shape[0]):
+        dv = (v * (alpha - v) * (v - 1.0) - u + inputs[k]) / tau_v
         du = (mode * v + (1.0 - mode) * baseline - u) / tau_u
         v += dt * dv
         u += dt * du
         trace[k, 0] = v
         trace[k, 1] = u
     return v, u
+
+
+def with_noise(inputs: np.ndarray, sigma: float, dt: float, rng) -> np.ndarray:
+    """``inputs`` (one per Euler step) plus white noise of intensity ``sigma``: Euler-Maruyama,
+    sigma xi / sqrt(dt) per step with xi standard normal, so that v moves by sigma sqrt(dt) xi /
+    tau_v, as in the noisy LC units of Usher et al. (1999) and Gilzenrat et al. (2002).
+    ``inputs`` itself when ``sigma`` is 0 (no draw)."""
+    if sigma <= 0.0:
+        return inputs
+    return inputs + (sigma / np.sqrt(dt)) * rng.standard_normal(len(inputs))
 
 
 @register("lc.fhn")
@@ -78,7 +89,8 @@ class FHNLC(GainLC):
 
     - the engage evidence, x = drive x max(0, tanh(Q_eng - Q_dis)), is the input for the
       first ``pulse`` time units of the window;
-    - v and u are integrated (module docstring; Euler, compiled with numba);
+    - v and u are integrated with the input noise of intensity ``noise`` (module docstring;
+      Euler-Maruyama, compiled with numba; :func:`with_noise`);
     - the firing rate r(t) = clip(v(t), 0, 1); the NE released in the window is its mean,
       and the gain = gain_base + gain_scale x mean r, released through the drugs, then the
       softmax decision of :class:`~neurocur.regions.lc_softmax.GainLC`.
@@ -119,7 +131,9 @@ class FHNLC(GainLC):
         q_eng, q_dis = float(q[ENGAGE]), float(q[DISENGAGE])
         x = p.drive * phasic_ne(ENGAGE, False, q_eng, q_dis)  # max(0, tanh(Q_eng - Q_dis))
         tonic = min(1.0, max(0.0, self.v))
-        self.v, self.u = integrate(self.v, self.u, x, int(round(p.pulse / p.dt)), p.substeps, p.dt, p.alpha,
+        inputs = np.zeros(p.substeps)
+        inputs[:int(round(p.pulse / p.dt))] = x
+        self.v, self.u = integrate(self.v, self.u, with_noise(inputs, p.noise, p.dt, self.rng), p.dt, p.alpha,
                                    p.tau_v, p.tau_u, p.mode, p.baseline, self.trace)
         rate = np.clip(self.trace[:, 0], 0.0, 1.0)
         mean_rate = float(rate.mean())

@@ -55,7 +55,7 @@ def eq14_rate(alpha, n):
 class RewardModel:
     """Eq 14's reward model ``R[o, a, o']`` (previous context, decision, context) and the expected
     reward ``R(o, a) = sum_o' P[o, a, o'] R[o, a, o']`` under eqs 12-13's ``P``; every estimate
-    starts at 0. The PFC holds one; :mod:`neurocur.analysis.reward_model` replays one from a run's
+    starts at 0. The PFC holds one; :mod:`neurocur.analysis.stats.reward_model` replays one from a run's
     recorded DA and decisions."""
 
     def __init__(self, n_contexts: int, alpha) -> None:

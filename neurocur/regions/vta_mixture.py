@@ -2,10 +2,9 @@
 
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass
 
-from ..config import ConfigError, check_params, describe, param
+from ..config import ParamSpec, check_params, param, spec_param
 from .base import register
 from .vta import AbsLearningProgressVTA, LearningProgressVTA, NoveltyVTA, VTARole
 from .vta_content_novelty import ContentNoveltyVTA
@@ -22,28 +21,20 @@ INTRINSIC = {cls.type_name: cls for cls in (LearningProgressVTA, AbsLearningProg
 class MixtureParams:
     weight: float = param(0.5, float, low=0.0, high=1.0, doc="w, the extrinsic reward's share of DA")
     intrinsic: str = param("vta.learning_progress", str, choices=tuple(INTRINSIC), doc="the intrinsic model's type")
-    boredom: float = param(-100.0, float, doc="the intrinsic model's boredom (learning progress models)")
-    scale: float = param(1.0, float, low=0.0, low_open=True,
-                         doc="the intrinsic model's scale (novelty, content novelty, surprise)")
+    intrinsic_params: dict = spec_param(
+        {}, ParamSpec.table(ParamSpec(float)),
+        doc="the intrinsic model's parameters, checked by its own Params (e.g. boredom of the learning-progress "
+            "models, scale of novelty, content novelty and surprise); omitted ones keep its defaults")
 
     def __post_init__(self):
         check_params(self)
         self.intrinsic_model_params()
 
     def intrinsic_model_params(self):
-        """The intrinsic model's parameters: those of this mixture's that its Params declares.
-
-        A parameter the intrinsic model lacks must keep its default, so that no setting is ignored.
-        """
-        cls = INTRINSIC[self.intrinsic].Params
-        own = {f.name for f in dataclasses.fields(cls)}
-        for name in ("boredom", "scale"):
-            default = next(f.default for f in dataclasses.fields(self) if f.name == name)
-            if name not in own and getattr(self, name) != default:
-                raise ConfigError(type(self).__name__, name,
-                                  f"its default {default:g}: {self.intrinsic} has no {name} (its parameters: "
-                                  f"{', '.join(sorted(own))})", describe(getattr(self, name)))
-        return cls(**{name: getattr(self, name) for name in own})
+        """The intrinsic model's Params made from ``intrinsic_params`` (a nested table of that class:
+        an error names ``intrinsic_params.<key>`` and the model's own expectation)."""
+        spec = ParamSpec.nested(INTRINSIC[self.intrinsic].Params)
+        return spec.coerce(self.intrinsic_params, source=type(self).__name__, key="intrinsic_params")
 
 
 @register("vta.mixture")
@@ -52,9 +43,9 @@ class MixtureVTA(VTARole):
     paper's learning progress, section 2.5) mixed with the world's extrinsic reward ``r`` of
     the visit, with weight ``w`` (a trade-off of intrinsic and extrinsic motivation in the
     sense of Barto, Singh & Chentanez 2004, Proc. ICDL). ``w = 0`` is the intrinsic model,
-    ``w = 1`` the extrinsic reward alone. ``boredom`` and ``scale`` go to the intrinsic model
-    (each only to a model that has it). The intrinsic model sees the same inputs; drugs act
-    on the mixed level only."""
+    ``w = 1`` the extrinsic reward alone. ``intrinsic_params`` are the intrinsic model's own
+    (``{ boredom = -100.0 }``, ``{ scale = 6.0 }``). The intrinsic model sees the same inputs;
+    drugs act on the mixed level only."""
 
     Params = MixtureParams
 

@@ -5,9 +5,16 @@ of its input files and the code.
   recorded by its sha256 (:func:`file_hashes`); a folder is not an input file.
 * The code is recorded as the package version, a sha256 of the source of every module
   that can compute a run (the package's ``.py`` files except :mod:`neurocur.analysis`,
-  which only reads results folders) and, when the package runs from a git clone, the
-  commit and whether the package has uncommitted changes (:func:`code_fingerprint`).
-  Two fingerprints describe the same code when version and source hash agree.
+  which only reads results folders, and :mod:`neurocur.rl`, which no run imports) and, when the
+  package runs from a git clone, the commit and whether the package has uncommitted changes
+  (:func:`code_fingerprint`), and every plug-in loaded from the region or world entry-point groups:
+  its distribution's name and version and a sha256 of its Python files and of the entry point's
+  module (:func:`plugin_fingerprints`). Two fingerprints describe the same code when version,
+  source hash and plug-ins agree.
+* Paths inside the package (a shipped experiment or circuit) are recorded relative to it,
+  ``<neurocur>/circuits/cd_misfa.toml`` (:func:`portable`), so a moved clone or a
+  re-created virtualenv resumes its own folders; their content is in the resolved
+  configuration (the circuit) or in the code fingerprint.
 
 :meth:`neurocur.results.ResultsStore.check` records both in ``config.toml`` and compares
 them on resume (:func:`changed_input`, :func:`code_changed`).
@@ -18,14 +25,18 @@ from __future__ import annotations
 import functools
 import hashlib
 import subprocess
+import sys
 from collections.abc import Iterable, Mapping
+from importlib.metadata import entry_points
 from pathlib import Path
 
-__all__ = ["changed_input", "code_changed", "code_fingerprint", "file_hashes", "same_code"]
+__all__ = ["changed_input", "code_changed", "code_fingerprint", "file_hashes", "local_path", "plugin_fingerprints",
+           "portable", "same_code"]
 
 PACKAGE = Path(__file__).resolve().parents[1]
-#: subpackages left out of the code fingerprint: they never compute a run
-NOT_RUN_CODE = ("analysis",)
+#: subpackages left out of the code fingerprint: they never compute a run (the analysis reads
+#: results folders; :mod:`neurocur.rl` wraps gymnasium environments for other agents)
+NOT_RUN_CODE = ("analysis", "rl")
 
 
 def file_hashes(paths: Iterable[str]) -> dict[str, str]:
@@ -50,13 +61,63 @@ def changed_input(old: Mapping[str, str], new: Mapping[str, str]) -> str | None:
     return None
 
 
-@functools.cache
 def code_fingerprint() -> dict:
-    """``{"version", "source", "commit", "dirty"}`` of the running package (computed once per process).
+    """``{"version", "source", "commit", "dirty", "plugins"}`` of the running code: the package's
+    (computed once per process) and the plug-ins loaded so far (:func:`plugin_fingerprints`).
 
     ``commit`` is ``""`` and ``dirty`` false when the package does not run from a git clone
     (or git is not installed).
     """
+    return {**_package_fingerprint(), "plugins": plugin_fingerprints()}
+
+
+#: the entry-point groups whose types compute runs (region and world plug-ins)
+PLUGIN_GROUPS = ("neurocur.regions", "neurocur.worlds")
+
+
+def plugin_fingerprints() -> list[dict]:
+    """``[{"entry_point", "name", "version", "source"}]`` of every region or world entry point whose
+    module is loaded in this process, sorted; ``source`` is a sha256 of the distribution's ``.py``
+    files and of the entry point module's file (for an editable install, whose files the
+    distribution does not list)."""
+    found = []
+    for group in PLUGIN_GROUPS:
+        for ep in entry_points(group=group):
+            module = sys.modules.get(ep.module)
+            if module is None:
+                continue
+            h = hashlib.sha256()
+            files = [Path(str(ep.dist.locate_file(f))) for f in (ep.dist.files or []) if f.suffix == ".py"] \
+                if ep.dist is not None else []
+            own = getattr(module, "__file__", None)
+            for path in sorted({*files, *([Path(own)] if own else [])}):
+                if path.is_file():
+                    h.update(path.name.encode() + b"\0" + path.read_bytes() + b"\0")
+            found.append({"entry_point": f"{group}:{ep.name}", "name": ep.dist.name if ep.dist else ep.module,
+                          "version": ep.dist.version if ep.dist else "", "source": h.hexdigest()[:16]})
+    return sorted(found, key=lambda fp: fp["entry_point"])
+
+
+def portable(tree):
+    """``tree`` with every string (and key) naming a path inside the package written relative to it,
+    ``<neurocur>/...``."""
+    prefix = str(PACKAGE) + "/"
+    if isinstance(tree, Mapping):
+        return {portable(k): portable(v) for k, v in tree.items()}
+    if isinstance(tree, list):
+        return [portable(v) for v in tree]
+    if isinstance(tree, str) and tree.startswith(prefix):
+        return "<neurocur>/" + tree[len(prefix):]
+    return tree
+
+
+def local_path(text: str) -> Path:
+    """The path that a :func:`portable` string names in the running package (other paths as they are)."""
+    return PACKAGE / text.removeprefix("<neurocur>/") if text.startswith("<neurocur>/") else Path(text)
+
+
+@functools.cache
+def _package_fingerprint() -> dict:
     from neurocur import __version__
 
     h = hashlib.sha256()
@@ -73,8 +134,9 @@ def code_fingerprint() -> dict:
 
 
 def same_code(a: Mapping, b: Mapping) -> bool:
-    """Whether two code fingerprints describe the same code (version and source hash)."""
-    return (a.get("version"), a.get("source")) == (b.get("version"), b.get("source"))
+    """Whether two code fingerprints describe the same code (version, source hash and plug-ins)."""
+    return (a.get("version"), a.get("source"), a.get("plugins", [])) == \
+        (b.get("version"), b.get("source"), b.get("plugins", []))
 
 
 def code_changed(recorded: list, current: Mapping) -> str | None:
@@ -90,7 +152,12 @@ def describe_code(fp: Mapping) -> str:
     text = f"neurocur {fp.get('version', '?')}"
     if fp.get("commit"):
         text += f", commit {fp['commit'][:12]}" + (" with uncommitted changes" if fp.get("dirty") else "")
-    return text + f", source {str(fp.get('source', '?'))[:8]}"
+    text += f", source {str(fp.get('source', '?'))[:8]}"
+    for plugin in fp.get("plugins", []):
+        if isinstance(plugin, Mapping):
+            text += (f", plug-in {plugin.get('name', '?')} {plugin.get('version', '?')} "
+                     f"source {str(plugin.get('source', '?'))[:8]}")
+    return text
 
 
 def _git(*args: str) -> str | None:

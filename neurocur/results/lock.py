@@ -7,6 +7,10 @@ it ends, so a lock left by a killed process never blocks: the next writer takes 
 finds the dead holder's details in the file (:attr:`FolderLock.stale`). A released lock
 removes its file. Within one process the lock is re-entrant. Reading a results folder
 needs no lock (runs are written atomically).
+
+The lock file is opened without following a link (:func:`~neurocur.results.safeio.open_new`):
+a ``.lock`` that is a symbolic link, a hard link to another file or not a regular file
+is refused, never truncated.
 """
 
 from __future__ import annotations
@@ -20,6 +24,8 @@ import time
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
+
+from .safeio import open_new
 
 __all__ = ["LOCK", "FolderInUse", "FolderLock", "locked"]
 
@@ -55,7 +61,7 @@ class FolderLock:
             raise ValueError(f"results folder {self.root}: cannot create it ({exc.strerror or exc})") from None
         while True:
             try:
-                fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o644)
+                fd = open_new(self.path, exclusive=False)
             except OSError as exc:
                 raise ValueError(f"results folder {self.root}: cannot write into it ({exc.strerror or exc})") from None
             try:
@@ -78,7 +84,7 @@ class FolderLock:
     def _release(self) -> None:
         try:
             os.unlink(self.path)  # while still holding it, so that no one locks the removed file
-        except FileNotFoundError:
+        except OSError:  # gone, or the folder was made read-only: a lock file nobody holds never blocks
             pass
         fcntl.flock(self._fd, fcntl.LOCK_UN)
         os.close(self._fd)

@@ -9,12 +9,18 @@ Layout::
     OUT/runs/<condition>/run-<NNN>/modules.parquet
     OUT/runs/<condition>/run-<NNN>/run.json        the run's summary (order, seed, contexts, ...)
     OUT/runs/<condition>/run-<NNN>/<name>.parquet  further tables of the world type (iCub: features)
+    OUT/runs/<condition>/run-<NNN>/agent/          the trained agent, when asked for (:mod:`.agents`)
+    OUT/checkpoints/<condition>/run-<NNN>/         the last checkpoint of a run in progress (:mod:`.agents`)
     OUT/.lock                                      while a process writes (:mod:`.lock`)
 
 **The folder is the truth.** A run's condition and number are those of its path; the
 ``condition`` and ``run`` of its ``run.json`` and of its tables must agree, else reading
 (and resuming) fails naming the folder, what its files say and, when the same run also
-exists under its own name, both paths (a copied or renamed folder).
+exists under its own name, both paths (a copied or renamed folder). A run folder is spelled
+``run-<NNN>`` and is a real folder, and its ``run.json`` agrees with ``config.toml`` (seed,
+steps) and with its tables (sha256) (:mod:`.runinfo`); a folder with runs but no
+``config.toml`` is refused. Nothing is written through a link the store did not make, nor
+outside the folder (:mod:`.safeio`, :mod:`.names`).
 
 **Writing.** A process writes only while it holds the folder's lock
 (:meth:`ResultsStore.writing`). Every run is written into ``OUT/.partial/`` and moved into
@@ -49,8 +55,15 @@ import pandas as pd
 
 from neurocur.config import ConfigError
 
-from .fingerprint import changed_input, code_changed, code_fingerprint, file_hashes
+from .agents import AGENT, Checkpoints
+from .configfile import comparable, lookup, read_config
+from .errors import ResultsError
+from .fingerprint import changed_input, code_changed, code_fingerprint, file_hashes, portable
 from .lock import FolderLock, locked
+from .names import check_folder_name
+from .runinfo import RUN_INFO, check_run_info, digests, read_run_info, run_folder_name, run_number, scan_runs
+from .safeio import atomic_text, own_dir
+from .statefile import write_state
 from .tomlio import difference_path, dotted, dumps_toml
 
 __all__ = ["ResultsError", "ResultsStore", "RunResult", "load", "run_dirs"]
@@ -58,18 +71,12 @@ __all__ = ["ResultsError", "ResultsStore", "RunResult", "load", "run_dirs"]
 CONFIG = "config.toml"
 SUMMARY = "summary.json"
 PARTIAL = ".partial"
-RUN_INFO = "run.json"
+CHECKPOINTS = "checkpoints"
 RUN_TABLES = ("episodes", "modules")
 _HEADER = """Resolved experiment written by neurocur; do not edit (resuming into this folder compares it).
-Seeds: run i of every condition uses numpy SeedSequence(seeds.entropy, spawn_key=seeds.spawn_keys[i]);
-each region's generator is that seed's child keyed by the region's name (the sensory region's seeds the world).
+Seeds: run i of every condition uses numpy SeedSequence(seeds.entropy, spawn_key=[i]);
+each region's generator is that seed's child keyed by the region's name, the world's its child keyed by 'world'.
 conditions.<name>.inputs: the sha256 of each input file; code: every code version that wrote runs into this folder."""
-#: top-level keys compared on resume by their own rules (the code fingerprint), not as configuration
-_NOT_COMPARED = ("code", "neurocur_version", "runs")
-
-
-class ResultsError(ValueError):
-    """A results folder that cannot be read or resumed as it is (the message says why and what to do)."""
 
 
 @dataclass(frozen=True)
@@ -83,6 +90,8 @@ class RunResult:
     summary: dict
     #: further per-run tables of the world type, written as ``<name>.parquet`` (iCub: ``features``)
     tables: Mapping[str, pd.DataFrame] = field(default_factory=dict)
+    #: the trained agent's state (:func:`~neurocur.results.agents.agent_state`), written as ``agent/``; None: not kept
+    agent: tuple | None = None
 
 
 class ResultsStore:
@@ -97,8 +106,10 @@ class ResultsStore:
     # ------------------------------------------------------------------ layout
 
     def run_dir(self, condition: str, run: int) -> Path:
-        """Folder of run ``run`` of ``condition``."""
-        return self.root / "runs" / condition / f"run-{run:03d}"
+        """Folder of run ``run`` of ``condition`` (a ConfigError for a name that is no folder name:
+        :func:`~neurocur.results.names.check_folder_name`)."""
+        check_folder_name(condition, self.root / "runs", "condition")
+        return self.root / "runs" / condition / run_folder_name(run)
 
     def completed(self, conditions: Iterable[str], runs: int) -> set[tuple[str, int]]:
         """The (condition, run) pairs already written (complete run folders).
@@ -106,10 +117,20 @@ class ResultsStore:
         Every run folder of the results folder is checked against its ``run.json`` first
         (ResultsError on a copied or renamed folder); incomplete ones are left to be rewritten.
         """
-        for path in sorted((self.root / "runs").glob("*/run-*")):
-            if path.is_dir() and (path / RUN_INFO).is_file():
-                self._check_info(path)
-        return {(c, i) for c in conditions for i in range(runs) if (self.run_dir(c, i) / RUN_INFO).is_file()}
+        config = self.config()
+        found = set()
+        for path in self._scan():
+            if (path / RUN_INFO).is_file():
+                self._check_info(path, config)
+                found.add((path.parent.name, run_number(path.name)))
+        wanted = set(conditions)
+        return {(c, i) for c, i in found if c in wanted and i < runs}
+
+    def checkpoints(self, condition: str, run: int, every: int, meta: Mapping, *, required: bool = False) -> Checkpoints:
+        """The checkpoints of run ``run`` of ``condition`` (:class:`~neurocur.results.agents.Checkpoints`),
+        in ``OUT/checkpoints/<condition>/run-<NNN>/``; removed when the run is written."""
+        final = self.run_dir(condition, run)
+        return Checkpoints(own_dir(self.root, CHECKPOINTS, condition) / final.name, every, meta, required=required)
 
     def writing(self) -> AbstractContextManager[FolderLock]:
         """The folder's exclusive lock for a ``with`` block (see :mod:`neurocur.results.lock`):
@@ -123,8 +144,7 @@ class ResultsStore:
         path = self.root / CONFIG
         if not path.is_file():
             return None
-        with path.open("rb") as fh:
-            return tomllib.load(fh)
+        return read_config(path)
 
     def check(self, config: Mapping, *, inputs: Mapping[str, Iterable[str]] | None = None,
               accept_code_change: bool = False) -> dict | None:
@@ -142,22 +162,31 @@ class ResultsStore:
             hashes = file_hashes(paths)
             if hashes and name in config.get("conditions", {}):
                 config["conditions"][name]["inputs"] = hashes
+        config = portable(config)
         code = code_fingerprint()
         existing = self.config()
         if existing is None:
+            if any(self._scan()):
+                raise ResultsError(f"{self.root} holds runs but no {CONFIG}, so nothing tells which experiment "
+                                   f"they belong to; restore its {CONFIG}, or use another --out folder")
             return {**config, "code": [code]}
         path = self.root / CONFIG
+        for key in ("runs", "steps", "seeds", "code"):
+            if key not in existing:
+                raise ConfigError(path, key, "the key neurocur wrote there", "nothing (the key is missing); use "
+                                  "another --out folder")
+        existing = portable(existing)
         old_conditions, new_conditions = existing.get("conditions", {}), config.get("conditions", {})
         shared = [c for c in new_conditions if c in old_conditions]
         for name in shared:
             changed = changed_input(old_conditions[name].get("inputs", {}), new_conditions[name].get("inputs", {}))
             if changed:
                 raise ResultsError(f"{self.root}: {changed}; use another --out folder")
-        where = difference_path(_comparable({**existing, "conditions": {c: old_conditions[c] for c in shared}}),
-                                _comparable({**config, "conditions": {c: new_conditions[c] for c in shared}}))
+        where = difference_path(comparable({**existing, "conditions": {c: old_conditions[c] for c in shared}}),
+                                comparable({**config, "conditions": {c: new_conditions[c] for c in shared}}))
         if where is not None:
-            raise ConfigError(path, dotted(where), f"{_lookup(config, where)} (this experiment) to resume into "
-                              f"this folder", f"{_lookup(existing, where)}; use another --out folder or remove this one")
+            raise ConfigError(path, dotted(where), f"{lookup(config, where)} (this experiment) to resume into "
+                              f"this folder", f"{lookup(existing, where)}; use another --out folder or remove this one")
         recorded = existing.get("code", [])
         changed = code_changed(recorded, code)
         if changed and not accept_code_change:
@@ -175,55 +204,77 @@ class ResultsStore:
         """Write ``config`` (what :meth:`check` returned) as the folder's ``config.toml``, creating
         the folder; None leaves it as it is. Call it while holding the folder's lock (:meth:`writing`)."""
         if config is not None:
-            self.root.mkdir(parents=True, exist_ok=True)
-            _atomic_text(self.root / CONFIG, dumps_toml(config, header=_HEADER))
+            atomic_text(own_dir(self.root) / CONFIG, dumps_toml(config, header=_HEADER))
 
     # ------------------------------------------------------------------ runs
 
     def clear_partial(self) -> None:
         """Remove the debris of runs that were being written when a process stopped."""
-        shutil.rmtree(self.root / PARTIAL, ignore_errors=True)
+        shutil.rmtree(self.root / PARTIAL, ignore_errors=True)  # never follows a link (removes nothing then)
 
     def write_run(self, result: RunResult) -> Path:
         """Write one run's tables and summary atomically into its run folder.
 
         When the run folder exists already (written meanwhile by another process, or left
         without its ``run.json``), a complete one is kept and this result dropped (a run is
-        determined by its seed), and an incomplete one is replaced.
+        determined by its seed), and an incomplete one is replaced. ``run.json`` records the
+        sha256 of each table (``tables``). Nothing is written when the results folder no longer
+        exists (moved or removed while it ran: it is never re-created behind the move), and
+        no link on the way is followed (:mod:`.safeio`).
         """
         final = self.run_dir(result.condition, result.run)
-        name = f"{result.condition}-run-{result.run:03d}-{os.getpid()}"
-        tmp = self.root / PARTIAL / name
-        if tmp.exists():
-            shutil.rmtree(tmp)
-        tmp.mkdir(parents=True)
+        name = f"{result.condition}-{final.name}-{os.getpid()}"
+        partial = own_dir(self.root, PARTIAL)
+        tmp = partial / name
+        shutil.rmtree(tmp, ignore_errors=True)
+        tmp.mkdir()
         result.episodes.to_parquet(tmp / "episodes.parquet", index=False)
         result.modules.to_parquet(tmp / "modules.parquet", index=False)
         for table_name, table in result.tables.items():
+            check_folder_name(table_name, tmp, "tables")
             table.to_parquet(tmp / f"{table_name}.parquet", index=False)
-        (tmp / RUN_INFO).write_text(json.dumps(result.summary, indent=2) + "\n", encoding="utf-8")
-        final.parent.mkdir(parents=True, exist_ok=True)
-        while True:
+        summary = {**result.summary, "tables": digests(tmp)}
+        if result.agent is not None:
+            write_state(tmp / AGENT, *result.agent)
+        (tmp / RUN_INFO).write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
+        own_dir(self.root, "runs", result.condition)
+        for _ in range(100):  # each pass moves an incomplete folder aside; another writer may race us
             try:
                 os.replace(tmp, final)
+                self._drop_checkpoint(result.condition, final.name)
                 return final
             except OSError as exc:
                 if exc.errno not in (errno.ENOTEMPTY, errno.EEXIST):
                     raise
+            if final.is_symlink() or not final.is_dir():
+                break
             if (final / RUN_INFO).is_file():
                 shutil.rmtree(tmp, ignore_errors=True)
                 return final
-            aside = self.root / PARTIAL / f"incomplete-{name}"
+            aside = partial / f"incomplete-{name}"
             try:
                 os.replace(final, aside)
             except FileNotFoundError:  # removed meanwhile: try again
                 continue
             shutil.rmtree(aside, ignore_errors=True)
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise ResultsError(f"{final}: cannot put the run in place (not a real folder, or replaced again and "
+                           "again by another process); remove it")
+
+    def _drop_checkpoint(self, condition: str, name: str) -> None:
+        """Remove a written run's checkpoint, and the checkpoint folders left empty."""
+        folder = self.root / CHECKPOINTS / condition / name
+        shutil.rmtree(folder, ignore_errors=True)
+        for empty in (folder.parent, folder.parent.parent):
+            try:
+                empty.rmdir()
+            except OSError:  # not empty (another run's checkpoint), or absent
+                break
 
     def write_summary(self, summary: Mapping) -> Path:
         """Write ``summary.json`` (aggregate statistics, computed by :mod:`neurocur.analysis`)."""
-        path = self.root / SUMMARY
-        _atomic_text(path, json.dumps(summary, indent=2, ensure_ascii=False) + "\n")
+        path = own_dir(self.root) / SUMMARY
+        atomic_text(path, json.dumps(summary, indent=2, ensure_ascii=False) + "\n")
         return path
 
     # ------------------------------------------------------------------ reading
@@ -233,8 +284,10 @@ class ResultsStore:
 
         Raises ValueError when the folder is not a results folder (no ``runs/`` folder, no
         run folder in it, or a run folder without its Parquet tables), and ResultsError for
-        a run folder without its ``run.json`` or whose ``run.json`` names another
-        condition or run than its path.
+        a folder without its ``config.toml``, a run folder spelled otherwise than
+        ``run-<NNN>`` or that is a link, without its ``run.json``, or whose ``run.json``
+        names another condition or run than its path, or disagrees with ``config.toml``
+        (:func:`~neurocur.results.runinfo.check_run_info`).
         """
         root, runs = self.root, self.root / "runs"
         if not root.is_dir():
@@ -242,28 +295,29 @@ class ResultsStore:
         if not runs.is_dir():
             raise ValueError(f"{root} is not a results folder: expected a 'runs/' folder holding "
                              "runs/<condition>/run-<NNN>/episodes.parquet (write one with 'neurocur run')")
-        found = sorted(p for p in runs.glob("*/run-*") if p.is_dir())
+        found = self._scan()
         if not found:
             raise ValueError(f"{root} is not a results folder: 'runs/' holds no run folder runs/<condition>/run-<NNN>/")
+        config = self.config()
         for path in found:
             missing = [f"{name}.parquet" for name in RUN_TABLES if not (path / f"{name}.parquet").is_file()]
             if missing:
                 raise ValueError(f"run folder {path} lacks {', '.join(missing)}")
+            if config is None:
+                raise ResultsError(f"{root} holds runs but no {CONFIG}, so nothing tells which experiment they "
+                                   f"belong to (a folder moved while it ran?); restore its {CONFIG}")
             if not (path / RUN_INFO).is_file():
                 raise ResultsError(f"run folder {path} is incomplete: it lacks {RUN_INFO} "
                                    "('neurocur run' into this folder computes it again)")
-            self._check_info(path)
+            self._check_info(path, config)
         return found
 
+    def _scan(self) -> list[Path]:
+        return scan_runs(self.root / "runs")
+
     def run_info(self, path: Path) -> dict:
-        """The ``run.json`` of a run folder."""
-        try:
-            info = json.loads((Path(path) / RUN_INFO).read_text(encoding="utf-8"))
-        except ValueError as exc:
-            raise ResultsError(f"{Path(path) / RUN_INFO}: expected a run summary (JSON), got {exc}") from None
-        if not isinstance(info, dict):
-            raise ResultsError(f"{Path(path) / RUN_INFO}: expected a run summary (a JSON object)")
-        return info
+        """The ``run.json`` of a run folder (:func:`~neurocur.results.runinfo.read_run_info`)."""
+        return read_run_info(path)
 
     def load(self) -> tuple[pd.DataFrame, pd.DataFrame]:
         """``(episodes, modules)``: every run of every condition, led by ``condition`` and ``run``.
@@ -306,18 +360,21 @@ class ResultsStore:
             raise self._mismatch(run_folder, f"{name}.parquet", said.get("condition", condition), said.get("run", run))
         return table
 
-    def _check_info(self, run_folder: Path) -> None:
-        """ResultsError when the ``run.json`` of ``run_folder`` names another condition or run than its path."""
-        info = self.run_info(run_folder)
-        condition, run = run_folder.parent.name, _run_number(run_folder)
-        said = (info.get("condition", condition), info.get("run", run))
-        if said != (condition, run):
+    def _check_info(self, run_folder: Path, config: Mapping | None) -> None:
+        """ResultsError when the ``run.json`` of ``run_folder`` names another condition or run than its
+        path, or disagrees with ``config`` (:func:`~neurocur.results.runinfo.check_run_info`)."""
+        said = check_run_info(run_folder, self.run_info(run_folder), run_folder.parent.name,
+                              _run_number(run_folder), config)
+        if said is not None:
             raise self._mismatch(run_folder, RUN_INFO, *said)
 
     def _mismatch(self, run_folder: Path, file: str, condition, run) -> ResultsError:
         text = (f"run folder {run_folder} holds run {run} of condition {condition!r} by its {file}, not run "
                 f"{_run_number(run_folder)} of {run_folder.parent.name!r} as its path says (a copied or renamed folder?)")
-        own = self.run_dir(str(condition), run) if isinstance(run, int) else None
+        try:
+            own = self.run_dir(str(condition), run) if isinstance(run, int) and not isinstance(run, bool) else None
+        except ConfigError:  # its files name a condition that is no folder name
+            own = None
         if own is not None and own != run_folder and (own / RUN_INFO).is_file():
             return ResultsError(f"{text}; the same run is in {own}: remove one of the two folders")
         if own is not None and own != run_folder:
@@ -336,41 +393,7 @@ def load(results_dir) -> tuple[pd.DataFrame, pd.DataFrame]:
 
 
 def _run_number(run_folder: Path) -> int:
-    try:
-        return int(run_folder.name.removeprefix("run-"))
-    except ValueError:
-        raise ValueError(f"run folder {run_folder} is not named run-<NNN>") from None
-
-
-def _comparable(config: Mapping) -> dict:
-    """``config`` as compared on resume: without the keys of :data:`_NOT_COMPARED`, descriptions, and
-    the number of runs (a folder grows by runs; each run's seed depends only on its index)."""
-    kept = {k: v for k, v in config.items() if k not in _NOT_COMPARED}
-    if isinstance(kept.get("seeds"), Mapping):
-        kept["seeds"] = {k: v for k, v in kept["seeds"].items() if k != "spawn_keys"}
-    return _without_descriptions(kept)
-
-
-def _without_descriptions(tree):
-    """``tree`` without its ``description`` entries: prose, which does not change a result."""
-    if isinstance(tree, dict):
-        return {k: _without_descriptions(v) for k, v in tree.items() if k != "description"}
-    return tree
-
-
-def _lookup(tree, path: tuple) -> str:
-    """The value at ``path`` (from :func:`difference_path`) as text: its repr, ``"a table"``, or
-    ``"nothing (not set)"`` when the tree has no such key."""
-    node = tree
-    for part in path:
-        try:
-            node = node[part]
-        except (KeyError, IndexError, TypeError):
-            return "nothing (not set)"
-    return "a table" if isinstance(node, dict) else repr(node)
-
-
-def _atomic_text(path: Path, text: str) -> None:
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    tmp.write_text(text, encoding="utf-8")
-    os.replace(tmp, path)
+    number = run_number(run_folder.name)
+    if number is None:
+        raise ResultsError(f"run folder {run_folder} is not named run-<NNN>")
+    return number

@@ -65,15 +65,19 @@ def make_run(contexts, stored, *, n_frames=100, seed=0):
 PFC_ALPHA = {"curious": 0.3, "random_switching": 0.05}
 
 
-def write_results(root, runs, alphas=PFC_ALPHA):
-    """Write a results folder: ``runs`` maps condition -> list of (episodes, modules); the
-    config.toml records each condition's PFC ``alpha`` (``alphas``) as a real one does."""
+def write_results(root, runs, alphas=PFC_ALPHA, control="random_switching"):
+    """Write a results folder: ``runs`` maps condition -> list of (episodes, modules), the first
+    the reference; the config.toml records each condition's PFC (type and ``alpha``, ``alphas``)
+    and the experiment's ``control`` condition as a real one does."""
     root.mkdir(parents=True, exist_ok=True)
     config = 'circuit = "neurocur/circuits/cd_misfa.toml"\nseed = 1\n'
+    if control is not None:
+        config += f'control = "{control}"\n'
     for condition in runs:
+        config += f"\n[conditions.{condition}]\n"
         if condition in alphas:
-            config += (f"\n[conditions.{condition}.resolved_circuit.regions.PFC.params]\n"
-                       f"alpha = {alphas[condition]}\n")
+            config += (f"\n[conditions.{condition}.resolved_circuit.regions.PFC]\ntype = \"pfc.lspi\"\n"
+                       f"params = {{ alpha = {alphas[condition]} }}\n")
     (root / "config.toml").write_text(config)
     for condition, tables in runs.items():
         for run, (episodes, modules) in enumerate(tables):
@@ -125,7 +129,7 @@ def study_dir(tmp_path_factory):
     curious = [make_run(CYCLE, stored, seed=i) for i, stored in enumerate(CURIOUS)]
     runs = {"default": curious, "alpha_005": curious,
             "default_random": [make_run(CYCLE, stored, seed=10 + i) for i, stored in enumerate(RANDOM)]}
-    return write_results(tmp_path_factory.mktemp("study") / "reproduction", runs, alphas={})
+    return write_results(tmp_path_factory.mktemp("study") / "reproduction", runs, alphas={}, control=None)
 
 
 @pytest.fixture(scope="session")
@@ -139,3 +143,16 @@ def tables(results_dir):
     from neurocur.analysis import load
 
     return load(results_dir)
+
+
+@pytest.fixture(scope="session")
+def results(results_dir):
+    from neurocur.analysis import Results
+
+    return Results.load(results_dir)
+
+
+@pytest.fixture(scope="session")
+def write_folder():
+    """:func:`write_results`, to write a folder of one's own."""
+    return write_results

@@ -1,9 +1,13 @@
-"""Small hand-made episodes and modules tables for the dwell, efficiency and event-locked tests."""
+"""Small hand-made episodes and modules tables for the dwell, efficiency and event-locked tests, and
+:func:`results_of` to hand any two tables to the analysis."""
 
 from __future__ import annotations
 
 import numpy as np
 import pandas as pd
+
+from neurocur.analysis import Results
+from neurocur.contexts.synthetic import SYNTHETIC
 
 
 def episodes_of(contexts, frames=100, *, condition="curious", run=0, **columns) -> pd.DataFrame:
@@ -27,3 +31,8 @@ def runs_of(pairs) -> tuple[pd.DataFrame, pd.DataFrame]:
     pairs = list(pairs)
     return (pd.concat([e for e, _ in pairs], ignore_index=True),
             pd.concat([m for _, m in pairs], ignore_index=True))
+
+
+def results_of(episodes, modules, spec=SYNTHETIC) -> Results:
+    """The tables as a :class:`~neurocur.analysis.results.Results` of the synthetic world (or ``spec``)."""
+    return Results.of(episodes, modules, spec)

@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 import pytest
-from neuro_tables import episodes_of, modules_of
+from neuro_tables import episodes_of, modules_of, results_of
 
-from neurocur.analysis.cycles import cycle_behaviour, error_cycles
+from neurocur.analysis.stats.cycles import cycle_behaviour, error_cycles
 
 # 10 episodes of 100 frames, modules stored at episodes 3 and 7, error = the episode's index
 RUN = episodes_of([0, 1] * 5, module_learned=np.isin(np.arange(10), [3, 7]), error=np.arange(10.0))
@@ -47,7 +47,7 @@ def test_cycle_behaviour_by_hand():
     episodes = episodes_of(contexts, [100, 100, 100, 100, 100, 200, 100, 100, 100, 200, 100],
                            familiar=familiar, action=actions)
     modules = modules_of([(6, "S-A"), (10, "S-B")])
-    table = cycle_behaviour(episodes, modules)
+    table = cycle_behaviour(results_of(episodes, modules))
     first, second = table.to_dict("records")
     # cycle 1, episodes 0-6: sources A B A C A A A; S-A frames 100+100+100+200+100, switches A|B|A|C|A
     assert (first["cycle"], first["source"], first["learning_frames"], first["source_frames"]) == (1, "S-A", 800, 600)
@@ -60,6 +60,6 @@ def test_cycle_behaviour_by_hand():
 
 def test_cycle_behaviour_skips_runs_without_modules_and_names_missing_columns():
     episodes = episodes_of([0, 1], familiar=False, action="engage")
-    assert cycle_behaviour(episodes, modules_of([]).iloc[:0]).empty
+    assert cycle_behaviour(results_of(episodes, modules_of([]).iloc[:0])).empty
     with pytest.raises(ValueError, match="'familiar'"):
-        cycle_behaviour(episodes.drop(columns="familiar"), modules_of([(1, "S-A")]))
+        cycle_behaviour(results_of(episodes.drop(columns="familiar"), modules_of([(1, "S-A")])))

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 import pytest
-from neuro_tables import episodes_of
+from neuro_tables import episodes_of, results_of
 
 from neurocur.analysis import (
     engagement,
@@ -106,7 +106,7 @@ def test_engagement_summary_over_runs():
 
 
 def test_summary_json_has_the_engagement(tables):
-    rows = summary(*tables)["engagement"]
+    rows = summary(results_of(*tables))["engagement"]
     c5 = next(r for r in rows if r["condition"] == "curious" and r["context_name"] == "C5")
     assert c5["share"] == pytest.approx(0.2) and c5["dwell_frames"] == pytest.approx(300.0)   # 3 episodes a visit
 

@@ -11,18 +11,19 @@ import pytest
 from matplotlib.figure import Figure
 
 from neurocur.analysis import (
+    Results,
     fig_cumulative_error,
     fig_intrinsic_reward,
     fig_learning_time,
     fig_neuromodulators,
     fig_order_counts,
     fig_reward_function,
-    pfc_alphas,
     reward_estimates,
     write_all,
 )
-from neurocur.analysis import write as write_module
-from neurocur.analysis.figures import EVENT_GID
+from neurocur.analysis.figures import sets as sets_module
+from neurocur.analysis.figures.learning import EVENT_GID
+from neurocur.contexts.synthetic import SYNTHETIC
 from neurocur.regions.pfc import DISENGAGE, ENGAGE, PFCLSPI, PFCParams, reward_update
 
 
@@ -65,14 +66,14 @@ def test_intrinsic_reward(tables):
     assert no_boredom.min() > -1.0
 
 
-def test_learning_time(tables):
-    fig = fig_learning_time(*tables)
+def test_learning_time(results):
+    fig = fig_learning_time(results)
     ax = fig.axes[0]
     assert len(fig.axes) == 1
     bars = [p for p in ax.patches if p.get_height() > 0]
     # curious learned S-A, S-B, S-C; random_switching learned S-A and S-B
     assert len(bars) == 5
-    only = fig_learning_time(*tables, condition="curious").axes[0]
+    only = fig_learning_time(results, condition="curious").axes[0]
     assert len([p for p in only.patches if p.get_height() > 0]) == 3
 
 
@@ -87,8 +88,9 @@ def _eq14_by_hand(run, n_contexts, alpha):
 
 
 def test_reward_function(tables):
-    episodes, _ = tables
-    fig = fig_reward_function(episodes, run=1)
+    episodes, modules = tables
+    in_memory = Results.of(episodes, modules, SYNTHETIC)  # no config.toml: no recorded alpha
+    fig = fig_reward_function(in_memory, run=1)
     ax = fig.axes[0]
     assert len(fig.axes) == 1 and len(ax.lines) == 5
     assert ax.lines[2].get_label() == "C3 (S-B)"
@@ -98,20 +100,21 @@ def test_reward_function(tables):
     for c, line in enumerate(ax.lines):
         np.testing.assert_array_equal(line.get_ydata(), expected[:, c])
         np.testing.assert_array_equal(line.get_xdata(), run["step"] + run["n_frames"])
-    last = fig_reward_function(episodes, run=1, alpha=1.0).axes[0].lines[4].get_ydata()
+    last = fig_reward_function(in_memory, run=1, alpha=1.0).axes[0].lines[4].get_ydata()
     assert last[-1] == pytest.approx(run.loc[run["context"] == 4, "da"].iloc[-1])  # alpha = 1: the last reward
 
 
-def test_write_all_draws_the_reward_function_with_the_folders_alpha(results_dir, tables, pfc_alpha, tmp_path,
-                                                                    monkeypatch):
-    assert pfc_alphas(results_dir) == pfc_alpha
-    drawn, save = {}, write_module.save_figures
+def test_write_all_draws_the_reward_function_with_the_folders_alpha(results_dir, results, tables, pfc_alpha,
+                                                                    tmp_path, monkeypatch):
+    # the value estimator is found by its region type (pfc.lspi), not by its name in the circuit
+    assert results.region_param(PFCLSPI, "alpha") == pfc_alpha
+    drawn, save = {}, sets_module.save_figures
 
     def keep(figs, out, dpi):
         drawn.update(figs)
         return save(figs, out, dpi)
 
-    monkeypatch.setattr(write_module, "save_figures", keep)
+    monkeypatch.setattr(sets_module, "save_figures", keep)
     write_all(results_dir, tmp_path / "figs")
     episodes, _ = tables
     for condition, alpha in pfc_alpha.items():
@@ -124,9 +127,8 @@ def test_write_all_draws_the_reward_function_with_the_folders_alpha(results_dir,
         assert not np.allclose(expected, _eq14_by_hand(run, 5, PFCParams().alpha))  # the alpha matters here
 
 
-def test_order_counts(tables):
-    episodes, modules = tables
-    fig = fig_order_counts(modules, episodes)
+def test_order_counts(results):
+    fig = fig_order_counts(results)
     assert len(fig.axes) == 2
     heights = sorted(p.get_height() for p in fig.axes[0].patches if p.get_height() > 0)
     # curious: position 1 S-A 4; 2: S-B 3, S-C 1; 3: S-C 2, S-B 1, none 1
@@ -157,13 +159,13 @@ def test_figures_name_the_missing_column_and_its_role(tables):
     with pytest.raises(ValueError, match=r"fig_neuromodulators needs the column\(s\) 'ne_tonic' \(from LC\)"):
         fig_neuromodulators(episodes.drop(columns="ne_tonic"))
     with pytest.raises(ValueError, match=r"fig_reward_function needs the column\(s\) 'da' \(from VTA\)"):
-        fig_reward_function(episodes.drop(columns="da"))
+        fig_reward_function(Results.of(episodes.drop(columns="da"), modules, SYNTHETIC))
     with pytest.raises(ValueError, match=r"fig_cumulative_error needs the column\(s\) 'error' \(from HPC\)"):
         fig_cumulative_error(episodes.drop(columns="error"))
     with pytest.raises(ValueError, match=r"fig_learning_time \(modules table\) needs the column\(s\) 'source'"):
-        fig_learning_time(episodes, modules.drop(columns="source"))
+        fig_learning_time(Results.of(episodes, modules.drop(columns="source"), SYNTHETIC))
     with pytest.raises(ValueError, match=r"fig_order_counts \(modules table\) needs the column\(s\) 'gates'"):
-        fig_order_counts(modules.drop(columns="gates"), episodes)
+        fig_order_counts(Results.of(episodes, modules.drop(columns="gates"), SYNTHETIC))
 
 
 def test_unknown_condition_or_run(tables):
@@ -184,6 +186,38 @@ def test_write_all(results_dir, tmp_path):
     for path in paths:
         assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert plt.get_fignums() == []  # no pyplot figure left open
+
+
+def test_the_efficiency_figure_compares_the_reference_with_the_declared_control(tables, write_folder, tmp_path):
+    """The first condition against the experiment's ``control``, whatever they are called; no
+    declared control, no efficiency figure."""
+    episodes, modules = tables
+    runs = {name: [(e.drop(columns=["condition", "run"]), modules[(modules["condition"] == c) & (modules["run"] == r)]
+                    .drop(columns=["condition", "run"])) for (c, r), e in episodes.groupby(["condition", "run"])
+                   if c == old]
+            for name, old in (("agent", "curious"), ("lesioned", "random_switching"))}
+    declared = write_folder(tmp_path / "declared", runs, alphas={}, control="lesioned")
+    figures = sets_module.figure_set(Results.load(declared)).draw(Results.load(declared))
+    assert [t.get_text() for t in figures["efficiency"].axes[0].get_xticklabels()] == ["agent", "lesioned"]
+    undeclared = write_folder(tmp_path / "undeclared", runs, alphas={}, control=None)
+    assert "efficiency" not in sets_module.figure_set(Results.load(undeclared)).draw(Results.load(undeclared))
+
+
+def test_figure_sets_are_registered_per_world_type(results, monkeypatch):
+    assert {"synthetic", "icub"} <= set(sets_module.FIGURE_SETS.names())
+    assert isinstance(sets_module.figure_set(results), sets_module.StandardFigures)  # no world.type: synthetic
+
+    class Only(sets_module.FigureSet):
+        def draw(self, results):
+            return {"only": fig_order_counts(results)}
+
+    monkeypatch.setitem(sets_module.FIGURE_SETS._types, "toy", Only)
+    config = {**results.config, "conditions": {c: {"world": {"type": "toy"}} for c in results.conditions}}
+    toy = Results(results.episodes, results.modules, results.specs, config)
+    assert isinstance(sets_module.figure_set(toy), Only)
+    mixed = {**config, "conditions": {**config["conditions"], "other": {"world": {"type": "icub"}}}}
+    assert isinstance(sets_module.figure_set(Results(results.episodes, results.modules, results.specs, mixed)),
+                      sets_module.StandardFigures)
 
 
 def test_reward_estimates_by_hand():

@@ -7,7 +7,7 @@ import pandas as pd
 import pytest
 from matplotlib.collections import PathCollection
 from matplotlib.figure import Figure
-from neuro_tables import episodes_of
+from neuro_tables import episodes_of, results_of
 
 from neurocur.analysis import (
     efficiency_per_run,
@@ -76,8 +76,8 @@ def test_tonic_phasic_scatter(tables):
 
 
 def test_efficiency_paired_by_run(tables):
-    table = efficiency_per_run(*tables)
-    fig = fig_efficiency(table)
+    table = efficiency_per_run(results_of(*tables))
+    fig = fig_efficiency(table, "curious", "random_switching")
     left, right = fig.axes
     assert "Wilcoxon signed-rank p = 1 (Holm; n = 3 pairs)" in left.get_title()
     hollow = [c for c in left.collections if isinstance(c, PathCollection) and len(c.get_offsets())
@@ -86,3 +86,10 @@ def test_efficiency_paired_by_run(tables):
     assert sum(len(c.get_offsets()) for c in hollow) == 3
     assert all((c.get_offsets()[:, 1] == 6000).all() for c in hollow)
     assert len(left.lines) == 3 + 1                                  # one line per pair, and the horizon
+
+
+def test_the_efficiency_figure_draws_the_cut_off_its_table_censored_at(tables):
+    # every run learned all within 1000 frames: the dashed line is still the cut-off, the shortest run
+    table = efficiency_per_run(results_of(*tables)).assign(learned_all=True, frames_to_learn_all_censored=1000.0)
+    left = fig_efficiency(table, "curious", "random_switching").axes[0]
+    assert left.lines[-1].get_ydata()[0] == table["horizon"].iloc[0] == 6000

@@ -10,6 +10,7 @@ import nbformat
 import numpy as np
 import pandas as pd
 import pytest
+from neuro_tables import results_of
 
 from neurocur.analysis import (
     efficiency_per_run,
@@ -109,7 +110,7 @@ def test_the_behaviour_analyses_agree_on_a_real_run(real_results):
     assert occupancy(episodes, 10_000, spec).groupby(["condition", "run"])["frames"].sum().equals(frames)
     table = visits(episodes, spec)
     assert table.groupby(["condition", "run"])["frames"].sum().equals(frames)
-    runs = efficiency_per_run(episodes, modules, spec).set_index(["condition", "run"])
+    runs = efficiency_per_run(results_of(episodes, modules, spec)).set_index(["condition", "run"])
     assert runs["n_steps"].equals(frames)
     assert runs["frames_unlearnable"].equals(engaged.xs("C5", level="context_name")["frames"])
     assert (runs["n_modules"] == modules.groupby(["condition", "run"]).size().reindex(runs.index, fill_value=0)).all()

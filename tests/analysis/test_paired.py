@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pandas as pd
 import pytest
+from neuro_tables import results_of
 from scipy import stats as sps
 from statsmodels.stats.multitest import multipletests
 
@@ -177,7 +178,7 @@ def test_holm_by_hand_and_no_adjustment():
 
 # --- compare: paired and unpaired -------------------------------------------------------------
 
-#: compare(tables) on the hand-made results folder before pairing was the default
+#: compare() of the per-run table of the hand-made results folder before pairing was the default
 #: (Mann–Whitney U / Fisher exact): statistic, p_value, effect_size per metric.
 UNPAIRED_BEFORE = {
     "n_modules": (11.5, 0.07182815632096821, 0.9166666666666667),
@@ -193,7 +194,7 @@ UNPAIRED_BEFORE = {
 
 
 def test_unpaired_option_keeps_the_numbers_of_before(tables):
-    result = compare(tables, paired=False).set_index("metric")
+    result = compare(per_run(results_of(*tables)), "curious", "random_switching", paired=False).set_index("metric")
     assert list(result.index) == list(UNPAIRED_BEFORE)
     for metric, (statistic, p, effect) in UNPAIRED_BEFORE.items():
         row = result.loc[metric]
@@ -205,8 +206,8 @@ def test_unpaired_option_keeps_the_numbers_of_before(tables):
 
 
 def test_compare_pairs_by_run_and_drops_the_unpaired_run(tables):
-    runs = per_run(*tables)
-    result = compare(runs, metric=["gated_sources", "exact_order"])
+    runs = per_run(results_of(*tables))
+    result = compare(runs, "curious", "random_switching", metric=["gated_sources", "exact_order"])
     assert list(result.columns) == COMPARE_COLUMNS
     gated, exact = result.iloc[0], result.iloc[1]
     # curious runs 0..3 gate 3, 3, 3, 1; random runs 0..2 gate 0, 1, 0: run 3 has no pair

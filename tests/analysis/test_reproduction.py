@@ -5,14 +5,16 @@ from __future__ import annotations
 import runpy
 from pathlib import Path
 
-from neurocur.analysis import compare, load, order_table, paper, per_run
-from neurocur.analysis.reproduction import COLUMNS, SHARED_CONTROLS, markdown, study_table
+from neuro_tables import results_of
+
+from neurocur.analysis import Results, compare, order_table, paper, per_run
+from neurocur.analysis.stats.reproduction import COLUMNS, SHARED_CONTROLS, markdown, study_table
 
 BENCHMARK = Path(__file__).resolve().parents[2] / "benchmarks" / "reproduce_synthetic.py"
 
 
 def test_every_paper_number_is_a_row_of_the_order_table(tables):
-    table = order_table(*tables)
+    table = order_table(results_of(*tables))
     for numbers, column in ((paper.SYNTHETIC_CURIOUS, "paper"), (paper.SYNTHETIC_RANDOM, "paper (random)")):
         for label, reported in numbers.items():
             assert table.loc[label, column] == reported.cell()
@@ -39,7 +41,7 @@ def test_study_table_compares_each_condition_with_its_twin(study_dir):
                             "effect (matched-pairs rank-biserial)"]
     table = study_table(study_dir)
     assert list(table.index) == ["paper", "alpha_005", "default", "default_random"]
-    expected = compare(per_run(*load(study_dir)), "default", "default_random", metric="gated_sources").iloc[0]
+    expected = compare(per_run(Results.load(study_dir)), "default", "default_random", metric="gated_sources").iloc[0]
     assert expected.method == "wilcoxon" and expected.n_pairs == 3
     for name in ("default", "alpha_005"):
         # three pairs, all up: p = 2/2**3; Holm over the table's two comparisons: 2 × 0.25

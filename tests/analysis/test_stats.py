@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pandas as pd
 import pytest
+from neuro_tables import results_of
 
 from neurocur.analysis import (
     SYNTHETIC,
@@ -89,19 +90,17 @@ def test_load_rejects_a_folder_that_is_not_results(tmp_path):
 def test_statistics_name_the_missing_column(tables):
     episodes, modules = tables
     with pytest.raises(ValueError, match=r"per_run \(modules table\) needs the column\(s\) 'gates'"):
-        per_run(episodes, modules.drop(columns="gates"))
+        per_run(results_of(episodes, modules.drop(columns="gates")))
     with pytest.raises(ValueError, match=r"order_counts \(episodes table\) needs the column\(s\) 'n_frames' \(from sensory\)"):
-        order_counts(episodes.drop(columns="n_frames"), modules)
+        order_counts(results_of(episodes.drop(columns="n_frames"), modules))
     with pytest.raises(ValueError, match=r"learning_times \(episodes table\) needs the column\(s\) 'context'"):
-        learning_times(episodes.drop(columns="context"), modules)
+        learning_times(results_of(episodes.drop(columns="context"), modules))
     with pytest.raises(ValueError, match=r"summary \(modules table\) needs the column\(s\) 'episode' \(from scheduler\)"):
-        summary(episodes, modules.drop(columns="episode"))
-    with pytest.raises(ValueError, match=r"compare \(modules table\) needs the column\(s\) 'source'"):
-        compare((episodes, modules.drop(columns="source")))
+        summary(results_of(episodes, modules.drop(columns="episode")))
 
 
 def test_per_run_metrics(tables):
-    runs = per_run(*tables).set_index(["condition", "run"])
+    runs = per_run(results_of(*tables)).set_index(["condition", "run"])
     cur = runs.loc["curious"]
     assert cur["order"].tolist() == ["S-A,S-B,S-C", "S-A,S-C,S-B", "S-A,S-B,S-C,S-D", "S-A,S-B"]
     assert cur["exact_order"].tolist() == [True, False, True, False]
@@ -119,7 +118,7 @@ def test_per_run_metrics(tables):
 
 
 def test_order_counts(tables):
-    counts = order_counts(*tables).set_index(["condition", "outcome"])
+    counts = order_counts(results_of(*tables)).set_index(["condition", "outcome"])
     expected = {
         ("curious", "S-A first"): (4, 4), ("curious", "S-B second"): (3, 4),
         ("curious", "S-C third"): (2, 4), ("curious", "exact S-A→S-B→S-C"): (2, 4),
@@ -134,7 +133,7 @@ def test_order_counts(tables):
 
 
 def test_position_counts(tables):
-    counts = position_counts(*tables)
+    counts = position_counts(results_of(*tables))
     cur = counts[(counts["condition"] == "curious")].set_index(["position", "source"])["k"]
     assert cur[(1, "S-A")] == 4 and cur[(2, "S-B")] == 3 and cur[(2, "S-C")] == 1
     assert cur[(3, "S-C")] == 2 and cur[(3, "S-B")] == 1 and cur[(3, "none")] == 1
@@ -142,7 +141,7 @@ def test_position_counts(tables):
 
 
 def test_condition_summary(tables):
-    summ = condition_summary(*tables).set_index(["condition", "metric"])
+    summ = condition_summary(results_of(*tables)).set_index(["condition", "metric"])
     assert summ.loc[("curious", "n_modules"), "mean"] == pytest.approx(3.0)
     assert summ.loc[("curious", "n_modules"), "sd"] == pytest.approx(np.sqrt(2 / 3))
     assert summ.loc[("curious", "gated_sources"), "mean"] == pytest.approx(2.5)
@@ -154,7 +153,7 @@ def test_condition_summary(tables):
 def test_kendall_tau_against_omega_order(k_true, expected):
     order = [SYNTHETIC.learnable[i] for i in k_true]
     episodes, modules = _tag(*_hand_run(order))
-    tau = per_run(episodes, modules)["kendall_tau"].iloc[0]
+    tau = per_run(results_of(episodes, modules))["kendall_tau"].iloc[0]
     assert tau == pytest.approx(expected)
 
 
@@ -184,20 +183,20 @@ def _learning_time_tables():
 def test_learning_time_from_previous_module():
     # S-A: episodes 0..3 in C1/C2 -> 100+100+200; S-B: 4..6 in C3 -> 50+100; S-C: 7..8 in C4 -> 300;
     # the second S-C module: episode 9 only (the previous storage episode 8 is excluded) -> 100
-    times = learning_times(*_learning_time_tables())
+    times = learning_times(results_of(*_learning_time_tables()))
     np.testing.assert_allclose(times["epochs"], [0.4, 0.15, 0.3, 0.1])
     assert times["first_of_source"].tolist() == [True, True, True, False] and times["learnable"].all()
 
 
 def test_learning_time_from_start():
     # S-B: episodes 1, 4, 6 -> 150+50+100; S-C: 5, 8 -> 100+300, then 5, 8, 9 -> 100+300+100
-    times = learning_times(*_learning_time_tables(), since="start")
+    times = learning_times(results_of(*_learning_time_tables()), since="start")
     np.testing.assert_allclose(times["epochs"], [0.4, 0.3, 0.4, 0.5])
 
 
 def test_learning_time_summary(tables):
-    summ = learning_time_summary(*tables).set_index(["condition", "source"])
-    times = learning_times(*tables)
+    summ = learning_time_summary(results_of(*tables)).set_index(["condition", "source"])
+    times = learning_times(results_of(*tables))
     # curious S-A: every run stores S-A at episode 10; episodes 0..10 in C1/C2 of the cycle
     cycle_sa = sum(1 for e in range(11) if [c for c in range(5) for _ in range(3)][e % 15] in (0, 1))
     assert summ.loc[("curious", "S-A"), "mean"] == pytest.approx(cycle_sa * 100 / 1000)
@@ -213,7 +212,7 @@ def test_learning_time_summary(tables):
 def test_compare_fully_separated_samples():
     runs = pd.DataFrame({"condition": ["curious"] * 5 + ["random_switching"] * 5,
                          "gated_sources": [3, 3, 2, 3, 3, 0, 1, 0, 0, 1]})
-    row = compare(runs, metric="gated_sources", paired=False).iloc[0]
+    row = compare(runs, "curious", "random_switching", metric="gated_sources", paired=False).iloc[0]
     assert row["method"] == "mann_whitney_u"
     assert row["effect_size"] == pytest.approx(1.0)
     assert row["statistic"] == pytest.approx(25.0)
@@ -226,7 +225,7 @@ def test_compare_fully_separated_samples():
 def test_compare_binary_uses_fisher():
     runs = pd.DataFrame({"condition": ["curious"] * 10 + ["random_switching"] * 10,
                          "exact_order": [True] * 8 + [False] * 2 + [True] * 1 + [False] * 9})
-    row = compare(runs, metric="exact_order", paired=False).iloc[0]
+    row = compare(runs, "curious", "random_switching", metric="exact_order", paired=False).iloc[0]
     assert row["method"] == "fisher_exact"
     assert row["effect_size"] == pytest.approx((8 * 9) / (2 * 1))
     # two-sided Fisher p for [[8, 2], [1, 9]] = 0.00547 (hypergeometric tail sum)
@@ -235,23 +234,24 @@ def test_compare_binary_uses_fisher():
 
 
 def test_compare_on_tables(tables):
-    unpaired = compare(tables, paired=False).set_index("metric")
+    runs = per_run(results_of(*tables))
+    unpaired = compare(runs, "curious", "random_switching", paired=False).set_index("metric")
     assert unpaired.loc["gated_sources", "effect_size"] == pytest.approx(2 * 11.5 / 12 - 1)
     assert unpaired.loc["exact_order", "method"] == "fisher_exact"
-    result = compare(tables).set_index("metric")
+    result = compare(runs, "curious", "random_switching").set_index("metric")
     assert result.loc["exact_order", "method"] == "mcnemar_exact"
     assert result.loc["gated_sources", "method"] == "wilcoxon"
     assert result.loc["kendall_tau", "n_b"] == 1 and result.loc["kendall_tau", "n_pairs"] == 1
     with pytest.raises(ValueError, match="not in the results"):
-        compare(tables, b="lesion_lc")
+        compare(runs, "curious", "lesion_lc")
     with pytest.raises(ValueError, match="unknown metric"):
-        compare(tables, metric="happiness")
+        compare(runs, "curious", "random_switching", metric="happiness")
 
 
 # --- order table and summary -----------------------------------------------------------------
 
 def test_order_table(tables):
-    table = order_table(*tables)
+    table = order_table(results_of(*tables))
     assert list(table.columns) == ["paper", "paper (random)", "curious", "random_switching"]
     assert table.loc["S-A first", "paper"] == "25/25"
     assert table.loc["S-A first", "curious"] == "4/4"
@@ -267,15 +267,15 @@ EXACT_ROW = "exact S-A→S-B→S-C vs curious: McNemar exact p (paired; Holm, 2 
 
 
 def test_order_table_names_the_test_of_every_p_value(tables):
-    assert order_table(*tables).index[-1] == "S-C learning time (epochs)"      # no reference, no tests
-    table = order_table(*tables, reference="curious")
+    assert order_table(results_of(*tables)).index[-1] == "S-C learning time (epochs)"      # no reference, no tests
+    table = order_table(results_of(*tables), reference="curious")
     assert list(table.index[-2:]) == [EXACT_ROW, GATED_ROW]
     # 3 pairs (run 3 has no random twin); exact order 2 discordant, p 0.5; gated 3 of 3 up, p 0.25;
     # Holm over the two: 2 × 0.25 = 0.5, then max(0.5, 0.5)
     assert table.loc[GATED_ROW, "random_switching"] == "0.5 (n=3)"
     assert table.loc[EXACT_ROW, "random_switching"] == "0.5 (2 of 3 discordant)"
     assert (table.loc[[EXACT_ROW, GATED_ROW], ["paper", "paper (random)", "curious"]] == "—").all().all()
-    bh = order_table(*tables, reference="curious", adjust="bh")
+    bh = order_table(results_of(*tables), reference="curious", adjust="bh")
     assert bh.index[-1] == GATED_ROW.replace("Holm", "Benjamini–Hochberg")
 
 
@@ -294,7 +294,7 @@ def test_order_tables_of_a_folder_test_against_its_first_condition(results_dir):
 
 
 def test_summary_is_json(tables):
-    result = summary(*tables)
+    result = summary(results_of(*tables))
     text = json.dumps(result, allow_nan=False)
     back = json.loads(text)
     assert back["n_runs"] == {"curious": 4, "random_switching": 3}
@@ -303,7 +303,7 @@ def test_summary_is_json(tables):
 
 
 def test_summary_records_the_tests_and_the_adjustment(tables):
-    back = json.loads(json.dumps(summary(*tables), allow_nan=False))
+    back = json.loads(json.dumps(summary(results_of(*tables)), allow_nan=False))
     stats = back["statistics"]
     assert stats["paired"] is True and stats["pairing"] == "run" and stats["reference"] == "curious"
     assert stats["tests"] == {"mcnemar_exact": {"name": "McNemar exact", "reference": "McNemar 1947"},
@@ -314,6 +314,6 @@ def test_summary_records_the_tests_and_the_adjustment(tables):
     assert gated["test"].startswith("Wilcoxon signed-rank (paired by run, n=3 pairs")
     assert gated["p_value"] == pytest.approx(0.25) and gated["p_adjusted"] >= gated["p_value"]
     assert gated["adjustment"] == "holm" and gated["n_tests"] == 9
-    unpaired = summary(*tables, paired=False, adjust="bh")["statistics"]
+    unpaired = summary(results_of(*tables), paired=False, adjust="bh")["statistics"]
     assert set(unpaired["tests"]) == {"mann_whitney_u", "fisher_exact"} and unpaired["adjustment"]["method"] == "fdr_bh"
-    assert summary(*tables, reference="lesion")["comparisons"] == []
+    assert summary(results_of(*tables), reference="lesion")["comparisons"] == []

@@ -8,6 +8,7 @@ import itertools
 import numpy as np
 import pandas as pd
 import pytest
+from neuro_tables import results_of
 from statsmodels.stats.multitest import multipletests
 
 from neurocur.analysis import (
@@ -63,7 +64,7 @@ def test_per_run_carries_the_swept_columns():
                                       "n_frames": 100, "context": [0, 2, 3]}))
         modules.append(pd.DataFrame({"condition": [condition], "run": [run], "LC.gain": [gain], "module": [0],
                                      "source": ["S-A"], "gates": ["C1"]}))
-    runs = per_run(pd.concat(episodes), pd.concat(modules))
+    runs = per_run(results_of(pd.concat(episodes), pd.concat(modules)))
     assert list(runs.columns[:4]) == ["condition", "run", "LC.gain", "n_steps"]
     assert runs["LC.gain"].tolist() == [0.5, 0.5, 1.0, 1.0] and runs["run"].tolist() == [0, 1, 0, 1]
     assert runs["gated_sources"].tolist() == [1, 1, 1, 1]
@@ -116,7 +117,8 @@ def test_every_condition_against_the_reference_at_each_point(sweep_runs):
 
 
 def test_without_a_sweep_the_point_is_empty(tables):
-    table = compare_to_condition(tables, "curious", "gated_sources")
+    runs = per_run(results_of(*tables))
+    table = compare_to_condition(runs, "curious", "gated_sources")
     assert table[["condition", "point", "a", "b"]].values.tolist() == [["random_switching", "", "curious",
                                                                           "random_switching"]]
-    assert table.iloc[0]["p_value"] == compare(tables, metric="gated_sources").iloc[0]["p_value"]
+    assert table.iloc[0]["p_value"] == compare(runs, "curious", "random_switching", metric="gated_sources").iloc[0]["p_value"]

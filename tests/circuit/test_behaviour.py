@@ -17,8 +17,10 @@ import dataclasses
 
 import pandas as pd
 
-from neurocur.analysis.efficiency import compare_efficiency, efficiency_per_run
+from neurocur.analysis import Results
+from neurocur.analysis.stats.efficiency import compare_efficiency, efficiency_per_run
 from neurocur.circuit import Circuit
+from neurocur.contexts.synthetic import SYNTHETIC
 from neurocur.experiments import load_experiment, run_one
 from neurocur.regions.lc import EpsilonGreedyLC
 from neurocur.regions.pfc import DISENGAGE, ENGAGE
@@ -142,7 +144,8 @@ def test_curiosity_learns_the_learnable_sources_sooner_than_random_switching_and
     reversed_ = dataclasses.replace(curious, name="reversed", circuit=curious.circuit.replace("VTA", vta))
     results = [run_one(c, i, HORIZON, exp.run_seed(i))
                for i in range(RUNS) for c in (curious, exp.conditions["random_switching"], reversed_)]
-    table = efficiency_per_run(pd.concat([r.episodes for r in results]), pd.concat([r.modules for r in results]))
+    table = efficiency_per_run(Results.of(pd.concat([r.episodes for r in results]),
+                                          pd.concat([r.modules for r in results]), SYNTHETIC))
     learned = table.groupby("condition")["learned_all"].sum()
 
     def frames_test(a):

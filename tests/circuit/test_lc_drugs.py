@@ -6,8 +6,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from neurocur.analysis.dwell import visits
-from neurocur.analysis.significance import wilcoxon_signed_rank
+from neurocur.analysis.stats.dwell import visits
+from neurocur.analysis.stats.significance import wilcoxon_signed_rank
 from neurocur.circuit import Circuit
 from neurocur.regions import REGIONS, Probe, Region, Signal
 

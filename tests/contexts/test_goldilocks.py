@@ -6,13 +6,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from neurocur.analysis import load
-from neurocur.analysis.goldilocks import (
-    engagement_by_learnability,
-    fig_goldilocks,
-    goldilocks_tests,
-    world_learnability,
-)
+from neurocur.analysis import engagement_by_learnability, fig_goldilocks, goldilocks_tests, load, world_learnability
 from neurocur.analysis.io import source_specs
 from neurocur.contexts.gym import GymWorld
 from neurocur.contexts.learnability import learnability

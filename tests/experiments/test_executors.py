@@ -25,10 +25,10 @@ class InProcess:
     def workers(self, runs):
         return 1
 
-    def compute(self, exp, todo, store, bar, ctrl_c):
+    def compute(self, exp, todo, store, bar, ctrl_c, *, checkpoint_every=None, save_agent=False):
         for c, i in todo:
             self.computed.append((c.name, i))
-            store.write_run(run_one(c, i, exp.steps, exp.run_seed(i)))
+            store.write_run(run_one(c, i, exp.steps, exp.run_seed(i), save_agent=save_agent))
             bar.update(1)
 
 

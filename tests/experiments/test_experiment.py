@@ -254,7 +254,7 @@ def test_module_quality_is_abs_corr_with_the_slow_dimension():
     w, *_ = np.linalg.lstsq(frames - frames.mean(0), src[:, 0] - src[:, 0].mean(), rcond=None)
     w_fast, *_ = np.linalg.lstsq(frames - frames.mean(0), src[:, 1] - src[:, 1].mean(), rcond=None)
     library = [_Projector(-w), _Projector(w_fast), _Projector(np.zeros(400))]
-    modules = pd.DataFrame({"module": [0, 1, 2], "context": [0, 0, 0]})
+    modules = pd.DataFrame({"module": [0, 1, 2], "context": [0, 0, 0], "step": [0, 0, 0]})
     sources, quality, columns, tables = world.module_report(library, modules)
     assert sources == ["S-A"] * 3 and columns == {} and tables == {}
     assert quality[0] == pytest.approx(1.0, abs=1e-9) and quality[1] < 0.1 and math.isnan(quality[2])
@@ -289,7 +289,7 @@ def test_resolved_config_round_trips_through_toml():
     assert text.startswith("# a header\n# of two lines\n")
     back = tomllib.loads(text)
     assert first_difference(back, tomllib.loads(dumps_toml(back))) is None
-    assert back["seeds"] == {"entropy": 2026, "spawn_keys": [[0], [1]]}
+    assert back["seeds"] == {"entropy": 2026, "spawn_key": "[run]"}  # run i: spawn key [i], however many runs
     assert back["neurocur_version"] == __import__("neurocur").__version__
     cond = back["conditions"]["random_switching"]
     assert cond["circuit"] == str(ROOT / "neurocur" / "circuits" / "lesion_lc_random.toml")

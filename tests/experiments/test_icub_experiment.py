@@ -9,7 +9,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from neurocur.analysis.icub import ICUB, fig_module_error, learning_segments
+from neurocur.analysis.figures.icub import fig_module_error
+from neurocur.analysis.stats.icub import ICUB, learning_segments
 from neurocur.cli import main
 from neurocur.config import ConfigError
 from neurocur.contexts import build_world

@@ -9,10 +9,11 @@ import numpy as np
 import pytest
 from matplotlib.image import imread
 
-from neurocur.analysis.invariance import fig_invariance, invariance_demo, load_invariance
+from neurocur.analysis.figures.invariance import fig_invariance
 from neurocur.cli import main
 from neurocur.config import ConfigError
 from neurocur.contexts.synthetic import SyntheticWorld, mix_frames
+from neurocur.experiments.invariance import invariance_demo, load_invariance
 from neurocur.learn.incsfa import IncSFA
 
 INVARIANCE = Path(__file__).resolve().parents[2] / "neurocur" / "experiments_data" / "invariance.toml"

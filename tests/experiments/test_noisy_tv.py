@@ -15,7 +15,7 @@ import pandas as pd
 import pytest
 
 from neurocur.analysis import engagement
-from neurocur.analysis.significance import wilcoxon_signed_rank
+from neurocur.analysis.stats.significance import wilcoxon_signed_rank
 from neurocur.contexts import build_world
 from neurocur.experiments import load_experiment, run_one
 

@@ -58,6 +58,15 @@ def test_the_wheel_ships_the_circuits_and_experiments(installed):
         assert f"neurocur/experiments_data/{experiment.name}" in names
 
 
+def test_the_wheel_carries_its_licence_and_type_marker(installed):
+    wheel, _, _ = installed
+    names = set(zipfile.ZipFile(wheel).namelist())
+    assert "neurocur/py.typed" in names
+    licences = [n for n in names if n.endswith(".dist-info/licenses/LICENSE") or n.endswith(".dist-info/LICENSE")]
+    assert licences, sorted(n for n in names if ".dist-info/" in n)
+    assert "MIT License" in zipfile.ZipFile(wheel).read(licences[0]).decode()
+
+
 def test_an_experiment_runs_by_name_from_the_installed_package(installed, tmp_path):
     _, target, env = installed
     work = tmp_path / "elsewhere"  # outside the clone: no neurocur/, circuits or experiments here
@@ -78,7 +87,8 @@ def test_an_experiment_runs_by_name_from_the_installed_package(installed, tmp_pa
     assert (out / "config.toml").is_file()
     assert set(json.loads((out / "summary.json").read_text())) != set()
     config = (out / "config.toml").read_text()
-    assert str(target / "neurocur" / "circuits" / "cd_misfa.toml") in config
+    # shipped files are recorded relative to the package that ran (a moved clone or venv resumes its folders)
+    assert '"<neurocur>/circuits/cd_misfa.toml"' in config and str(target) not in config
 
     # an unknown name lists the shipped ones (exit status 2, one line)
     bad = subprocess.run(cmd + ["run", "no_such_experiment"], cwd=work, env=env, capture_output=True, text=True)

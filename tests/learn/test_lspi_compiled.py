@@ -20,7 +20,7 @@ def _numpy_solve(lspi: LSPI, R, policy):
     policy = _numpy_greedy(R, lspi.tol) if policy is None else policy
     states = np.arange(lspi.shape[0])
     for _ in range(lspi.max_iter):
-        A = Phi.T @ (Phi - lspi.gamma * (lspi.P_flat @ lspi.phi[states, policy]))
+        A = Phi.T @ (Phi - lspi.discount * (lspi.P_flat @ lspi.phi[states, policy]))
         w_new = np.linalg.solve(A, b)
         Q = (Phi @ w_new).reshape(lspi.shape)
         new = _numpy_greedy(Q, lspi.tol)

@@ -1,19 +1,21 @@
-"""Every learner parameter is declared once as a ParamSpec and checked through it."""
+"""Every learner parameter is declared once, as a dataclass field carrying a ParamSpec (as regions and
+worlds declare theirs), and checked through it."""
 
 from __future__ import annotations
 
+import dataclasses
 import inspect
 
 import numpy as np
 import pytest
 
-from neurocur.config import describe
+from neurocur.config import describe, param_specs
 from neurocur.learn.ccipca import CCIPCA, AmnesicSchedule
 from neurocur.learn.incsfa import IncSFA
 from neurocur.learn.lspi import LSPI, lspi, value_iteration
 from neurocur.learn.mca import MCA
 from neurocur.learn.omega import omega
-from neurocur.learn.roc import ROCBank
+from neurocur.learn.roc import MIN_WEIGHT, ROCBank
 
 P2 = np.array([[[1.0, 0.0], [0.0, 1.0]], [[0.0, 1.0], [1.0, 0.0]]])  # 2 states, 2 actions
 R2 = np.array([[1.0, 0.0], [0.0, 1.0]])
@@ -28,6 +30,11 @@ def make(cls, **kwargs):
     if cls is LSPI:
         return cls(P2, **kwargs)
     return cls(**kwargs)
+
+
+def spec(cls, name):
+    """The declared spec of ``cls``'s parameter ``name`` (``prune``'s argument for ROCBank's ``min_weight``)."""
+    return MIN_WEIGHT if (cls, name) == (ROCBank, "min_weight") else param_specs(cls)[name]
 
 
 BAD = [
@@ -63,7 +70,7 @@ BAD = [
 def test_out_of_range_parameter_is_named(cls, name, value):
     with pytest.raises(ValueError) as err:
         make(cls, **{name: value})
-    expected = cls.param_specs[name].expected()
+    expected = spec(cls, name).expected()
     assert str(err.value) == f"{cls.__name__}: key '{name}': expected {expected}, got {describe(value)}"
 
 
@@ -80,7 +87,7 @@ def test_out_of_range_parameter_is_named(cls, name, value):
     (LSPI, "discount", "a number >= 0 and < 1"),
 ])
 def test_declared_bounds(cls, name, text):
-    assert cls.param_specs[name].expected() == text
+    assert spec(cls, name).expected() == text
 
 
 @pytest.mark.parametrize("cls, kwargs", [
@@ -96,25 +103,37 @@ def test_boundary_values_accepted(cls, kwargs):
     make(cls, **kwargs)
 
 
-@pytest.mark.parametrize("cls", [CCIPCA, MCA, IncSFA])
-def test_every_constructor_parameter_has_a_spec(cls):
-    assert list(cls.param_specs) == list(inspect.signature(cls).parameters)
+@pytest.mark.parametrize("cls", [CCIPCA, MCA, IncSFA, ROCBank])
+def test_every_constructor_parameter_is_a_field_with_a_spec(cls):
+    assert dataclasses.is_dataclass(cls)
+    assert [f.name for f in dataclasses.fields(cls)] == list(param_specs(cls))
+    assert list(param_specs(cls)) == list(inspect.signature(cls).parameters)
 
 
-def test_roc_and_lspi_declare_their_parameters():
-    ctor = [p for p in inspect.signature(ROCBank.__init__).parameters if p != "self"]
-    assert list(ROCBank.param_specs) == ctor + ["min_weight"]
-    assert list(LSPI.param_specs) == ["discount", "max_iter", "tol"]
+def test_lspi_fields_are_its_parameters_and_the_rest_is_data():
+    assert list(param_specs(LSPI)) == ["discount", "max_iter", "tol"]
+    assert list(inspect.signature(LSPI).parameters) == ["P", "discount", "features", "max_iter", "tol"]
+    planner = LSPI(P2, 0, tol=0)
+    assert type(planner.discount) is float and type(planner.tol) is float  # stored checked and coerced
+    assert repr(planner) == "LSPI(discount=0.0, max_iter=100, tol=0.0)"
+
+
+def test_learners_compare_by_identity():
+    """As estimators do (scikit-learn's clone and caches rely on it): the dataclasses define no ``__eq__``."""
+    a, b = IncSFA(random_state=0), IncSFA(random_state=0)
+    assert a != b and a == a and len({a, b, ROCBank(1, 1), ROCBank(1, 1)}) == 4
 
 
 def test_incsfa_reuses_ccipca_and_mca_specs():
     """One declaration per bound: IncSFA's specs are CCIPCA's and MCA's objects."""
-    specs = IncSFA.param_specs
-    assert specs["mca_rate"] is MCA.param_specs["learning_rate"]
-    assert specs["gamma"] is MCA.param_specs["gamma"]
-    for name in ("amnesic", "var_fraction", "eig_cutoff", "random_state"):
-        assert specs[name] is CCIPCA.param_specs[name]
-    assert specs["n_pca"] is CCIPCA.param_specs["n_components"]
+    specs, ccipca, mca = param_specs(IncSFA), param_specs(CCIPCA), param_specs(MCA)
+    assert specs["mca_rate"] is mca["learning_rate"]
+    assert specs["mca_rates"] is mca["component_rates"]
+    assert specs["gamma"] is mca["gamma"]
+    assert specs["n_components"] is mca["n_components"]
+    for name in ("amnesic", "var_fraction", "eig_cutoff", "orthonormalize", "random_state"):
+        assert specs[name] is ccipca[name]
+    assert specs["n_pca"] is ccipca["n_components"]
 
 
 def test_arguments_stored_unchanged():

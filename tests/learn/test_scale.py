@@ -9,7 +9,7 @@ from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from neurocur.learn import CCIPCA, MCA, IncSFA
-from neurocur.learn._validation import MAX_SCALE, MIN_SCALE, _largest_abs
+from neurocur.learn._scale import MAX_SCALE, MIN_SCALE, _largest_abs
 
 T = 600
 _t = np.arange(T)

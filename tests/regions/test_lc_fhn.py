@@ -32,7 +32,7 @@ def _windows(lc, qs):
 def _euler_error(dt):
     """Max |Euler - reference| over three windows (evidence, none, evidence) of 1 time unit, the
     reference being scipy's adaptive RK45 on the same equations at a tight tolerance."""
-    lc = _lc(dt=dt, substeps=round(1.0 / dt))
+    lc = _lc(dt=dt, substeps=round(1.0 / dt), noise=0.0)
     p = lc.params
     traces, _ = _windows(lc, [EVIDENCE, NONE, EVIDENCE])
     x = p.drive * np.tanh(1.0)
@@ -57,7 +57,7 @@ def _mode_summary(mode):
     """Alternate no-evidence and evidence windows; after 10 windows of settling, the baseline rate
     (mean rate of the no-evidence windows), the burst (peak rate of an evidence window above its
     first sub-step) and the gain in each kind of window, all from the sub-step trace."""
-    lc = _lc(mode=mode)
+    lc = _lc(mode=mode, noise=0.0)
     traces, records = _windows(lc, [EVIDENCE if i % 2 else NONE for i in range(50)])
     rate = traces[10:, :, 2]
     ev, no = rate[1::2], rate[0::2]
@@ -123,3 +123,20 @@ def test_bad_parameters_name_the_key():
         FHNLC("LC", dt=0.02)
     with pytest.raises(ConfigError, match=r"key 'mode': expected a number >= 0 and <= 1, got 1.5"):
         FHNLC("LC", mode=1.5)
+
+
+def test_default_noise_moves_the_phasic_baseline_without_spontaneous_bursts():
+    """The default input noise (sigma = 0.01, docs/regions.md) makes the tonic trace fluctuate
+    (sd above 0.01) while the phasic mode stays below the burst threshold without evidence; the
+    draws are the region's generator's, so a seed repeats them."""
+    def baseline(seed):
+        lc = _lc(seed=seed)
+        _, records = _windows(lc, [NONE] * 300)
+        return records[20:, 2]
+
+    tonic = baseline(3)
+    assert tonic.std() > 0.01 and tonic.max() < 0.5
+    np.testing.assert_array_equal(tonic, baseline(3))
+    assert not np.array_equal(tonic, baseline(4))
+    _, quiet = _windows(_lc(noise=0.0), [NONE] * 20)
+    assert np.all(quiet[:, 2] == 0.0)  # without noise the phasic mode rests at v = 0

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 from bound_region import bound, minimal_world
 
+from neurocur.config import ConfigError
 from neurocur.contexts.base import Episode
 from neurocur.regions import REGIONS
 from neurocur.regions.sensory import SensoryWorld
@@ -204,8 +205,8 @@ def test_mixture_at_the_ends_equals_its_parts(intrinsic):
 
 def test_mixture_passes_the_intrinsic_models_parameters():
     seq = [(0, 0.3, True, False, 4.0)]
-    assert das(make(MixtureVTA, weight=0.5, boredom=-10.0), seq).tolist() == [-3.0]
-    novelty = make(MixtureVTA, weight=0.5, intrinsic="vta.novelty", scale=6.0)
+    assert das(make(MixtureVTA, weight=0.5, intrinsic_params={"boredom": -10.0}), seq).tolist() == [-3.0]
+    novelty = make(MixtureVTA, weight=0.5, intrinsic="vta.novelty", intrinsic_params={"scale": 6})
     assert das(novelty, seq).tolist() == [5.0]
     assert novelty.intrinsic.params == NoveltyVTA.Params(scale=6.0)
 
@@ -242,3 +243,15 @@ def test_sensory_emits_and_records_the_reward_summed_over_a_block():
     assert (c, reward, len(block.frames), block.reward) == (1, 3 * 10.0 + 2 + 3 + 4, 12, 39.0)
     assert s.record() == (1, 12, 39.0)
     assert s.step(0)[1:] == (0, 5.0) and s.record() == (0, 4, 5.0)
+
+
+def test_mixture_checks_the_intrinsic_parameters_by_the_models_own_params():
+    """``intrinsic_params`` is a nested table of the chosen model's Params: nothing re-declared in the mixture."""
+    with pytest.raises(ConfigError, match=r"^MixtureParams: key 'intrinsic_params.scale': expected a parameter of "
+                                          r"LearningProgressParams \(boredom\), got an unknown parameter$"):
+        MixtureVTA.Params(intrinsic_params={"scale": 2.0})
+    with pytest.raises(ConfigError, match=r"^MixtureParams: key 'intrinsic_params.scale': expected a number > 0"):
+        MixtureVTA.Params(intrinsic="vta.surprise", intrinsic_params={"scale": 0.0})
+    params = MixtureVTA.Params(intrinsic="vta.content_novelty", intrinsic_params={"scale": 3})
+    assert params.intrinsic_model_params() == INTRINSIC["vta.content_novelty"].Params(scale=3.0)
+    assert MixtureVTA.Params().intrinsic_model_params() == INTRINSIC["vta.learning_progress"].Params()

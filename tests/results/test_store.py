@@ -189,7 +189,8 @@ def test_a_changed_input_file_is_refused_naming_it(tmp_path):
 
 def test_the_code_fingerprint_covers_the_code_that_computes_runs_and_not_the_analysis(tmp_path, monkeypatch):
     """A copy of the package: a changed analysis module leaves the source hash alone (it only reads
-    results folders); a changed region module, which computes runs, changes it."""
+    results folders), and so does a changed module of neurocur.rl (no run imports it); a changed
+    region module, which computes runs, changes it."""
     from neurocur.results import fingerprint
 
     copy = tmp_path / "neurocur"
@@ -197,10 +198,10 @@ def test_the_code_fingerprint_covers_the_code_that_computes_runs_and_not_the_ana
     monkeypatch.setattr(fingerprint, "PACKAGE", copy)
 
     def source():
-        return fingerprint.code_fingerprint.__wrapped__()["source"]
+        return fingerprint._package_fingerprint.__wrapped__()["source"]
 
     before = source()
-    for module, same in (("analysis/report.py", True), ("regions/vta.py", False)):
+    for module, same in (("analysis/stats/report.py", True), ("rl/wrappers.py", True), ("regions/vta.py", False)):
         path = copy / module
         path.write_text(path.read_text() + "\n# one more line\n")
         assert (source() == before) is same, module

@@ -1,0 +1,29 @@
+"""The figures of a results folder, in matplotlib (imported on first use: :mod:`neurocur.analysis`).
+
+- :mod:`~neurocur.analysis.figures.learning` — paper Figures 4D–G (cumulative error, intrinsic
+  reward, learning time, reward function, storage order, neuromodulators);
+- :mod:`~neurocur.analysis.figures.neuro` — the neuromodulator and behaviour analyses (inverted
+  U, occupancy, signals over time, event-locked traces, tonic/phasic NE, efficiency);
+- :mod:`~neurocur.analysis.figures.goldilocks` — engagement against learnability;
+- :mod:`~neurocur.analysis.figures.icub` — the iCub experiment (Figures 6–7);
+- :mod:`~neurocur.analysis.figures.invariance` — the invariance demonstration (Figure 5);
+- :mod:`~neurocur.analysis.figures.validation` — the canonical tasks of the neuromodulator models
+  (docs/validation.md) and their figure sets;
+- :mod:`~neurocur.analysis.figures.sets` — the figure set of each world type and
+  :func:`~neurocur.analysis.figures.sets.write_all`;
+- :mod:`~neurocur.analysis.figures.style` — the style and saving.
+
+Importing the package imports every module, so each figure set registers its world type.
+"""
+
+from . import goldilocks, icub, invariance, learning, neuro, sets, style, validation  # noqa: F401  (registration)
+from .goldilocks import *  # noqa: F403
+from .icub import *  # noqa: F403
+from .invariance import *  # noqa: F403
+from .learning import *  # noqa: F403
+from .neuro import *  # noqa: F403
+from .sets import *  # noqa: F403
+from .validation import *  # noqa: F403
+
+__all__ = [*goldilocks.__all__, *icub.__all__, *invariance.__all__, *learning.__all__, *neuro.__all__, *sets.__all__,
+           *validation.__all__]

@@ -1,0 +1,353 @@
+"""Seaborn figures of a results folder (paper Figures 4D–G and more).
+
+Every function returns a :class:`matplotlib.figure.Figure` in the style of
+:mod:`neurocur.analysis.figures.style`; :func:`~neurocur.analysis.figures.sets.write_all` saves
+them as PNG. Each checks on entry
+that its tables have the columns it reads (:func:`neurocur.contract.require_columns`), so
+a table without, say, an LC's columns gives an error naming them and the role producing
+them; a column that only some region models record (``epsilon``) is drawn when present.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import seaborn as sns
+from matplotlib.figure import Figure
+
+from neurocur.analysis.results import Results
+from neurocur.analysis.stats.bootstrap import bootstrap_ci
+from neurocur.analysis.stats.cycles import error_cycles
+from neurocur.analysis.stats.learning_time import learning_times, require_learning_columns
+from neurocur.analysis.stats.order import position_counts, require_order_columns
+from neurocur.config import ConfigError
+from neurocur.contract import require_columns
+from neurocur.regions.pfc import PFCLSPI, SAMPLE_AVERAGE, PFCParams, eq14_rate, reward_update
+
+from .style import figure, style
+
+__all__ = [
+    "condition_of",
+    "fig_cumulative_error",
+    "fig_intrinsic_reward",
+    "fig_learning_time",
+    "fig_reward_function",
+    "fig_order_counts",
+    "fig_neuromodulators",
+    "reward_estimates",
+]
+
+#: gid of the vertical lines marking module storage, so they can be told from data lines.
+EVENT_GID = "module_learned"
+
+
+def condition_of(table: pd.DataFrame, condition: str | None) -> str:
+    """``condition``, checked to be in ``table``; by default the table's first condition in name order."""
+    conditions = sorted(table["condition"].unique())
+    if not conditions:
+        raise ValueError("the episodes table is empty")
+    if condition is None:
+        return conditions[0]
+    if condition not in conditions:
+        raise ValueError(f"condition {condition!r} not in the results; have {conditions}")
+    return condition
+
+
+def _one_run(episodes: pd.DataFrame, condition: str | None, run: int | None) -> tuple[str, int, pd.DataFrame]:
+    condition = condition_of(episodes, condition)
+    table = episodes[episodes["condition"] == condition]
+    runs = sorted(table["run"].unique())
+    if run is None:
+        run = runs[0]
+    if run not in runs:
+        raise ValueError(f"run {run} not in condition {condition!r}; have runs {runs}")
+    return condition, int(run), table[table["run"] == run].sort_values("episode")
+
+
+def _binned(table: pd.DataFrame, column: str, bin_steps: int) -> pd.DataFrame:
+    """Per-run mean of ``column`` over bins of ``bin_steps`` global steps (bin centre as step)."""
+    if bin_steps <= 0:
+        raise ValueError(f"bin_steps must be a positive number of frames, got {bin_steps}")
+    binned = table.assign(step=table["step"] // bin_steps * bin_steps + bin_steps / 2)
+    return binned.groupby(["run", "step"], as_index=False)[column].mean()
+
+
+def _progress_linthresh(table: pd.DataFrame) -> float:
+    """Linear range of a symlog DA axis: the 90th percentile of |DA| on unfamiliar episodes.
+
+    Keeps the small learning-progress rewards readable beside the −100 boredom rewards.
+    """
+    progress = np.abs(table.loc[~table["familiar"].astype(bool), "da"].to_numpy(dtype=float))
+    progress = progress[np.isfinite(progress) & (progress > 0)]
+    return float(np.percentile(progress, 90)) if progress.size else 1.0
+
+
+def fig_cumulative_error(
+    episodes: pd.DataFrame,
+    condition: str | None = None,
+    run: int | None = None,
+    *,
+    column: str = "error",
+    bin_steps: int = 1000,
+    max_cycles: int | None = 3,
+    min_runs: int = 3,
+) -> Figure:
+    """Figure 4D: the estimation error falling within each learning cycle.
+
+    The paper's "cumulative estimation error" is read as eq 11's context-wide error
+    (accumulated over the context's states; column ``error``), not as a running sum over time.
+    Left: one run (``run``, default the first) per episode against the global step, each
+    module storage marked (dashed, gid ``"module_learned"``). Right: the error of every
+    learning cycle aligned to the storage that ends it
+    (:func:`~neurocur.analysis.stats.cycles.error_cycles`: per run, the mean over bins of
+    ``bin_steps`` frames before storage), one line per cycle (the first ``max_cycles``), the
+    mean over runs with its 95 % percentile bootstrap interval over runs
+    (:func:`~neurocur.analysis.stats.bootstrap.bootstrap_ci`, Efron & Tibshirani 1993; never below
+    zero for a non-negative error), where at least ``min_runs`` runs had the cycle that long.
+    """
+    require_columns(episodes, ["condition", "run", "episode", "step", "n_frames", "module_learned", column],
+                    needed_by="fig_cumulative_error")
+    condition = condition_of(episodes, condition)
+    table = episodes[episodes["condition"] == condition]
+    _, run, single = _one_run(episodes, condition, run)
+    cycles = error_cycles(table, column, bin_steps)
+    if max_cycles is not None:
+        cycles = cycles[cycles["cycle"] <= max_cycles]
+    cycles = cycles[cycles.groupby(["cycle", "bin"])["run"].transform("nunique") >= min_runs]
+    with style():
+        fig, axes = figure(1, 2, figsize=(11.0, 4.0), sharey=True)
+        left, right = axes[0]
+        left.plot(single["step"], single[column], lw=0.6, color="0.3", label=f"run {run}")
+        for x in (single["step"] + single["n_frames"])[single["module_learned"].astype(bool)]:
+            left.axvline(x, color="0.3", ls="--", lw=0.8, gid=EVENT_GID)
+        left.set(xlabel="global step (frames)", ylabel="estimation error",
+                 title=f"{condition}, run {run} (dashed: module stored)")
+        palette = sns.color_palette("colorblind", max(1, cycles["cycle"].nunique()))
+        for colour, (cycle, part) in zip(palette, cycles.groupby("cycle", sort=True)):
+            bins = part.groupby(-part["frames_before"], sort=True)[column]      # x: frames from storage, ≤ 0
+            means = bins.mean()
+            ci = np.array([bootstrap_ci(values.to_numpy()) for _, values in bins])
+            right.plot(means.index, means.to_numpy(), color=colour, label=f"module {cycle}")
+            right.fill_between(means.index, ci[:, 0], ci[:, 1], color=colour, alpha=0.25, lw=0)
+        if cycles.empty:
+            right.text(0.5, 0.5, f"no cycle in {min_runs} or more runs", ha="center", va="center",
+                       transform=right.transAxes)
+        else:
+            right.legend(title=f"cycle ({table['run'].nunique()} runs; 95 % CI; ≥ {min_runs} runs a bin)",
+                         loc="upper left")
+        right.axvline(0.0, color="0.3", ls="--", lw=0.8, gid=EVENT_GID)
+        right.set(xlabel="frames before the module's storage", ylabel="estimation error",
+                  title="Per learning cycle, aligned to storage")
+    return fig
+
+
+def fig_intrinsic_reward(
+    episodes: pd.DataFrame,
+    condition: str | None = None,
+    *,
+    bin_steps: int = 1000,
+    window: int = 5,
+    include_boredom: bool = True,
+    symlog: bool = True,
+    ylim: tuple[float, float] | None = None,
+) -> Figure:
+    """Figure 4E: the run-averaged, smoothed intrinsic reward (DA) vs global step.
+
+    DA is averaged per run over bins of ``bin_steps`` frames, averaged over runs, then
+    smoothed by a centred moving average of ``window`` bins. The boredom reward (−100 on
+    familiar episodes) is included as in the paper unless ``include_boredom=False`` (then
+    familiar episodes are left out); ``symlog`` makes the y-axis linear only near zero
+    (see :func:`fig_neuromodulators`) so the learning-progress rises show beside the boredom
+    drops; ``ylim`` clips the y-axis (said in the title). One line (plus the zero line).
+    """
+    if window < 1:
+        raise ValueError(f"window must be a positive number of bins, got {window}")
+    require_columns(episodes, ["condition", "run", "step", "da", "familiar"], needed_by="fig_intrinsic_reward")
+    condition = condition_of(episodes, condition)
+    table = episodes[episodes["condition"] == condition]
+    if not include_boredom:
+        table = table[~table["familiar"].astype(bool)]
+    mean = _binned(table, "da", bin_steps).groupby("step")["da"].mean()
+    smooth = mean.rolling(window, center=True, min_periods=1).mean()
+    with style():
+        fig, axes = figure()
+        ax = axes[0, 0]
+        sns.lineplot(x=smooth.index, y=smooth.to_numpy(), ax=ax, errorbar=None)
+        ax.axhline(0.0, color="0.5", lw=0.8, ls=":")
+        note = "boredom −100 included" if include_boredom else "familiar episodes left out"
+        if symlog:
+            ax.set_yscale("symlog", linthresh=_progress_linthresh(table))
+            note += "; symlog axis"
+        if ylim is not None:
+            ax.set_ylim(*ylim)
+            note += f"; y clipped to [{ylim[0]:g}, {ylim[1]:g}]"
+        ax.set(xlabel="global step (frames)", ylabel="intrinsic reward (DA)",
+               title=f"Smoothed intrinsic reward — {condition} ({note})")
+    return fig
+
+
+def fig_learning_time(results: Results, condition: str | None = None, *, since: str = "previous") -> Figure:
+    """Figure 4F: learning time per learnable source in epochs, median and interquartile range over runs
+    (learning times are skewed: a source learned late in a run can take ten times the median).
+
+    One bar per (source, condition) — all conditions unless ``condition`` is given — with
+    the runs as points. Learning time as in :func:`neurocur.analysis.stats.learning_time.learning_times`
+    (first module of each source).
+    """
+    require_learning_columns(results.episodes, results.modules, needed_by="fig_learning_time")
+    times = learning_times(results, since=since)
+    times = times[times["learnable"] & times["first_of_source"]]
+    conditions = results.conditions
+    if condition is not None:
+        conditions = [condition_of(results.episodes, condition)]
+    learnable = list(dict.fromkeys(s for c in conditions for s in results.spec_of(c).learnable))
+    times = times[times["condition"].isin(conditions)]
+    with style():
+        fig, axes = figure()
+        ax = axes[0, 0]
+        if times.empty:
+            ax.text(0.5, 0.5, "no learnable source was learned", ha="center", va="center",
+                    transform=ax.transAxes)
+        else:
+            kwargs = dict(data=times, x="source", y="epochs", hue="condition", order=learnable,
+                          hue_order=conditions, ax=ax)
+            sns.barplot(**kwargs, estimator="median", errorbar=("pi", 50), capsize=0.15, alpha=0.7)
+            sns.stripplot(**kwargs, dodge=True, palette=["0.2"] * len(conditions), size=3, legend=False)
+        ax.set(xlabel="source", ylabel="learning time (epochs)", title="Learning time per source (median, quartiles)")
+    return fig
+
+
+def reward_estimates(run: pd.DataFrame, n_contexts: int, alpha: float | str) -> np.ndarray:
+    """(n_episodes, n_contexts): each context's reward estimate R_c after each episode of one run.
+
+    ``run`` is one run's episodes in episode order, from its first. R_c starts at 0 (as the
+    PFC's reward model) and every episode but the first applies eq 14 to the estimate of
+    its context, ``R_c <- reward_update(R_c, DA, eq14_rate(alpha, n_c))``
+    (:mod:`neurocur.regions.pfc`; ``alpha`` a rate in (0, 1] or ``"sample_average"``, n_c
+    the context's samples so far); what R_c is in terms of the PFC's model is said in
+    :func:`fig_reward_function`.
+    """
+    require_columns(run, ["context", "da"], needed_by="reward_estimates")
+    try:
+        PFCParams(alpha=alpha)  # the PFC's own check of eq 14's rate
+    except ConfigError:
+        raise ValueError(f"alpha must be in (0, 1] or {SAMPLE_AVERAGE!r} (eq 14's learning rate), got {alpha!r}") from None
+    da = run["da"].to_numpy(dtype=float)
+    contexts = run["context"].to_numpy()
+    estimate = np.zeros(n_contexts)
+    samples = np.zeros(n_contexts, dtype=np.int64)
+    estimates = np.empty((len(run), n_contexts))
+    for t, (c, reward) in enumerate(zip(contexts, da)):
+        if t > 0:  # the PFC has no previous context at the first episode and leaves its model as it is
+            samples[c] += 1
+            estimate[c] = reward_update(estimate[c], reward, eq14_rate(alpha, samples[c]))
+        estimates[t] = estimate
+    return estimates
+
+
+def fig_reward_function(
+    results: Results,
+    run: int | None = None,
+    condition: str | None = None,
+    *,
+    alpha: float | str | None = None,
+    symlog: bool = True,
+) -> Figure:
+    """Figure 4G: the reward function per context over time, for one run.
+
+    The PFC's reward model is ``R[o, a, o']`` per (previous context, action, context); after
+    each episode but the run's first it applies eq 14, ``R <- (1 - alpha) R + alpha * DA``
+    (:func:`neurocur.regions.pfc.reward_update`), to the entry of the episode's previous
+    context ``o``, previous action ``a`` and context ``o'``, with the episode's DA. The
+    plotted R_c (:func:`reward_estimates`) applies the same updates, with the same DA, in
+    the same order, to one value per context ``c = o'``: it is the reward model the PFC
+    would have if it pooled its entries ``R[., ., c]`` over the previous context and action,
+    starting from 0. ``alpha`` is eq 14's learning rate; by default the condition's own: the ``alpha`` of its
+    circuit's :class:`~neurocur.regions.pfc.PFCLSPI` region in the results folder's config.toml
+    (:meth:`~neurocur.analysis.results.Results.region_param`), else ``PFCParams().alpha``. One line
+    per context of the world, a step after each episode. With ``symlog`` the y-axis is
+    linear only near zero (as in :func:`fig_neuromodulators`), so the rise of the
+    learning-progress reward shows beside the boredom-driven drop.
+    """
+    require_columns(results.episodes, ["condition", "run", "episode", "step", "n_frames", "context", "da", "familiar"],
+                    needed_by="fig_reward_function")
+    condition, run, table = _one_run(results.episodes, condition, run)
+    if alpha is None:
+        alpha = results.region_param(PFCLSPI, "alpha").get(condition, PFCParams().alpha)
+    alpha = alpha if isinstance(alpha, str) else float(alpha)  # a rate, or "sample_average"
+    spec = results.spec_of(condition)
+    n_contexts = len(spec.context_names)
+    if table["context"].max() >= n_contexts:
+        raise ValueError(f"episodes visit context {table['context'].max()} but the world has {n_contexts}")
+    estimates = reward_estimates(table, n_contexts, alpha)
+    steps = table["step"].to_numpy() + table["n_frames"].to_numpy()
+    with style():
+        fig, axes = figure()
+        ax = axes[0, 0]
+        palette = sns.color_palette("colorblind", n_contexts)
+        for c, (name, source) in enumerate(zip(spec.context_names, spec.context_sources)):
+            ax.plot(steps, estimates[:, c], drawstyle="steps-post", color=palette[c], label=f"{name} ({source})")
+        ax.set(xlabel="global step (frames)", ylabel="estimated reward R(context)",
+               title=f"Reward function — {condition}, run {run} (eq 14, {'sample average' if alpha == SAMPLE_AVERAGE else f'α={alpha:g}'})")
+        if symlog:
+            ax.set_yscale("symlog", linthresh=_progress_linthresh(table))
+        ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0))
+    return fig
+
+
+def fig_order_counts(results: Results) -> Figure:
+    """Which source was stored 1st/2nd/3rd, counted over runs; one panel per condition
+    (runs without any module count as "none")."""
+    require_order_columns(results.episodes, results.modules, needed_by="fig_order_counts")
+    counts = position_counts(results)
+    conditions = sorted(counts["condition"].unique())
+    sources = list(dict.fromkeys(counts["source"]))
+    with style():
+        fig, axes = figure(1, len(conditions), figsize=(4.0 * len(conditions), 3.8), sharey=True)
+        for ax, condition in zip(axes[0], conditions):
+            table = counts[counts["condition"] == condition]
+            sns.barplot(data=table, x="position", y="k", hue="source", hue_order=sources, ax=ax,
+                        palette="colorblind", legend=ax is axes[0, -1])
+            ax.set(xlabel="storage position", ylabel="runs",
+                   title=f"{condition} (n={int(table['n'].iloc[0])})")
+    return fig
+
+
+def fig_neuromodulators(
+    episodes: pd.DataFrame,
+    run: int | None = None,
+    condition: str | None = None,
+    *,
+    da_linthresh: float | None = None,
+) -> Figure:
+    """DA, NE tonic, NE phasic and ε per episode for one run, module storage marked.
+
+    Stacked panels sharing the step axis; each has one trace plus a dashed vertical line
+    (gid ``"module_learned"``) at every module storage. The ε panel is drawn only when the
+    table has an ``epsilon`` column (the epsilon-greedy LC records it; other LC models need
+    not), so there are three or four panels. DA is drawn on a symlog axis (linear within
+    ``±da_linthresh``, default the 90th percentile of |DA| on unfamiliar episodes) so the
+    −100 boredom rewards and the small learning-progress rewards both show.
+    """
+    require_columns(episodes, ["condition", "run", "episode", "step", "n_frames", "module_learned", "da", "familiar",
+                               "ne_tonic", "ne_phasic"], needed_by="fig_neuromodulators")
+    condition, run, table = _one_run(episodes, condition, run)
+    steps = table["step"].to_numpy()
+    events = (table["step"] + table["n_frames"])[table["module_learned"].astype(bool)].to_numpy()
+    if da_linthresh is None:
+        da_linthresh = _progress_linthresh(table)
+    panels = [("da", "DA (intrinsic reward)"), ("ne_tonic", "NE tonic"), ("ne_phasic", "NE phasic")]
+    if "epsilon" in table:
+        panels.append(("epsilon", "ε"))
+    with style():
+        fig, axes = figure(len(panels), 1, figsize=(8.0, 1.75 * len(panels)), sharex=True)
+        palette = sns.color_palette("deep", len(panels))
+        for ax, color, (column, label) in zip(axes[:, 0], palette, panels):
+            ax.plot(steps, table[column].to_numpy(dtype=float), color=color, lw=0.8)
+            for x in events:
+                ax.axvline(x, color="0.3", ls="--", lw=0.8, gid=EVENT_GID)
+            ax.set_ylabel(label)
+        axes[0, 0].set_yscale("symlog", linthresh=da_linthresh)
+        axes[0, 0].set_title(f"Neuromodulators — {condition}, run {run} (dashed: module stored)")
+        axes[-1, 0].set_xlabel("global step (frames)")
+    return fig

@@ -1,0 +1,99 @@
+"""Every figure of a results folder, written as PNG files (``neurocur figures DIR``).
+
+The figures a folder gets depend on its world: a :class:`FigureSet` is registered per world
+type in :data:`FIGURE_SETS`, as region and world types are (:class:`neurocur.registry.Registry`;
+a third-party package adds one through the ``neurocur.figure_sets`` entry-point group)::
+
+    @FIGURE_SETS.register("icub")
+    class ICubFigures(FigureSet):
+        def draw(self, results): ...
+
+:func:`write_all` picks the set of the folder's world type (the conditions' ``world.type``
+in ``config.toml``): a folder whose conditions all have one registered world type gets that
+type's set, any other folder the :class:`StandardFigures` (paper Figures 4D–G).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pandas as pd
+from matplotlib.figure import Figure
+
+from neurocur.analysis.results import Results
+from neurocur.analysis.stats.efficiency import efficiency_per_run
+from neurocur.registry import Registry
+
+from .learning import (
+    fig_cumulative_error,
+    fig_intrinsic_reward,
+    fig_learning_time,
+    fig_neuromodulators,
+    fig_order_counts,
+    fig_reward_function,
+)
+from .neuro import fig_efficiency
+from .style import save_figures
+
+__all__ = ["FIGURE_SETS", "FigureSet", "StandardFigures", "figure_set", "write_all"]
+
+#: The figure set of each world type.
+FIGURE_SETS = Registry("figure set", "neurocur.figure_sets")
+
+
+class FigureSet:
+    """The figures of a results folder of one world type: :meth:`draw` returns them by file stem,
+    and :meth:`tables` the tables they show (written beside them as CSV; none by default)."""
+
+    def draw(self, results: Results) -> dict[str, Figure]:
+        raise NotImplementedError
+
+    def tables(self, results: Results) -> dict[str, pd.DataFrame]:
+        return {}
+
+
+@FIGURE_SETS.register("synthetic")
+class StandardFigures(FigureSet):
+    """Paper Figures 4D–G for any world: ``order_counts`` and ``learning_time``, per condition
+    ``cumulative_error_<condition>``, ``intrinsic_reward_<condition>``,
+    ``reward_function_<condition>`` and ``neuromodulators_<condition>`` (the latter two for the
+    condition's first run; the reward function with the condition's own eq-14 ``alpha``), and
+    ``efficiency`` when the experiment declares a control condition
+    (:attr:`~neurocur.analysis.results.Results.control`): the reference against it,
+    :func:`~neurocur.analysis.figures.neuro.fig_efficiency`."""
+
+    def draw(self, results: Results) -> dict[str, Figure]:
+        episodes = results.episodes
+        figures = {"order_counts": fig_order_counts(results), "learning_time": fig_learning_time(results)}
+        for condition in results.conditions:
+            figures[f"cumulative_error_{condition}"] = fig_cumulative_error(episodes, condition)
+            figures[f"intrinsic_reward_{condition}"] = fig_intrinsic_reward(episodes, condition)
+            figures[f"reward_function_{condition}"] = fig_reward_function(results, condition=condition)
+            figures[f"neuromodulators_{condition}"] = fig_neuromodulators(episodes, condition=condition)
+        reference, control = results.reference, results.control
+        if control is not None and reference != control and {reference, control} <= set(results.conditions):
+            figures["efficiency"] = fig_efficiency(efficiency_per_run(results), reference, control)
+        return figures
+
+
+def figure_set(results: Results) -> FigureSet:
+    """The figure set of ``results``' world type (:class:`StandardFigures` unless one is registered)."""
+    types = results.world_types
+    if len(types) == 1 and (kind := types.pop()) in FIGURE_SETS:
+        return FIGURE_SETS.get(kind)()
+    return StandardFigures()
+
+
+def write_all(results_dir: str | Path, out_dir: str | Path | None = None, *, dpi: int = 120) -> list[Path]:
+    """Draw every figure of a results folder (its world type's :class:`FigureSet`) and save them
+    as PNG in ``out_dir`` (default ``results_dir/figures``), and the tables they show as CSV
+    (:meth:`FigureSet.tables`). Returns the written paths."""
+    results = Results.load(results_dir)
+    out = Path(results_dir) / "figures" if out_dir is None else Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    figures = figure_set(results)
+    written = []
+    for name, table in figures.tables(results).items():
+        table.to_csv(out / f"{name}.csv", index=False)
+        written.append(out / f"{name}.csv")
+    return written + save_figures(figures.draw(results), out, dpi)

@@ -1,0 +1,145 @@
+"""A results folder as the analysis reads it: :class:`Results` (tables, sources, experiment config).
+
+Every statistic and figure that needs more than one table takes a :class:`Results`: the
+episodes and modules tables, the sources each condition's world showed
+(:class:`~neurocur.contexts.base.SourceSpec`, read from each condition's first ``run.json``)
+and the folder's ``config.toml`` (the resolved experiment). What the analysis needs to know
+about the experiment is read from there, never from a condition's or a region's name:
+
+- :attr:`Results.reference` — the condition the others are compared against: the first
+  condition of the experiment file;
+- :attr:`Results.control` — the experiment's declared control condition (the experiment
+  file's top-level ``control`` key), or None;
+- :meth:`Results.region_param` — a parameter of the region of a given type in each
+  condition's resolved circuit (e.g. eq 14's ``alpha`` of the value estimator,
+  :class:`~neurocur.regions.pfc.PFCLSPI`), whatever the circuit calls that region;
+- :attr:`Results.world_types` — the world types of the conditions, which pick the folder's
+  figure set (:mod:`neurocur.analysis.figures.sets`).
+
+Tables built in memory (tests, notebooks) are wrapped with :meth:`Results.of`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import pandas as pd
+
+from neurocur.contexts.base import SourceSpec
+from neurocur.regions import REGIONS
+from neurocur.registry import UnknownType
+from neurocur.results import ResultsStore
+
+__all__ = ["Results", "source_specs"]
+
+
+def source_specs(results_dir: str | Path) -> dict[str, SourceSpec]:
+    """Each condition's :class:`~neurocur.contexts.base.SourceSpec`, read from its first run's
+    ``run.json``; conditions in the order of the folder's ``config.toml``, then the others."""
+    store = ResultsStore(results_dir)
+    specs: dict[str, SourceSpec] = {}
+    for path in store.run_dirs():
+        condition = path.parent.name
+        if condition not in specs:
+            info = store.run_info(path)
+            specs[condition] = SourceSpec(tuple(c["name"] for c in info["contexts"]),
+                                          tuple(c["source"] for c in info["contexts"]), tuple(info["learnable"]))
+    order = list((store.config() or {}).get("conditions", {}))
+    return {c: specs[c] for c in sorted(specs, key=lambda c: (order.index(c) if c in order else len(order), c))}
+
+
+@dataclass(frozen=True)
+class Results:
+    """The episodes and modules tables of a results folder, each condition's sources and its config.
+
+    ``specs`` maps each condition to its world's :class:`SourceSpec`, in the order of the
+    experiment (the reference first); ``config`` is the folder's ``config.toml`` (empty for
+    tables built in memory); ``path`` the folder (None in memory).
+    """
+
+    episodes: pd.DataFrame
+    modules: pd.DataFrame
+    specs: Mapping[str, SourceSpec]
+    config: Mapping = field(default_factory=dict)
+    path: Path | None = None
+
+    @classmethod
+    def load(cls, results_dir: str | Path, *, tables: tuple[pd.DataFrame, pd.DataFrame] | None = None) -> Results:
+        """Read a results folder; ``tables``: its ``(episodes, modules)`` when already loaded."""
+        store = ResultsStore(results_dir)
+        episodes, modules = store.load() if tables is None else tables
+        return cls(episodes, modules, source_specs(results_dir), store.config() or {}, Path(results_dir))
+
+    @classmethod
+    def of(cls, episodes: pd.DataFrame, modules: pd.DataFrame, spec: SourceSpec | Mapping[str, SourceSpec],
+           config: Mapping | None = None) -> Results:
+        """Tables built in memory: ``spec`` is every condition's sources, or one per condition."""
+        if isinstance(spec, SourceSpec):
+            names = list(dict.fromkeys([*episodes["condition"], *modules["condition"]]))
+            spec = dict.fromkeys(names, spec)
+        return cls(episodes, modules, dict(spec), config or {})
+
+    @property
+    def conditions(self) -> list[str]:
+        """The conditions of the episodes table, in name order."""
+        return sorted(self.episodes["condition"].unique())
+
+    @property
+    def spec(self) -> SourceSpec:
+        """The sources of every condition's world; ValueError when the conditions' worlds differ."""
+        specs = {self.spec_of(c) for c in self.conditions} or set(self.specs.values())
+        if len(specs) != 1:
+            raise ValueError(f"the conditions' worlds show different sources ({len(specs)} kinds); "
+                             "select conditions of one world (Results.select)")
+        return specs.pop()
+
+    def spec_of(self, condition: str) -> SourceSpec:
+        """The sources of ``condition``'s world."""
+        if condition not in self.specs:
+            raise ValueError(f"no source spec for condition {condition!r}; have {sorted(self.specs)}")
+        return self.specs[condition]
+
+    def select(self, conditions) -> Results:
+        """The same results, only for ``conditions``."""
+        keep = list(conditions)
+        return Results(self.episodes[self.episodes["condition"].isin(keep)],
+                       self.modules[self.modules["condition"].isin(keep)],
+                       {c: s for c, s in self.specs.items() if c in keep}, self.config, self.path)
+
+    @property
+    def reference(self) -> str | None:
+        """The condition compared against the others: the experiment's first condition
+        (``config.toml``'s order; in memory, the first of ``specs``)."""
+        return next(iter(self.config.get("conditions", self.specs)), None)
+
+    @property
+    def control(self) -> str | None:
+        """The experiment's declared control condition (its ``control`` key), or None."""
+        return self.config.get("control")
+
+    @property
+    def world_types(self) -> set[str]:
+        """The world types (``world.type``) of the conditions in ``config.toml``."""
+        return {c.get("world", {}).get("type", "synthetic") for c in self.config.get("conditions", {}).values()}
+
+    def region_param(self, kind: type, key: str) -> dict[str, object]:
+        """``key`` of the region of type ``kind`` (a region class, or a subclass of it) in each
+        condition's resolved circuit; the parameter's default when ``config.toml`` records none.
+        A condition whose circuit has no such region, or several, is left out."""
+        out = {}
+        for name, condition in self.config.get("conditions", {}).items():
+            found = [region for region in condition.get("resolved_circuit", {}).get("regions", {}).values()
+                     if _is_a(region.get("type"), kind)]
+            if len(found) == 1:
+                params = found[0].get("params", {})
+                out[name] = params[key] if key in params else getattr(kind.Params(), key)
+        return out
+
+
+def _is_a(type_name, kind: type) -> bool:
+    try:
+        return isinstance(type_name, str) and issubclass(REGIONS.get(type_name), kind)
+    except UnknownType:
+        return False

@@ -1,0 +1,300 @@
+"""The summaries of a results folder: the order table beside the paper's numbers, and ``summary.json``.
+
+Both gather the statistics of :mod:`~neurocur.analysis.stats.order`,
+:mod:`~neurocur.analysis.stats.learning_time`, :mod:`~neurocur.analysis.stats.efficiency` and
+:mod:`~neurocur.analysis.stats.comparison`;
+:func:`order_table` sets the paper's numbers (:mod:`~neurocur.analysis.paper`) beside them.
+Every p-value they show is named by its test (paired by run: Wilcoxon 1945 signed-rank,
+McNemar 1947 exact) and its multiple-comparison adjustment (Holm 1979 by default, or
+Benjamini & Hochberg 1995).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+
+import numpy as np
+import pandas as pd
+
+from neurocur.analysis import paper
+from neurocur.analysis.results import Results
+from neurocur.contexts.base import SourceSpec
+from neurocur.contexts.synthetic import SYNTHETIC
+
+from .bootstrap import BOOTSTRAP_SEED, N_BOOT
+from .comparison import ADJUSTMENT_NAMES, adjustment, compare_conditions
+from .degenerate import degenerate_conditions
+from .dwell import engagement_summary
+from .efficiency import EFFICIENCY_LABELS, EFFICIENCY_TESTS, censoring_horizon, efficiency_per_run, efficiency_summary
+from .learning_time import learning_time_summary, require_learning_columns
+from .order import condition_summary, order_counts, outcome_labels, per_run, require_order_columns
+from .significance import TESTS
+
+__all__ = ["TABLE_TESTS", "DEGENERATE_NOTE", "order_table", "comparison_rows", "paired_test_rows", "summary"]
+
+#: The per-run metrics whose paired test against the reference condition the order table shows.
+TABLE_TESTS = ("exact_order", "gated_sources")
+#: The order table's row that names the degenerate conditions left out of its tests.
+DEGENERATE_NOTE = "left out of the tests: its runs repeat another condition's, run for run"
+_NUMERIC_LABELS = {"n_modules": "modules per run", "n_learned": "learnable sources learned",
+                   "gated_sources": "learnable sources gated", "kendall_tau": "Kendall τ vs Ω"}
+
+
+def _mean_sd(mean: float, sd: float) -> str:
+    if math.isnan(mean):
+        return "—"
+    return f"{mean:.2f}" if math.isnan(sd) else f"{mean:.2f} ± {sd:.2f}"
+
+
+def _frames(value: float) -> str:
+    return "—" if math.isnan(value) else f"{value / 1000:.1f}k"
+
+
+def _efficiency_labels(spec: SourceSpec, horizon: float | None = None) -> dict[str, str]:
+    labels = dict(EFFICIENCY_LABELS)
+    if horizon is not None:
+        labels["frames_to_learn_all_censored"] = f"frames to learn all (censored at {_frames(horizon)} frames, the shortest run)"
+    if spec.unlearnable:
+        labels["frames_unlearnable"] += f" ({'/'.join(spec.unlearnable)})"
+    return labels
+
+
+def _efficiency_cells(runs: pd.DataFrame, spec: SourceSpec) -> dict[str, str]:
+    """The order table's efficiency cells of one condition's :func:`efficiency_per_run` rows, by label."""
+    labels = _efficiency_labels(spec, runs["horizon"].iloc[0] if len(runs) else None)
+    did = runs["frames_to_learn_all"].dropna()
+    censored, unlearnable = runs["frames_to_learn_all_censored"], runs["frames_unlearnable"].astype(float)
+    return {
+        labels["learned_all"]: f"{int(runs['learned_all'].sum())}/{len(runs)}",
+        f"{labels['frames_to_learn_all']}: median (range)": (
+            f"{_frames(did.median())} ({_frames(did.min())}–{_frames(did.max())}; n={len(did)})" if len(did) else "—"),
+        f"{labels['frames_to_learn_all_censored']}: mean ± sd": (
+            f"{_frames(censored.mean())} ± {_frames(censored.std())}" if len(runs) else "—"),
+        f"{labels['frames_unlearnable']}: mean ± sd": (
+            f"{_frames(unlearnable.mean())} ± {_frames(unlearnable.std())}" if len(runs) else "—"),
+        labels["modules_per_1e5"]: _mean_sd(runs["modules_per_1e5"].mean(), runs["modules_per_1e5"].std()),
+    }
+
+
+def _paper_cell(numbers: Mapping[str, paper.Reported], label: str) -> str:
+    reported = numbers.get(label)
+    return "—" if reported is None else reported.cell()
+
+
+def comparison_rows(
+    runs: pd.DataFrame,
+    reference: str,
+    spec: SourceSpec,
+    *,
+    metrics=TABLE_TESTS,
+    adjust: str | None = "holm",
+    leave_out=(),
+) -> pd.DataFrame:
+    """The order table's test rows: ``reference`` against every other condition of the
+    :func:`~neurocur.analysis.stats.order.per_run` table ``runs`` but those of ``leave_out``, paired
+    by run, one row per metric; ``spec``: the sources of their world, which name the metrics.
+
+    A row's label names the metric, the reference, the test and the adjustment, e.g.
+    "learnable sources gated vs A: Wilcoxon signed-rank p (paired; Holm, 4 tests)";
+    the family adjusted together is every p-value of these rows. A cell is the adjusted
+    p-value with the pairs it rests on ("0.0023 (n=25)"; McNemar: "0.031 (7 of 25
+    discordant)"); "—" for the reference and where nothing could be tested. Columns: the
+    conditions of ``runs``. Empty without ``reference`` or another condition.
+    """
+    conditions = sorted(runs["condition"].unique())
+    others = [c for c in conditions if c != reference and c not in leave_out]
+    if reference not in conditions or not others:
+        return pd.DataFrame(columns=conditions, dtype=object)
+    tests = compare_conditions(runs, reference, others, metric=list(metrics), adjust=adjust)
+    horizon = runs["horizon"].iloc[0] if "horizon" in runs and len(runs) else None
+    labels = {**_NUMERIC_LABELS, **_efficiency_labels(spec, horizon), **outcome_labels(spec)}
+    adjusted = ADJUSTMENT_NAMES[adjustment(adjust) or "none"][0]
+    n_tests = int(tests["n_tests"].iloc[0])
+    out: dict[str, dict[str, str]] = {}
+    for metric, rows in tests.groupby("metric", sort=False):
+        test = TESTS[rows["method"].iloc[0]][0]
+        label = f"{labels.get(metric, metric)} vs {reference}: {test} p (paired; {adjusted}, {n_tests} tests)"
+        cells = dict.fromkeys(conditions, "—")
+        for row in rows.itertuples(index=False):
+            if math.isnan(row.p_adjusted):
+                continue
+            pairs = (f"{row.n_nonzero} of {row.n_pairs} discordant" if row.method == "mcnemar_exact"
+                     else f"n={row.n_pairs}")
+            cells[row.b] = f"{row.p_adjusted:.2g} ({pairs})"
+        out[label] = cells
+    return pd.DataFrame.from_dict(out, orient="index", columns=conditions).rename_axis("outcome")
+
+
+def paired_test_rows(
+    results: Results,
+    reference: str,
+    *,
+    adjust: str | None = "holm",
+    horizon: float | None = None,
+    exclude_degenerate: bool = True,
+) -> pd.DataFrame:
+    """The order table's test rows (:func:`comparison_rows`) against ``reference``, two families
+    each adjusted on its own: the efficiency metrics (:data:`~neurocur.analysis.stats.efficiency.EFFICIENCY_TESTS`,
+    censored at ``horizon``, by default the shortest run of ``results``), then the order metrics
+    (:data:`TABLE_TESTS`). With ``exclude_degenerate`` (the default), a condition whose runs repeat
+    another's (:func:`~neurocur.analysis.stats.degenerate.degenerate_conditions`) is left out of
+    both families, and a last row, :data:`DEGENERATE_NOTE`, names the condition it repeats."""
+    spec = results.spec
+    degenerate = degenerate_conditions(results) if exclude_degenerate else {}
+    efficiency = efficiency_per_run(results, horizon=horizon)
+    blocks = [comparison_rows(efficiency, reference, spec, metrics=EFFICIENCY_TESTS, adjust=adjust,
+                              leave_out=degenerate),
+              comparison_rows(per_run(results), reference, spec, adjust=adjust, leave_out=degenerate)]
+    if degenerate:
+        note = {c: f"= {degenerate[c]}" if c in degenerate else "—" for c in results.conditions}
+        blocks.append(pd.DataFrame([note], index=pd.Index([DEGENERATE_NOTE], name="outcome")))
+    return pd.concat(blocks)
+
+
+def order_table(
+    results: Results,
+    *,
+    reference: str | None = None,
+    adjust: str | None = "holm",
+    horizon: float | None = None,
+    exclude_degenerate: bool = True,
+) -> pd.DataFrame:
+    """The compact per-condition table printed by the CLI, beside the paper's numbers.
+
+    Rows: the order outcomes ("k/n"), modules per run, learnable sources gated per run and
+    Kendall τ (mean ± sd), the efficiency (:mod:`~neurocur.analysis.stats.efficiency`: runs that
+    learned every learnable source, frames until then, frames in the unlearnable contexts,
+    modules per 10⁵ frames), learning time per learnable source (epochs, mean ± sd); with a
+    ``reference`` condition, then the paired tests against it (:func:`paired_test_rows`: the
+    efficiency metrics, then :data:`TABLE_TESTS`; each row names its test and adjustment; a
+    degenerate condition is left out of them unless ``exclude_degenerate`` is false, with a note). The
+    frames to learn all of every condition and their test are censored at one cut-off, named in
+    the rows: ``horizon``, by default the shortest run of ``results``
+    (:func:`~neurocur.analysis.stats.efficiency.censoring_horizon`).
+    The conditions must share one world's sources (:attr:`~neurocur.analysis.results.Results.spec`).
+    Columns: "paper" (curious agent, :data:`~neurocur.analysis.paper.SYNTHETIC_CURIOUS`),
+    "paper (random)" (:data:`~neurocur.analysis.paper.SYNTHETIC_RANDOM`), then one column
+    per condition. The paper columns are filled only for the synthetic world.
+    """
+    require_order_columns(results.episodes, results.modules, needed_by="order_table")
+    require_learning_columns(results.episodes, results.modules, needed_by="order_table")
+    spec = results.spec
+    counts = order_counts(results)
+    means = condition_summary(results).set_index(["condition", "metric"])
+    times = learning_time_summary(results).set_index(["condition", "source"])
+    conditions = results.conditions
+    horizon = censoring_horizon(results) if horizon is None else horizon
+    table: dict[str, dict[str, str]] = {}
+    for row in counts.itertuples(index=False):
+        table.setdefault(row.outcome, {})[row.condition] = f"{row.k}/{row.n}"
+    for metric, label in (("n_modules", "modules per run"), ("gated_sources", "learnable sources gated"),
+                          ("kendall_tau", "Kendall τ vs Ω")):
+        for condition in conditions:
+            m = means.loc[(condition, metric)]
+            table.setdefault(label, {})[condition] = _mean_sd(m["mean"], m["sd"])
+    efficiency = efficiency_per_run(results, horizon=horizon)
+    for condition in conditions:
+        for label, cell in _efficiency_cells(efficiency[efficiency["condition"] == condition], spec).items():
+            table.setdefault(label, {})[condition] = cell
+    for source in spec.learnable:
+        for condition in conditions:
+            t = times.loc[(condition, source)]
+            cell = _mean_sd(t["mean"], t["sd"])
+            table.setdefault(f"{source} learning time (epochs)", {})[condition] = (
+                cell if cell == "—" else f"{cell} (n={int(t['n'])})")
+    curious, random = (paper.SYNTHETIC_CURIOUS, paper.SYNTHETIC_RANDOM) if spec == SYNTHETIC else ({}, {})
+    if reference is not None:
+        table.update(paired_test_rows(results, reference, adjust=adjust, horizon=horizon,
+                                      exclude_degenerate=exclude_degenerate).to_dict("index"))
+    out = pd.DataFrame(
+        [{"paper": _paper_cell(curious, label), "paper (random)": _paper_cell(random, label), **cells}
+         for label, cells in table.items()],
+        index=pd.Index(list(table), name="outcome"),
+    )
+    return out[["paper", "paper (random)", *conditions]]
+
+
+def _json_safe(value):
+    """Plain Python values for json.dumps; NaN and ±inf become None."""
+    if isinstance(value, Mapping):
+        return {str(k): _json_safe(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_json_safe(v) for v in value]
+    if isinstance(value, (np.bool_, bool)):
+        return bool(value)
+    if isinstance(value, (np.integer, int)):
+        return int(value)
+    if isinstance(value, (np.floating, float)):
+        return float(value) if math.isfinite(value) else None
+    return value
+
+
+def summary(
+    results: Results,
+    *,
+    reference: str | None = None,
+    exclude_degenerate: bool = True,
+    paired: bool = True,
+    adjust: str | None = "holm",
+    n_boot: int = N_BOOT,
+    seed: int = BOOTSTRAP_SEED,
+) -> dict:
+    """A JSON-serialisable summary of a results folder (written as ``summary.json``), its conditions
+    sharing one world's sources; ``reference`` defaults to :attr:`~neurocur.analysis.results.Results.reference`.
+
+    Keys: ``n_runs`` (per condition), ``order_counts``, ``metrics`` (mean/sd per condition),
+    ``learning_time`` (epochs per learnable source), ``efficiency`` (per condition and metric:
+    :func:`~neurocur.analysis.stats.efficiency.efficiency_summary`, the censored frames to learn all
+    cut at ``horizon``, the shortest run; and ``comparisons``, ``reference``
+    against every other condition on :data:`~neurocur.analysis.stats.efficiency.EFFICIENCY_TESTS`,
+    adjusted as their own family), ``engagement`` (per condition and context: share of frames
+    and mean dwell per visit, :func:`~neurocur.analysis.stats.dwell.engagement_summary`),
+    ``comparisons`` (``reference`` against
+    every other condition but the degenerate ones (unless ``exclude_degenerate`` is false), when both exist: :func:`~neurocur.analysis.stats.comparison.compare_conditions`,
+    each row with its ``test``, raw ``p_value``, ``p_adjusted`` and ``adjustment``) and
+    ``statistics`` (how the comparisons were made: pairing, the tests by ``method`` code
+    with their references, the adjustment with its reference and family size, the
+    bootstrap, and ``degenerate``: each condition left out of the comparisons because its runs repeat
+    another's, :func:`~neurocur.analysis.stats.degenerate.degenerate_conditions`, with that other).
+    NaN and infinities are written as null.
+    """
+    require_order_columns(results.episodes, results.modules, needed_by="summary")
+    require_learning_columns(results.episodes, results.modules, needed_by="summary")
+    reference = results.reference if reference is None else reference
+    runs = per_run(results)
+    conditions = sorted(runs["condition"].unique())
+    efficiency = efficiency_per_run(results)
+    comparisons, efficiency_tests = pd.DataFrame(), pd.DataFrame()
+    degenerate = degenerate_conditions(results) if exclude_degenerate else {}
+    others = [c for c in conditions if c != reference and c not in degenerate]
+    if reference in conditions and others:
+        comparisons = compare_conditions(runs, reference, others, paired=paired, adjust=adjust,
+                                         n_boot=n_boot, seed=seed)
+        efficiency_tests = compare_conditions(efficiency, reference, others, metric=list(EFFICIENCY_TESTS),
+                                              paired=paired, adjust=adjust, n_boot=n_boot, seed=seed)
+    adjusted = adjustment(adjust) or "none"
+    methods = sorted(set(comparisons["method"])) if len(comparisons) else []
+    result = {
+        "n_runs": runs.groupby("condition").size().to_dict(),
+        "order_counts": order_counts(results).to_dict("records"),
+        "metrics": condition_summary(results).to_dict("records"),
+        "learning_time": learning_time_summary(results).to_dict("records"),
+        "efficiency": {"horizon": censoring_horizon(results),
+                       "summary": efficiency_summary(efficiency, n_boot=n_boot, seed=seed).to_dict("records"),
+                       "comparisons": efficiency_tests.to_dict("records")},
+        "engagement": engagement_summary(results.episodes, results.spec, n_boot=n_boot, seed=seed).to_dict("records"),
+        "comparisons": comparisons.to_dict("records"),
+        "statistics": {
+            "reference": reference if comparisons.size else None,
+            "paired": paired, "pairing": "run" if paired else None,
+            "tests": {m: {"name": TESTS[m][0], "reference": TESTS[m][1]} for m in methods},
+            "adjustment": {"method": adjusted, "name": ADJUSTMENT_NAMES[adjusted][0],
+                           "reference": ADJUSTMENT_NAMES[adjusted][1],
+                           "n_tests": int(comparisons["n_tests"].iloc[0]) if len(comparisons) else 0},
+            "bootstrap": {"interval": "percentile (Efron & Tibshirani 1993)", "n_boot": n_boot,
+                          "confidence": 0.95, "seed": seed},
+            "degenerate": degenerate,
+        },
+    }
+    return _json_safe(result)

@@ -1,0 +1,72 @@
+"""The synthetic world's contexts paying rewards that change by blocks of visits: utility that falls and rises.
+
+Not in the paper. For the adaptive-gain LC (Aston-Jones & Cohen 2005, Annu Rev Neurosci
+28:403): they propose that the LC leaves the phasic mode for the tonic one when the
+utility of the current task falls (reward depletion, or a reversal), so that the animal
+disengages and explores, and returns to the phasic mode when utility rises again. The
+frames are the synthetic world's (:mod:`.synthetic`: each context shows a source through
+a random mixing); block k of ``block_visits`` consecutive visits (counted over every
+context, from the run's start) pays ``blocks[k][c]`` for a visit of context c; after the
+last block, the last block's rewards go on.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+from neurocur.config import ConfigError, ParamSpec, describe, param, spec_param
+
+from .base import Episode, register_world
+from .synthetic import SyntheticParams, SyntheticWorld
+
+__all__ = ["RewardBlocksParams", "RewardBlocksWorld"]
+
+_BLOCK = ParamSpec.sequence(ParamSpec(float), min_length=1)
+
+
+@dataclass(frozen=True)
+class RewardBlocksParams(SyntheticParams):
+    """:class:`~.synthetic.SyntheticParams` and the blocks' rewards (``[world]``, ``type = "reward_blocks"``)."""
+
+    blocks: tuple = spec_param(((1.0,),), ParamSpec.sequence(_BLOCK, min_length=1),
+                               doc="per block, the reward of a visit of each context (reward units)")
+    block_visits: int = param(500, int, low=1, doc="visits per block (over every context)")
+
+    def __post_init__(self):
+        super().__post_init__()
+        where, n = type(self).__name__, len(self.contexts)
+        if self.rewards is not None:
+            raise ConfigError(where, "rewards", "no rewards table (the blocks set the rewards)", "a rewards table")
+        for k, block in enumerate(self.blocks):
+            if len(block) != n:
+                raise ConfigError(where, f"blocks[{k}]", f"{n} rewards (one per context)", describe(list(block)))
+
+
+@register_world("reward_blocks")
+class RewardBlocksWorld(SyntheticWorld):
+    """The synthetic world whose contexts pay by blocks of visits (module docstring)."""
+
+    figures_after_run = True
+
+    Params = RewardBlocksParams
+
+    @classmethod
+    def from_params(cls, params: RewardBlocksParams) -> RewardBlocksWorld:
+        return cls(params=params)
+
+    def _reset(self) -> None:
+        super()._reset()
+        self.visit_count = 0
+
+    def block(self) -> int:
+        """The block of the next visit."""
+        return min(self.visit_count // self.params.block_visits, len(self.params.blocks) - 1)
+
+    def _paid(self, episode: Episode, n: int = 1) -> Episode:
+        """``episode`` paid for its ``n`` visits, each at its own block's reward."""
+        reward = 0.0
+        for _ in range(n):
+            reward += self.params.blocks[self.block()][episode.context]
+            self.visit_count += 1
+        return dataclasses.replace(episode, reward=float(reward))

@@ -1,0 +1,62 @@
+"""A saved agent built back into a simulator: ``neurocur.load_agent(DIR, condition, run)``.
+
+A run computed with ``--save-agent`` (``run_experiment(..., save_agent=True)``) keeps its
+trained agent in ``DIR/runs/<condition>/run-<NNN>/agent/`` (:mod:`neurocur.results.agents`).
+:func:`load_agent` builds the condition's simulator afresh, from the experiment that the
+folder's ``config.toml`` names (or the one given) with the run's seed, and puts the saved
+state into it: the result can be probed (``sim.regions["EC"]``'s module library, HPC's
+clusterers, PFC's values, LC's state) or continued (``sim.run(frames)``), and a continued
+run gives the tables of a run that was computed that long from the start.
+"""
+
+from __future__ import annotations
+
+import tomllib
+
+from neurocur.results import ResultsError, ResultsStore, dumps_toml, first_difference
+from neurocur.results.agents import AGENT, restore_simulator
+from neurocur.results.fingerprint import local_path, portable
+from neurocur.results.runinfo import seed_json
+from neurocur.results.statefile import read_meta
+
+from .spec import Experiment, load_experiment
+
+__all__ = ["load_agent"]
+
+
+def load_agent(results_dir, condition: str, run: int, *, experiment: Experiment | None = None):
+    """The simulator of run ``run`` of ``condition`` in ``results_dir``, in the state its agent was saved in.
+
+    ``experiment``: the experiment the folder was computed from; default: the experiment file
+    named in its ``config.toml``, with its runs, steps and seed. Its condition must be the one the
+    folder recorded (resolved circuit and world), else a ResultsError names the first difference
+    (an experiment run with ``--set``: load it with the same settings and pass it).
+    """
+    store = ResultsStore(results_dir)
+    folder = store.run_dir(condition, int(run))
+    if folder not in store.run_dirs():
+        raise ResultsError(f"{results_dir} holds no run {run} of condition {condition!r}")
+    if not (folder / AGENT).is_dir():
+        raise ResultsError(f"{folder} holds no saved agent (run it with --save-agent)")
+    config = store.config()
+    if experiment is None:
+        experiment = load_experiment(local_path(config["experiment"]), runs=config["runs"], steps=config["steps"],
+                                     seed=config["seeds"]["entropy"])
+    if condition not in experiment.conditions:
+        raise ResultsError(f"the experiment {experiment.name!r} has no condition {condition!r}")
+    chosen = experiment.conditions[condition]
+    recorded = config["conditions"][condition]
+    built = portable(tomllib.loads(dumps_toml({"world": dict(chosen.world),
+                                               "resolved_circuit": chosen.circuit.to_dict()})))
+    where = first_difference({k: recorded.get(k) for k in built}, built)
+    if where is not None:
+        raise ResultsError(f"{store.root / 'config.toml'}: key 'conditions.{condition}.{where}': the experiment "
+                           f"{experiment.name!r} gives another value than the run's; pass the experiment it was run "
+                           "from (with its --set settings) as experiment=")
+    seed = experiment.run_seed(int(run))
+    saved = read_meta(folder / AGENT).get("seed")
+    if saved != seed_json(seed):
+        raise ResultsError(f"{folder / AGENT}: key 'seed': expected the run's seed {seed.entropy}, got {saved}")
+    sim = chosen.circuit.build(chosen.make_world(), seed=seed)
+    restore_simulator(sim, folder / AGENT)
+    return sim

@@ -1,0 +1,160 @@
+"""What a run folder must be to count: its spelling, its ``run.json`` and the digest of its tables.
+
+A run folder is ``runs/<condition>/run-<NNN>``, spelled exactly as :func:`run_folder_name`
+spells its number (``run-001``, never ``run-1`` or ``run-0_01``) and a real directory (not a
+link). Its ``run.json`` names its condition and run (an integer), and, as written by
+:meth:`~neurocur.results.ResultsStore.write_run`, its seed, its steps and the sha256 of each
+of its tables (``tables``). :func:`check_run_info` compares them with the folder's path and
+``config.toml``: a run computed for another experiment (other steps, another seed) or whose
+tables were changed afterwards is refused, naming the folder and the key.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import re
+from collections.abc import Mapping
+from pathlib import Path
+
+from .errors import ResultsError
+
+__all__ = ["RUN_INFO", "check_run_info", "digests", "read_run_info", "run_folder_name", "run_number", "run_spawn_key", "scan_runs", "seed_json",
+           "seeds_record"]
+
+_RUN = re.compile(r"run-(\d{3,})")
+#: the run's summary file in its folder
+RUN_INFO = "run.json"
+
+
+def read_run_info(folder) -> dict:
+    """The ``run.json`` of a run folder (a JSON object; ResultsError otherwise)."""
+    path = Path(folder) / RUN_INFO
+    try:
+        info = json.loads(path.read_text(encoding="utf-8"))
+    except ValueError as exc:
+        raise ResultsError(f"{path}: expected a run summary (JSON), got {exc}") from None
+    if not isinstance(info, dict):
+        raise ResultsError(f"{path}: expected a run summary (a JSON object)")
+    return info
+
+
+#: how ``config.toml`` records the spawn key of run i (the same for every run count: nothing per run)
+SPAWN_KEY_RULE = "[run]"
+
+
+def seeds_record(entropy: int) -> dict:
+    """The ``seeds`` table of ``config.toml``: run i of every condition uses
+    ``SeedSequence(entropy, spawn_key=(i,))``; written in constant size, however many runs."""
+    return {"entropy": entropy, "spawn_key": SPAWN_KEY_RULE}
+
+
+def seed_json(seed) -> dict:
+    """A run's ``SeedSequence`` as its ``run.json`` (and a checkpoint or saved agent) records it."""
+    return {"entropy": seed.entropy, "spawn_key": list(seed.spawn_key)}
+
+
+def run_spawn_key(seeds: Mapping, run: int) -> list:
+    """The spawn key of run ``run`` as a ``seeds`` table records it (a folder written before the rule
+    lists every run's key as ``spawn_keys``)."""
+    keys = seeds.get("spawn_keys")
+    return list(keys[run]) if isinstance(keys, list) and run < len(keys) else [run]
+
+
+def run_folder_name(run: int) -> str:
+    """``run-007``: the one spelling of run 7's folder."""
+    return f"run-{run:03d}"
+
+
+def run_number(name: str) -> int | None:
+    """The run number of a canonically spelled run folder name, else None."""
+    match = _RUN.fullmatch(name)
+    if match is None or run_folder_name(int(match.group(1))) != name:
+        return None
+    return int(match.group(1))
+
+
+def scan_runs(runs: Path) -> list[Path]:
+    """Every run folder ``runs/<condition>/run-<NNN>``, sorted; ResultsError for an entry of
+    ``runs/`` or of a condition folder that is a link, or a ``run-*`` entry spelled otherwise."""
+    if not runs.is_dir():
+        return []
+    found = []
+    for condition in sorted(runs.iterdir()):
+        if condition.is_symlink() or not condition.is_dir():
+            raise ResultsError(f"{condition}: expected a condition folder written by neurocur, got "
+                               f"{'a symbolic link' if condition.is_symlink() else 'a file'}; remove it")
+        for path in sorted(condition.iterdir()):
+            if not path.name.startswith("run-"):
+                continue
+            if run_number(path.name) is None or path.is_symlink() or not path.is_dir():
+                why = ("a symbolic link" if path.is_symlink() else "not a folder" if not path.is_dir()
+                       else "not spelled run-<NNN> (e.g. run-001)")
+                raise ResultsError(f"run folder {path} is {why}: a run folder is a real folder spelled as "
+                                   "neurocur writes it (a copied or renamed folder?); remove it")
+            found.append(path)
+    return found
+
+
+def digests(folder: Path) -> dict[str, str]:
+    """The sha256 of each table (``*.parquet``) of a run folder, by file name."""
+    found = {}
+    for path in sorted(Path(folder).glob("*.parquet")):
+        h = hashlib.sha256()
+        with path.open("rb") as fh:
+            for block in iter(lambda: fh.read(1 << 20), b""):
+                h.update(block)
+        found[path.name] = h.hexdigest()
+    return found
+
+
+def check_run_info(folder: Path, info: Mapping, condition: str, run: int, config: Mapping | None) -> tuple | None:
+    """Check the ``run.json`` (``info``) of ``folder``, run ``run`` of ``condition`` by its path.
+
+    Returns ``(condition, run)`` as the ``run.json`` says when they differ from the path (the
+    caller names a copied or renamed folder), else None. Raises ResultsError for a ``run.json``
+    without a proper ``condition`` or ``run``, and, when the folder's ``config.toml`` is given
+    and was written by the store (it records ``code``), for a seed, steps or tables digest
+    that is missing or disagrees (the digest may be missing in a folder written before run.json
+    recorded it)."""
+    where = Path(folder) / "run.json"
+    said_condition, said_run = info.get("condition"), info.get("run")
+    if not isinstance(said_condition, str):
+        raise ResultsError(f"{where}: key 'condition': expected the run's condition (a string), got "
+                           f"{_describe(said_condition)}; remove this run folder")
+    if isinstance(said_run, bool) or not isinstance(said_run, int):
+        raise ResultsError(f"{where}: key 'run': expected the run's number (an integer), got "
+                           f"{_describe(said_run)}; remove this run folder")
+    if (said_condition, said_run) != (condition, run):
+        return said_condition, said_run
+    if not config or "code" not in config:
+        return None
+    seeds = config.get("seeds") if isinstance(config.get("seeds"), Mapping) else {}
+    expected = {"steps": config.get("steps"),
+                "seed": {"entropy": seeds.get("entropy"), "spawn_key": run_spawn_key(seeds, run)}}
+    for key, value in expected.items():
+        if info.get(key) != value:
+            raise ResultsError(f"{where}: key '{key}': expected {value!r} as this folder's config.toml says, got "
+                               f"{_describe(info.get(key))} (a run of another experiment?); remove this run folder")
+    recorded, actual = info.get("tables"), digests(folder)
+    if recorded is None and not _digests_recorded(config):
+        return None  # a folder written before run.json recorded its tables' digest
+    if recorded != actual:
+        changed = sorted(set(actual) ^ set(recorded)) if isinstance(recorded, Mapping) else []
+        changed += sorted(n for n in actual if isinstance(recorded, Mapping) and n in recorded
+                          and recorded[n] != actual[n])
+        what = ", ".join(changed) if changed else "its tables"
+        raise ResultsError(f"{where}: key 'tables': expected the sha256 of the run's tables as written, got "
+                           f"{'nothing' if recorded is None else 'other digests'} ({what} changed since the run was "
+                           "written?); remove this run folder")
+    return None
+
+
+def _digests_recorded(config: Mapping) -> bool:
+    """Whether the folder's runs were written by a store that records table digests (its code
+    fingerprints, written by the same version, list the plug-ins)."""
+    return any(isinstance(code, Mapping) and "plugins" in code for code in config.get("code", []))
+
+
+def _describe(value) -> str:
+    return "nothing (the key is missing)" if value is None else f"{value!r} ({type(value).__name__})"

@@ -1,0 +1,89 @@
+"""Writing inside a results folder without following a link the store did not make.
+
+Every file the store writes (the lock, ``config.toml``, ``summary.json``, a run's tables)
+lies inside the results folder ``OUT``, and every folder on the way from ``OUT`` to it is
+a real directory: :func:`own_dir` creates it or checks it (a symbolic link, a file or a
+FIFO in its place is refused), and :func:`open_new` opens a file with ``O_NOFOLLOW`` (and
+``O_EXCL`` for a temporary file), so a link planted at any of these names is never
+written through. ``OUT`` itself is the user's choice and may be a link.
+"""
+
+from __future__ import annotations
+
+import os
+import stat
+from pathlib import Path
+
+__all__ = ["UnsafePath", "atomic_text", "open_new", "own_dir"]
+
+
+class UnsafePath(ValueError):
+    """A name inside a results folder that is a link, or not the kind of file the store writes there."""
+
+
+def own_dir(root: Path, *parts: str) -> Path:
+    """``root/parts...``, each level created when missing and refused unless it is a real directory.
+
+    ``root`` must exist (the store never re-creates a results folder that was moved or
+    removed while it ran, see :meth:`ResultsStore.write_run`)."""
+    path = Path(root)
+    if not path.is_dir():
+        raise UnsafePath(f"results folder {root} does not exist any more (moved or removed while runs were being "
+                         "written?); nothing was written")
+    for part in parts:
+        path = path / part
+        try:
+            os.mkdir(path)
+        except FileExistsError:
+            mode = os.lstat(path).st_mode
+            if not stat.S_ISDIR(mode):
+                kind = "a symbolic link" if stat.S_ISLNK(mode) else "not a directory"
+                raise UnsafePath(f"{path}: expected a folder written by neurocur, got {kind}; "
+                                 "the store never follows a link it did not make (remove it)") from None
+    return path
+
+
+def open_new(path: Path, *, exclusive: bool = True) -> int:
+    """A file descriptor for writing ``path`` (created), never through a symbolic link.
+
+    ``exclusive``: the file must not exist yet (a temporary name). Otherwise an existing
+    file is opened only when it is a regular file with no other hard link."""
+    flags = os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW | os.O_CLOEXEC | os.O_NONBLOCK | (os.O_EXCL if exclusive else 0)
+    try:
+        fd = os.open(path, flags, 0o644)
+    except OSError:
+        if os.path.islink(path):
+            raise UnsafePath(f"{path} is a symbolic link; the store never follows a link it did not make "
+                             "(remove it)") from None
+        raise
+    info = os.fstat(fd)
+    if not stat.S_ISREG(info.st_mode) or info.st_nlink != 1:
+        os.close(fd)
+        why = "has another hard link" if stat.S_ISREG(info.st_mode) else "is not a regular file"
+        raise UnsafePath(f"{path} {why}; the store writes only files it made (remove it)")
+    os.set_blocking(fd, True)
+    return fd
+
+
+def atomic_text(path: Path, text: str) -> None:
+    """Write ``text`` into ``path`` atomically: a new temporary file beside it, then one rename.
+
+    The temporary file is removed when writing fails (a full disk, ``ulimit -f``)."""
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        os.unlink(tmp)  # a leftover of this pid's previous life; never a link to follow
+    except FileNotFoundError:
+        pass
+    fd = open_new(tmp)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fh.write(text)
+        os.replace(tmp, path)
+    except BaseException as exc:
+        try:
+            os.unlink(tmp)
+        except FileNotFoundError:
+            pass
+        if isinstance(exc, OSError) and exc.filename is None:  # a failed write names no file by itself
+            raise OSError(exc.errno, f"cannot write {path}: {exc.strerror}") from None
+        raise

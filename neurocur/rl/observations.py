@@ -1,0 +1,123 @@
+"""From a gymnasium observation to what the circuit's sensory path reads: a frame and a context.
+
+A **frame** is the observation as the EC reads a frame of a world (``Episode.frames``: a float
+vector in [0, 1]). A **context** is the index of the part of the observation space the
+observation falls in: the VTA models keep their memory (visit counts, previous errors) per
+context, as they do per context of a world (docs/regions.md, "VTA").
+
+- A vector ``Box`` (rank 1): each dimension is scaled to [0, 1] by its bounds, or, where a bound
+  is infinite, squashed by the logistic function. Its context is the cell of a regular grid of
+  ``bins`` cells per dimension over the bounds (``contexts="grid"``, the default when every bound
+  is finite), or a SimHash code (``contexts="simhash"``).
+- An image ``Box`` (rank 3 with 1, 3 or 4 channels, or rank 2; ``uint8`` 0-255, as ``rgb_array``
+  renders): the frame is the grey level of every ``stride``-th pixel in each direction, so that at
+  most ``image_size`` pixels a side remain, divided by 255. Its context is a SimHash code.
+- Any other space is a :class:`~neurocur.config.ConfigError` naming the space.
+
+SimHash (Charikar 2002; as a count-based exploration bonus, Tang et al. 2017, "#Exploration",
+*NeurIPS* 30): the signs of ``k`` random projections ``A (x - 1/2)`` of the frame, ``A`` with
+standard normal entries drawn from the seed, read as a ``k``-bit number: 2**k contexts, and
+frames close in the frame space share their code.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from gymnasium import spaces
+from scipy.special import expit
+
+from ..config import ConfigError
+
+__all__ = ["ObservationCoder", "CONTEXTS", "MAX_CONTEXTS"]
+
+#: The ways of cutting an observation space into contexts.
+CONTEXTS = ("grid", "simhash")
+#: The most contexts: the VTA models and HPC keep arrays with one entry per context.
+MAX_CONTEXTS = 2**16
+
+
+class ObservationCoder:
+    """Frames and contexts of the observations of ``space`` (see the module's docstring).
+
+    ``contexts``: ``"grid"``, ``"simhash"`` or ``None`` (grid for a vector Box with finite bounds,
+    SimHash otherwise); ``bins`` grid cells per dimension; ``hash_bits`` k of SimHash;
+    ``image_size`` the largest side of an image frame. ``rng`` draws SimHash's projection.
+    ``source`` names the caller in errors.
+    """
+
+    def __init__(self, space, *, contexts: str | None = None, bins: int = 8, hash_bits: int = 8,
+                 image_size: int = 16, rng: np.random.Generator, source: str = "IntrinsicReward"):
+        if not isinstance(space, spaces.Box) or not _is_vector(space) and not _is_image(space):
+            raise ConfigError(source, "observation_space",
+                              "a Box of rank 1 (a vector) or an image Box (H, W) or (H, W, C) with C in 1, 3, 4",
+                              _describe(space))
+        self.image = _is_image(space)
+        finite = not self.image and bool(np.all(np.isfinite(space.low)) and np.all(np.isfinite(space.high)))
+        if contexts is None:
+            contexts = "grid" if finite else "simhash"
+        if contexts not in CONTEXTS:
+            raise ConfigError(source, "contexts", f"one of {', '.join(CONTEXTS)}", repr(contexts))
+        if contexts == "grid" and not finite:
+            raise ConfigError(source, "contexts", "'simhash' for an image or a Box with an infinite bound",
+                              f"'grid' on {_describe(space)}")
+        for key, value, low in (("bins", bins, 1), ("hash_bits", hash_bits, 1), ("image_size", image_size, 1)):
+            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
+                raise ConfigError(source, key, f"an integer >= {low}", repr(value))
+        if 2 ** hash_bits > MAX_CONTEXTS:
+            raise ConfigError(source, "hash_bits", f"2 ** hash_bits <= {MAX_CONTEXTS} contexts", repr(hash_bits))
+        self.contexts = contexts
+        if self.image:
+            h, w = space.shape[:2]
+            self.stride = (max(1, -(-h // image_size)), max(1, -(-w // image_size)))
+            self.n_pixels = len(range(0, h, self.stride[0])) * len(range(0, w, self.stride[1]))
+        else:
+            low, high = space.low.astype(np.float64), space.high.astype(np.float64)
+            self.bounded = bounded = np.isfinite(low) & np.isfinite(high)
+            self.unbounded = not bounded.all()
+            self.low = np.where(bounded, low, 0.0)
+            self.span = np.where(bounded & (high > low), high - low, 1.0)
+            self.n_pixels = space.shape[0]
+        if contexts == "grid":
+            self.bins = int(bins)
+            if self.bins ** self.n_pixels > MAX_CONTEXTS:
+                raise ConfigError(source, "bins", f"bins ** {self.n_pixels} dimensions <= {MAX_CONTEXTS} contexts "
+                                  "(or contexts='simhash')", repr(bins))
+            self.n_contexts = self.bins ** self.n_pixels
+            self.radix = self.bins ** np.arange(self.n_pixels, dtype=np.int64)
+        else:
+            self.projection = rng.standard_normal((self.n_pixels, int(hash_bits)))
+            self.half_sums = 0.5 * self.projection.sum(axis=0)  # (x - 1/2) A > 0  <=>  x A > A's column sums / 2
+            self.n_contexts = 2 ** int(hash_bits)
+            self.radix = 2 ** np.arange(int(hash_bits), dtype=np.int64)
+
+    def frames(self, observations: np.ndarray) -> np.ndarray:
+        """Observations stacked along a first axis (an array) as frames: float64 rows in [0, 1]."""
+        if self.image:
+            x = observations[:, :: self.stride[0], :: self.stride[1]]
+            if x.ndim == 4:
+                x = x[..., :3].mean(axis=3)
+            return x.reshape(len(x), -1) / 255.0
+        z = observations - self.low  # float64 (low is)
+        z /= self.span
+        if self.unbounded:  # low 0 and span 1 there: the logistic function of the observation
+            z = np.where(self.bounded, z, expit(z))
+        return np.minimum(np.maximum(z, 0.0, out=z), 1.0, out=z)
+
+    def contexts_of(self, frames: np.ndarray) -> np.ndarray:
+        """The context of each frame (rows): its grid cell, or its SimHash code."""
+        if self.contexts == "grid":
+            return np.minimum((frames * self.bins).astype(np.int64), self.bins - 1) @ self.radix
+        return ((frames @ self.projection) > self.half_sums) @ self.radix
+
+
+def _is_vector(space) -> bool:
+    return len(space.shape) == 1
+
+
+def _is_image(space) -> bool:
+    shape = space.shape
+    return space.dtype == np.uint8 and (len(shape) == 2 or len(shape) == 3 and shape[2] in (1, 3, 4))
+
+
+def _describe(space) -> str:
+    return f"{type(space).__name__} {space}"

@@ -1,0 +1,190 @@
+"""Gymnasium wrappers that add a VTA model's dopamine to an environment's reward.
+
+:class:`IntrinsicReward` wraps one environment, :class:`IntrinsicRewardVector` a
+``gymnasium.vector`` environment. Each runs the observations through the circuit's sensory path
+(:mod:`neurocur.rl.path`: EC's slow features and HPC's errors, or the context alone for count
+novelty) and adds ``scale * decay**t * DA`` to the reward of step ``t``; the two parts are in
+``info["intrinsic_reward"]`` and ``info["extrinsic_reward"]``. The model is any registered VTA
+type, a third-party one from the ``neurocur.regions`` entry-point group included
+(docs/rl.md). The spaces are the environment's.
+
+The curiosity memory (the circuit's learned modules, the VTA's counts or previous errors) spans
+the environment's episodes: it is built at the first reset and rebuilt, from the seed, at every
+reset with a seed, so a run is reproduced by its seed (``reset(seed=s)``; ``SeedSequence(s)`` is
+spawned into the observation coder's stream and the circuit's).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import gymnasium as gym
+import numpy as np
+from gymnasium.error import ResetNeeded
+from gymnasium.vector import AutoresetMode, VectorWrapper
+
+from ..config import ConfigError
+from .observations import ObservationCoder
+from .path import COUNT_MODELS, SensoryPath, model_circuit
+
+__all__ = ["IntrinsicReward", "IntrinsicRewardVector", "DEFAULT_FRAMES"]
+
+#: Steps per pass by path when ``frames`` is not given (docs/rl.md, "Passes and blocks").
+DEFAULT_FRAMES = {"counts": 1, "slow_features": 32}
+
+
+class _Curiosity:
+    """What both wrappers share: the model's circuit, checked once, and the sensory path built from a seed."""
+
+    def __init__(self, space, *, model, scale, decay, params, circuit, inputs, overrides, path, frames, contexts,
+                 bins, hash_bits, image_size, streams, source):
+        for key, value, ok in (("scale", scale, True), ("decay", decay, 0.0 < _number(decay) <= 1.0)):
+            if not (isinstance(value, (int, float)) and not isinstance(value, bool) and np.isfinite(value) and ok):
+                raise ConfigError(source, key, "a finite number" + (" in (0, 1]" if key == "decay" else ""),
+                                  repr(value))
+        self.space, self.streams, self.source = space, streams, source
+        self.scale, self.decay = float(scale), float(decay)
+        self.circuit = model_circuit(model, params=params, circuit=circuit, inputs=inputs, source=source)
+        if overrides:
+            self.circuit = self.circuit.with_params(overrides, source=f"{source} overrides")
+        self.path = path if path is not None else "counts" if model in COUNT_MODELS else "slow_features"
+        self.frames = frames if frames is not None else DEFAULT_FRAMES.get(self.path, 1)
+        self.coding = {"contexts": contexts, "bins": bins, "hash_bits": hash_bits, "image_size": image_size}
+        self.build(np.random.SeedSequence(0))  # every argument is checked here, not at the first reset
+        ec = self.sensory.circuit.specs.get("EC")
+        n_pca = getattr(ec.params, "n_pca", 0) if ec is not None else 0
+        if n_pca > self.sensory.coder.n_pixels:
+            raise ConfigError(f"{source} overrides", "EC.n_pca", f"at most the {self.sensory.coder.n_pixels} values "
+                              "of an observation's frame (overrides={'EC.n_pca': ...})", repr(n_pca))
+        self.sensory = None
+
+    def build(self, seed: np.random.SeedSequence) -> None:
+        coder_seed, circuit_seed = seed.spawn(2)
+        coder = ObservationCoder(self.space, rng=np.random.default_rng(coder_seed), source=self.source, **self.coding)
+        self.sensory = SensoryPath(self.circuit, self.path, coder, frames=self.frames, seed=circuit_seed,
+                                   streams=self.streams, source=self.source)
+        self.weight = self.scale
+
+    def reset(self, seed) -> None:
+        if seed is not None or self.sensory is None:
+            self.build(np.random.SeedSequence(seed))
+
+    def bonus(self, da) -> float:
+        """This step's bonus for the pass's ``da`` (None: no pass closed at this step)."""
+        return 0.0 if da is None else self.weight * da
+
+    def tick(self) -> None:
+        self.weight *= self.decay
+
+
+def _number(x) -> float:
+    return float(x) if isinstance(x, (int, float)) and not isinstance(x, bool) else float("nan")
+
+
+class IntrinsicReward(gym.Wrapper, gym.utils.RecordConstructorArgs):
+    """``env`` with the dopamine of VTA model ``model`` added to its reward.
+
+    - ``model``: a VTA type (``"vta.learning_progress"``, ``"vta.novelty"``, ``"vta.surprise"``,
+      ...; docs/regions.md), or a third-party one from the ``neurocur.regions`` entry points;
+      ``params`` its parameters (``{"boredom": -1.0}``).
+    - ``scale``, ``decay``: the bonus of step t is ``scale * decay**t * DA`` (t counts the steps
+      since the memory was built).
+    - ``circuit``: the circuit whose sensory path is used (a Circuit, a shipped circuit's name or a
+      file; by default the shipped circuit of the model, else ``cd_misfa``), ``inputs`` edges into
+      the model's extra inputs (``{"progress": "HPC.progress"}``), ``overrides`` the circuit's
+      parameters (``{"EC.n_pca": 2}``; EC's ``n_pca`` may not exceed an observation's values).
+    - ``path``: ``"slow_features"`` (EC and HPC) or ``"counts"`` (the VTA alone; the default for
+      ``vta.novelty``); ``frames``: steps per pass (:data:`DEFAULT_FRAMES`).
+    - ``contexts``, ``bins``, ``hash_bits``, ``image_size``: how observations become frames and
+      contexts (:class:`~neurocur.rl.observations.ObservationCoder`). The observation space must be
+      a vector Box or an image Box.
+
+    ``info`` of every step holds ``"intrinsic_reward"`` (the bonus) and ``"extrinsic_reward"`` (the
+    environment's reward); the returned reward is their sum.
+    """
+
+    def __init__(self, env: gym.Env, model: str = "vta.learning_progress", *, scale: float = 1.0,
+                 decay: float = 1.0, params: Mapping | None = None, circuit=None, inputs: Mapping | None = None,
+                 overrides: Mapping | None = None, path: str | None = None, frames: int | None = None,
+                 contexts: str | None = None, bins: int = 8, hash_bits: int = 8, image_size: int = 16):
+        options = {k: v for k, v in locals().items() if k not in ("self", "env", "__class__")}
+        gym.utils.RecordConstructorArgs.__init__(self, **options)
+        gym.Wrapper.__init__(self, env)
+        self.curiosity = _Curiosity(env.observation_space, streams=1, source=type(self).__name__, **options)
+
+    @property
+    def sensory(self) -> SensoryPath | None:
+        """The sensory path of the current memory (None before the first reset)."""
+        return self.curiosity.sensory
+
+    def reset(self, *, seed: int | None = None, options: dict | None = None):
+        obs, info = self.env.reset(seed=seed, options=options)
+        self.curiosity.reset(seed)
+        self.curiosity.sensory.start(obs)
+        return obs, info
+
+    def step(self, action):
+        if self.curiosity.sensory is None:
+            raise ResetNeeded("IntrinsicReward: call reset() before step()")
+        obs, reward, terminated, truncated, info = self.env.step(action)
+        bonus = self.curiosity.bonus(self.curiosity.sensory.step(obs, reward))
+        self.curiosity.tick()
+        return obs, float(reward) + bonus, terminated, truncated, {**info, "intrinsic_reward": bonus,
+                                                                    "extrinsic_reward": float(reward)}
+
+
+class IntrinsicRewardVector(VectorWrapper):
+    """:class:`IntrinsicReward` for a ``gymnasium.vector`` environment (same arguments).
+
+    The sub-environments share one curiosity memory (one circuit, as one agent's), each with its
+    own block of steps; at every step they run through it in index order. Autoreset modes
+    ``NEXT_STEP`` (gymnasium's default: the step after an episode's end only resets, and gets no
+    bonus) and ``SAME_STEP`` (the last observation is ``info["final_obs"]``) are handled.
+    ``info`` holds ``"intrinsic_reward"`` and ``"extrinsic_reward"`` as arrays, one entry per
+    sub-environment; ``decay`` applies once per step of the vector environment."""
+
+    def __init__(self, env: gym.vector.VectorEnv, model: str = "vta.learning_progress", *, scale: float = 1.0,
+                 decay: float = 1.0, params: Mapping | None = None, circuit=None, inputs: Mapping | None = None,
+                 overrides: Mapping | None = None, path: str | None = None, frames: int | None = None,
+                 contexts: str | None = None, bins: int = 8, hash_bits: int = 8, image_size: int = 16):
+        options = {k: v for k, v in locals().items() if k not in ("self", "env", "__class__")}
+        super().__init__(env)
+        source = type(self).__name__
+        self.mode = env.metadata.get("autoreset_mode", AutoresetMode.NEXT_STEP)
+        if self.mode not in (AutoresetMode.NEXT_STEP, AutoresetMode.SAME_STEP):
+            raise ConfigError(source, "autoreset_mode", "AutoresetMode.NEXT_STEP or SAME_STEP", str(self.mode))
+        self.curiosity = _Curiosity(env.single_observation_space, streams=env.num_envs, source=source, **options)
+        self._restart = np.zeros(env.num_envs, dtype=bool)
+
+    @property
+    def sensory(self) -> SensoryPath | None:
+        """The sensory path of the current memory (None before the first reset)."""
+        return self.curiosity.sensory
+
+    def reset(self, *, seed=None, options: dict | None = None):
+        obs, info = self.env.reset(seed=seed, options=options)
+        self.curiosity.reset(seed[0] if isinstance(seed, (list, tuple)) else seed)
+        for i in range(self.num_envs):
+            self.curiosity.sensory.start(obs[i], i)
+        self._restart[:] = False
+        return obs, info
+
+    def step(self, actions):
+        if self.curiosity.sensory is None:
+            raise ResetNeeded("IntrinsicRewardVector: call reset() before step()")
+        obs, reward, terminated, truncated, info = self.env.step(actions)
+        sensory, done = self.curiosity.sensory, terminated | truncated
+        bonus = np.zeros(self.num_envs)
+        for i in range(self.num_envs):
+            if self._restart[i]:  # NEXT_STEP: this step only reset sub-environment i
+                sensory.start(obs[i], i)
+                continue
+            last = info["final_obs"][i] if self.mode == AutoresetMode.SAME_STEP and done[i] else obs[i]
+            bonus[i] = self.curiosity.bonus(sensory.step(last, float(reward[i]), i))
+            if self.mode == AutoresetMode.SAME_STEP and done[i]:
+                sensory.start(obs[i], i)
+        self._restart = done if self.mode == AutoresetMode.NEXT_STEP else self._restart
+        self.curiosity.tick()
+        extrinsic = np.asarray(reward, dtype=np.float64)
+        return obs, extrinsic + bonus, terminated, truncated, {**info, "intrinsic_reward": bonus,
+                                                                "extrinsic_reward": extrinsic}
