@@ -173,30 +173,36 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _cmd_run(args) -> int:
-    if args.scheduler is None:  # the local workers' fork server imports the model while this process does too
-        from neurocur.experiments.processes import start_fork_server
+    from neurocur.experiments.executors import executor_for
 
-        start_fork_server()
+    executor = executor_for(args.scheduler, args.jobs)
+    executor.start()  # the local workers' fork server imports the model while this process does too
     import pandas as pd
 
     from neurocur.experiments import load_experiment, run_experiment
-    from neurocur.results import ResultsStore
 
     exp = load_experiment(args.experiment, sets=args.sets, runs=args.runs, steps=args.steps, seed=args.seed)
     out = Path(args.out) if args.out else Path("results") / exp.name
-    with ResultsStore(out).writing():  # held until the summary is written too
-        run_experiment(exp, out, jobs=args.jobs, conditions=args.condition, progress=args.progress,
-                       max_memory=args.max_memory, accept_code_change=args.accept_code_change,
-                       scheduler=args.scheduler, checkpoint_every=args.checkpoint_every, save_agent=args.save_agent)
-        from neurocur.analysis import order_tables, write_summary  # imported once the runs are done
+    tables = None
 
-        tables = ResultsStore(out).load()
-        write_summary(out, tables=tables)
+    def summarise(folder: Path) -> None:  # under the folder's lock, once the runs are done
+        from neurocur.analysis import write_summary
+        from neurocur.results import ResultsStore
+
+        nonlocal tables
+        tables = ResultsStore(folder).load()
+        write_summary(folder, tables=tables)
         if any(condition.world_class.figures_after_run for condition in exp.conditions.values()):
             from neurocur.analysis.figures import write_all  # a small task's figures (docs/validation.md)
 
-            for path in write_all(out):
+            for path in write_all(folder):
                 print(path)
+
+    run_experiment(exp, out, conditions=args.condition, progress=args.progress, max_memory=args.max_memory,
+                   accept_code_change=args.accept_code_change, executor=executor, finish=summarise,
+                   checkpoint_every=args.checkpoint_every, save_agent=args.save_agent)
+    from neurocur.analysis import order_tables
+
     print(f"results: {out}")
     with pd.option_context("display.width", 200, "display.max_columns", None):
         print(order_tables(out, conditions=list(exp.conditions), tables=tables).to_string())
@@ -312,7 +318,7 @@ def main(argv=None) -> int:
     except KeyboardInterrupt as exc:
         if threading.current_thread() is threading.main_thread():
             signal.signal(signal.SIGINT, signal.SIG_IGN)  # a further Ctrl-C must not interrupt the exit
-        from neurocur.experiments.pool import Interrupted
+        from neurocur.experiments.runner import Interrupted
 
         if not isinstance(exc, Interrupted):  # else the runner has said what happened
             print("neurocur: interrupted; finished runs are kept (run again to resume)", file=sys.stderr)

@@ -21,7 +21,10 @@ import pandas as pd
 
 from .recording import Recorder
 
-__all__ = ["Simulator", "region_seed"]
+__all__ = ["WORLD_KEY", "Simulator", "region_seed", "world_seed"]
+
+#: the key of a run's world under the run's seed (:func:`world_seed`); no region's key may equal it
+WORLD_KEY = "world"
 
 
 def region_seed(seed: np.random.SeedSequence, name: str) -> np.random.SeedSequence:
@@ -35,13 +38,22 @@ def region_seed(seed: np.random.SeedSequence, name: str) -> np.random.SeedSequen
                                   pool_size=seed.pool_size)
 
 
+def world_seed(seed: np.random.SeedSequence) -> np.random.SeedSequence:
+    """The seed of a run's world: a child of ``seed`` under a key of its own, :data:`WORLD_KEY`,
+    beside the regions' (:func:`region_seed`), so that renaming, adding or removing a region
+    leaves the world (mixing matrices, S-D, clock offsets, episode orders) unchanged."""
+    return region_seed(seed, WORLD_KEY)
+
+
 class Simulator:
     """A circuit instantiated on a world with a seed; see :meth:`neurocur.circuit.Circuit.build`.
 
     ``regions``: name -> region instance. Each region's random generator comes from
     :func:`region_seed` (a child of ``seed`` keyed by the region's name); a region under a
     drug (:mod:`neurocur.regions.pharmacology`) gets a second one for the drug, keyed
-    ``"drugs"`` under the region's.
+    ``"drugs"`` under the region's. The world's generator (``world.np_random``, gymnasium's)
+    is seeded here from :func:`world_seed`, before any region resets: the clock region then
+    starts the world's run from it (:class:`~neurocur.regions.sensory.SensoryWorld`).
     """
 
     def __init__(self, circuit, world, seed, *, record_frames: bool = False):
@@ -51,8 +63,12 @@ class Simulator:
         names = list(circuit.specs)
         self.regions = {name: circuit.specs[name].make() for name in names}
         children = {name: region_seed(self.seed_sequence, name) for name in names}
-        if len({child.spawn_key for child in children.values()}) < len(names):
-            raise ValueError(f"two of the region names {names} have the same seed key (crc32); rename one")
+        world_key = world_seed(self.seed_sequence)
+        if len({child.spawn_key for child in (*children.values(), world_key)}) <= len(names):
+            raise ValueError(f"two of the region names {names} and the world's key {WORLD_KEY!r} have the same seed "
+                             "key (crc32); rename the region")
+        if world is not None:  # a circuit without a world region is built on none
+            world.np_random = np.random.default_rng(world_key)
         for name in names:
             region = self.regions[name]
             region.wired = frozenset(k.signal for k in circuit.links if k.src == name)

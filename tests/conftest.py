@@ -33,7 +33,7 @@ class StandInWorld(World):
 
     def _reset(self) -> None:
         rng = self.np_random
-        self.mixing = {s: rng.uniform(-1.0, 1.0, size=(2, self.n_pixels)) / 4.0 for s in set(self.source_names)}
+        self.mixing = {s: rng.uniform(-1.0, 1.0, size=(2, self.n_pixels)) / 4.0 for s in sorted(set(self.source_names))}
         self.clock = np.zeros(self.n_contexts, dtype=np.int64)
 
     def _visit(self, context: int) -> Episode:

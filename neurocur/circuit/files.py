@@ -1,20 +1,69 @@
-"""Reading a circuit file: its tables, following ``extends``, each tagged with its file and key.
+"""Reading configuration files that extend one another, and a circuit file's tables.
 
-The format is described in :mod:`neurocur.circuit`; this module only reads and merges the
-files (``regions``, ``edges``, ``lesion``, ``replace``), checking the shape of each table.
+:func:`read_chain` is the one reader of ``extends`` chains, for circuit files and experiment
+files alike: each file of the chain is read once, checked for unknown top-level keys, and kept
+as a :class:`Layer` (its table and its path), so that what each file wrote keeps its file
+(relative paths resolve against it, errors name it). What the layers mean is the caller's: a
+circuit's tables are merged here (:func:`read_circuit_file`), an experiment's by
+:mod:`neurocur.experiments.resolve`.
+
+The circuit format is described in :mod:`neurocur.circuit`; this module only reads and merges
+the files (``regions``, ``edges``, ``lesion``, ``replace``), checking the shape of each table.
 What the tables mean (region types, parameters, edges) is checked by
 :class:`~neurocur.circuit.Circuit`.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 
 from ..config import ConfigError, describe
 from ..regions.pharmacology import DRUGS
 from ..tables import check_keys, deep_merge, load_toml, require, resolve_file
 
-__all__ = ["add_tables", "circuit_tables", "read_circuit_file"]
+__all__ = ["CIRCUIT_KEYS", "Layer", "add_tables", "circuit_tables", "read_chain", "read_circuit_file"]
+
+#: the top-level keys of a circuit file
+CIRCUIT_KEYS = ("description", "extends", "regions", "edges", "lesion", "replace")
+
+
+@dataclass(frozen=True)
+class Layer:
+    """One file of an ``extends`` chain: its parsed table and its path."""
+
+    raw: dict
+    path: Path
+
+    @property
+    def here(self) -> Path:
+        """The folder that this file's relative paths start from."""
+        return self.path.parent
+
+
+def read_chain(path, kind: str, keys, *, read: dict | None = None, chain: tuple[Path, ...] = ()) -> list[Layer]:
+    """The files of ``path``'s ``extends`` chain, the furthest base first and ``path`` last, each
+    checked for keys outside ``keys``. ``kind`` (``"circuit"``, ``"experiment"``) is the kind of file
+    an ``extends`` value names: a path relative to the file, or the name of a shipped one
+    (:func:`~neurocur.tables.resolve_file`). ``read``: the files read so far (path → table), so
+    that chains sharing a base read it once."""
+    path = Path(path).resolve()
+    read = {} if read is None else read
+    if path not in read:
+        read[path] = load_toml(path)
+        check_keys(read[path], keys, source=path)
+    raw = read[path]
+    if "extends" not in raw:
+        return [Layer(raw, path)]
+    article = "an" if kind[0] in "aeiou" else "a"
+    base = require(raw, "extends", str, source=path, expected=f"{article} {kind} file path or name (string)")
+    base_path = resolve_file(base, path.parent, kind, source=path, key="extends").resolve()
+    if not base_path.is_file():
+        raise ConfigError(path, "extends", f"an existing {kind} file", f"{base!r} (no such file: {base_path})")
+    if base_path in (*chain, path):
+        raise ConfigError(path, "extends", f"a chain of {kind} files without a loop",
+                          " -> ".join(p.name for p in (*chain, path, base_path)))
+    return [*read_chain(base_path, kind, keys, read=read, chain=chain + (path,)), Layer(raw, path)]
 
 
 def circuit_tables(circuit) -> tuple[Path, dict]:
@@ -24,20 +73,13 @@ def circuit_tables(circuit) -> tuple[Path, dict]:
     return path, read_circuit_file(path)
 
 
-def read_circuit_file(path: Path, chain: tuple = ()) -> dict:
-    """Read a circuit file, resolving ``extends``; tag every table with its file and key."""
-    path = path.resolve()
-    if path in chain:
-        raise ConfigError(path, "extends", "a chain of files without a loop",
-                          " -> ".join(p.name for p in chain + (path,)))
-    raw = load_toml(path)
-    check_keys(raw, ("description", "extends", "regions", "edges", "lesion", "replace"), source=path)
-    if "extends" in raw:
-        base_name = require(raw, "extends", str, source=path, expected="a circuit file path or name (string)")
-        data = read_circuit_file(resolve_file(base_name, path.parent, "circuit", source=path, key="extends"), chain + (path,))
-    else:
-        data = {"regions": {}, "edges": [], "lesion": [], "replace": {}}
-    return add_tables(data, raw, path)
+def read_circuit_file(path: Path, *, read: dict | None = None) -> dict:
+    """Read a circuit file, resolving ``extends``; tag every table with its file and key. ``read``:
+    as :func:`read_chain`'s."""
+    data = {"regions": {}, "edges": [], "lesion": [], "replace": {}}
+    for layer in read_chain(path, "circuit", CIRCUIT_KEYS, read=read):
+        add_tables(data, layer.raw, layer.path)
+    return data
 
 
 def add_tables(data: dict, raw: dict, source, prefix: str = "") -> dict:

@@ -19,17 +19,20 @@ from ..config import make_params
 from .base import WORLDS, Episode, SourceSpec, World, register_world
 from .env import register_ids
 
+#: the world type of a world table that names none
+DEFAULT_WORLD = "synthetic"
+
 for _module in pkgutil.iter_modules(__path__):
     importlib.import_module(f"{__name__}.{_module.name}")
 
 
 def world_params(table, *, source="world table", prefix="world"):
-    """``(world class, its Params)`` of a world table (``type`` defaults to ``"synthetic"``).
+    """``(world class, its Params)`` of a world table (``type`` defaults to :data:`DEFAULT_WORLD`).
 
     Paths in the table must already be absolute; errors are ConfigErrors naming the key.
     """
     table = dict(table)
-    cls = WORLDS.get(table.pop("type", "synthetic"))
+    cls = WORLDS.get(table.pop("type", DEFAULT_WORLD))
     return cls, make_params(cls.Params, table, source=source, prefix=prefix)
 
 
@@ -39,7 +42,7 @@ def build_world(table) -> World:
     return cls.from_params(params)
 
 
-def make_env(type="synthetic", *, max_frames=None, render_mode="rgb_array", **params):
+def make_env(type=DEFAULT_WORLD, *, max_frames=None, render_mode="rgb_array", **params):
     """The world of type ``type`` and ``params`` (the keys of its world table) as a ``gymnasium.Env``
     (:meth:`World.as_env` with ``max_frames`` and ``render_mode``): what ``gymnasium.make`` of a
     world's id calls."""
@@ -48,4 +51,4 @@ def make_env(type="synthetic", *, max_frames=None, render_mode="rgb_array", **pa
 
 register_ids(WORLDS.loaded(), f"{__name__}:make_env")
 
-__all__ = ["WORLDS", "Episode", "SourceSpec", "World", "build_world", "make_env", "register_world", "world_params"]
+__all__ = ["DEFAULT_WORLD", "WORLDS", "Episode", "SourceSpec", "World", "build_world", "make_env", "register_world", "world_params"]

@@ -2,9 +2,15 @@
 
 | part | module |
 |---|---|
-| the spec: validation, conditions, seeds; each condition's circuit and world parameters built once | ``spec`` |
+| the entrance, :func:`load_experiment`: resolve → expand → build, each pass entered once | ``spec`` |
+| 1. resolve: the file, its ``extends`` chain, its circuit files (each read once) and ``--set`` → one table that remembers where each value came from | ``resolve`` |
+| 2. expand: conditions × sweep points (pure) | ``expand`` |
+| 3. build: each condition's circuit and world parameters, once | ``build`` |
+| what the entrance makes: :class:`Condition`, :class:`Experiment` (seeds of the runs) | ``conditions`` |
 | one run → tables (:class:`neurocur.results.RunResult`) | ``run`` |
-| the local worker pool (schedules only) | ``pool`` |
+| the runner, :func:`run_experiment`: the folder's lock, the seed of an experiment without one, pre-flight checks; calls an executor | ``runner`` |
+| executors: the protocol, and the one of ``--scheduler`` and ``--jobs`` | ``executors`` |
+| the local worker pool (the one owner of the fork server), a Dask cluster | ``pool``, ``cluster`` |
 
 The results folder belongs to :class:`neurocur.results.ResultsStore`.
 """
@@ -15,8 +21,8 @@ __all__ = ["Condition", "Experiment", "load_experiment", "parse_set", "run_exper
 
 #: where each name lives; imported on first use (PEP 562), so that ``neurocur.experiments.processes``
 #: stays light and the command line can start the fork server before importing the model
-_HOME = {"Condition": "spec", "Experiment": "spec", "load_experiment": "spec", "parse_set": "spec",
-         "run_experiment": "pool", "run_one": "run"}
+_HOME = {"Condition": "conditions", "Experiment": "conditions", "load_experiment": "spec", "parse_set": "resolve",
+         "run_experiment": "runner", "run_one": "run"}
 
 
 def __getattr__(name: str):

@@ -16,8 +16,8 @@ from neurocur.results import ResultsStore
 from neurocur.results.agents import checkpoint_every
 from neurocur.results.runinfo import seed_json
 
+from .conditions import Condition
 from .run import run_one
-from .spec import Condition
 
 __all__ = ["compute_and_write"]
 

@@ -2,7 +2,7 @@
 
 ``--runs 100000000`` must start computing at once: :class:`Pending` holds only the selected
 conditions, the run count and the finished runs, and yields each (condition, run) pair,
-with its seed made from the run's index (:meth:`~neurocur.experiments.spec.Experiment.run_seed`),
+with its seed made from the run's index (:meth:`~neurocur.experiments.conditions.Experiment.run_seed`),
 when the scheduler asks for the next one.
 """
 

@@ -11,10 +11,10 @@ import signal
 import sys
 from contextlib import contextmanager
 
-__all__ = ["ctrl_c_held", "fork_context", "note", "single_threaded_children", "start_fork_server"]
+__all__ = ["ctrl_c_held", "fork_context", "note", "single_threaded_children", "start_fork_server", "worker_count"]
 
 #: the module the fork server imports once, so that every worker forks with the runner imported
-WORKER_MODULE = "neurocur.experiments.pool"
+WORKER_MODULE = "neurocur.experiments.runner"
 #: imported by the fork server after it: the compiled kernels, loaded once for every worker
 WARM_MODULE = "neurocur.experiments.warm"
 
@@ -76,3 +76,9 @@ def start_fork_server() -> None:
     if isinstance(fork_context(), multiprocessing.context.ForkServerContext):
         with single_threaded_children(), ctrl_c_held():
             multiprocessing.forkserver.ensure_running()
+
+
+def worker_count(jobs: int | None, runs: int) -> int:
+    """The workers that compute ``runs`` runs with ``--jobs`` ``jobs`` (default: all cores): never
+    more than the runs, at least one."""
+    return max(1, min(jobs or os.cpu_count() or 1, runs or 1))

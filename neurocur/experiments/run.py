@@ -24,7 +24,7 @@ from neurocur.results import RunResult
 from neurocur.results.agents import agent_state
 from neurocur.results.runinfo import seed_json
 
-from .spec import Condition
+from .conditions import Condition
 
 __all__ = ["dry_run", "run_one"]
 

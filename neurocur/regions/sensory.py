@@ -30,6 +30,11 @@ class SensoryWorld(Region):
     iCub experiment, section 4.2). ``reward`` is the extrinsic reward the world paid for
     the visit (``Episode.reward``; the sum over the visits of a block), 0 unless the
     experiment declares one.
+
+    Reset starts the world's run from the world's own generator (``world.np_random``), which
+    the simulator seeds under the world's own key (:func:`neurocur.scheduler.world_seed`): the
+    world does not depend on this region's name or stream. The region's generator draws only
+    the first context (when ``initial_context`` is -1).
     """
 
     Params = SensoryParams
@@ -59,7 +64,7 @@ class SensoryWorld(Region):
         c0 = self.params.initial_context
         if c0 < 0:
             c0 = int(rng.integers(self.world.n_contexts))
-        self._first, _ = self.world.reset(seed=int(rng.integers(2**63)), context=c0)
+        self._first, _ = self.world.reset(seed=None, context=c0)  # from the world's generator, seeded by the simulator
         self.episode = None
         self.context = c0
         self.n_frames = 0

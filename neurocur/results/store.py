@@ -75,7 +75,7 @@ CHECKPOINTS = "checkpoints"
 RUN_TABLES = ("episodes", "modules")
 _HEADER = """Resolved experiment written by neurocur; do not edit (resuming into this folder compares it).
 Seeds: run i of every condition uses numpy SeedSequence(seeds.entropy, spawn_key=[i]);
-each region's generator is that seed's child keyed by the region's name (the sensory region's seeds the world).
+each region's generator is that seed's child keyed by the region's name, the world's its child keyed by 'world'.
 conditions.<name>.inputs: the sha256 of each input file; code: every code version that wrote runs into this folder."""
 
 

@@ -205,3 +205,28 @@ def test_without_gating_the_adaptive_module_relearns_what_is_stored(seed, circui
 
     intact, lesioned = modules_stored(circuit), modules_stored(circuit.lesion("HPC", "no_gating"))
     assert 1 <= intact <= 4 and lesioned > 10 * intact
+
+
+def test_the_world_is_seeded_under_its_own_key_not_by_a_region(circuit, make_world):
+    """Renaming the region that shows the world leaves the world's draws (its mixing matrices) as they
+    were; they are those of a world seeded with the run's world key (scheduler.world_seed)."""
+    import dataclasses
+
+    from neurocur.scheduler import world_seed
+
+    def rename(name):
+        return "eyes" if name == "sensory" else name
+
+    renamed = Circuit({rename(n): dataclasses.replace(s, name=rename(n)) for n, s in circuit.specs.items()},
+                      [dataclasses.replace(k, src=rename(k.src), dst=rename(k.dst)) for k in circuit.links])
+    worlds = [make_world(), make_world(), make_world(), make_world()]
+    circuit.build(worlds[0], seed=5)
+    renamed.build(worlds[1], seed=5)
+    worlds[2].np_random = np.random.default_rng(world_seed(np.random.SeedSequence(5)))
+    worlds[2].reset()
+    circuit.build(worlds[3], seed=6)
+    for source in ("S", "N"):
+        np.testing.assert_array_equal(worlds[0].mixing[source], worlds[1].mixing[source])
+        np.testing.assert_array_equal(worlds[0].mixing[source], worlds[2].mixing[source])
+        assert not np.array_equal(worlds[0].mixing[source], worlds[3].mixing[source])
+    assert "eyes" in renamed.specs and "sensory" not in renamed.specs

@@ -35,7 +35,7 @@ def test_a_da_scale_changes_no_decision_of_the_epsilon_greedy_agent_and_a_block_
 @pytest.mark.parametrize("factor", [0.25, 4.0])
 def test_a_da_scale_on_the_softmax_agent_is_its_gain(factor, circuits_dir, small, make_world):
     circuit = Circuit.from_toml(circuits_dir / "lc_softmax.toml", overrides=small)
-    drugged = _run(circuit.lesion("VTA", "scale", factor=factor), make_world, 3)
-    gained = _run(circuit.with_params({"LC.gain": factor}), make_world, 3)
+    drugged = _run(circuit.lesion("VTA", "scale", factor=factor), make_world, 4)
+    gained = _run(circuit.with_params({"LC.gain": factor}), make_world, 4)
     assert drugged[["context", "action", "module_learned"]].equals(gained[["context", "action", "module_learned"]])
-    assert not drugged[["context", "action"]].equals(_run(circuit, make_world, 3)[["context", "action"]])
+    assert not drugged[["context", "action"]].equals(_run(circuit, make_world, 4)[["context", "action"]])

@@ -40,7 +40,7 @@ def synthetic(short_experiment):
 
 @pytest.mark.parametrize("type_name", LC_CIRCUITS)
 def test_every_lc_model_runs_in_the_synthetic_experiment(synthetic, type_name):
-    result = run_one(_with_lc(synthetic, type_name), 0, synthetic.steps, synthetic.run_seed(0))
+    result = run_one(_with_lc(synthetic, type_name), 1, synthetic.steps, synthetic.run_seed(1))
     episodes = result.episodes
     assert episodes["module_learned"].any() and len(result.modules) == episodes["module_learned"].sum()
     _check(episodes)

@@ -356,7 +356,7 @@ def test_extends_replace_and_loop(tmp_path):
     assert Circuit.from_toml(merged).specs["dbl"].params.gain == 0.5
     write(tmp_path, 'extends = "b.toml"\n', "a.toml")
     write(tmp_path, 'extends = "a.toml"\n', "b.toml")
-    with pytest.raises(ConfigError, match="a chain of files without a loop, got a.toml -> b.toml -> a.toml"):
+    with pytest.raises(ConfigError, match="a chain of circuit files without a loop, got a.toml -> b.toml -> a.toml"):
         Circuit.from_toml(tmp_path / "a.toml")
 
 

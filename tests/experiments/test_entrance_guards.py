@@ -18,9 +18,9 @@ from neurocur.cli import main
 from neurocur.config import ConfigError
 from neurocur.config.npy import load_npy
 from neurocur.experiments import load_experiment, run_experiment
-from neurocur.experiments import pool as pool_module
 from neurocur.experiments.catalog import catalog
 from neurocur.experiments.pending import Pending
+from neurocur.experiments.pool import LocalPool
 from neurocur.experiments.probe import probe_scheduler
 from neurocur.experiments.spec import resolve_experiment
 from neurocur.tables import resolve_file, shipped_files
@@ -144,7 +144,7 @@ def test_a_listener_that_answers_garbage_or_hangs_up_is_refused():
 
 # --- a huge --runs streams its seeds -------------------------------------------------------------
 
-def test_a_huge_number_of_runs_starts_at_once(tmp_path, monkeypatch):
+def test_a_huge_number_of_runs_starts_at_once(tmp_path):
     runs = 100_000_000
     exp = load_experiment(SYNTHETIC, runs=runs, steps=200)
     started = time.monotonic()
@@ -158,13 +158,13 @@ def test_a_huge_number_of_runs_starts_at_once(tmp_path, monkeypatch):
 
     seen = {}
 
-    def compute(exp, todo, jobs, out, bar, ctrl_c, **options):
-        seen["todo"] = len(todo)
-        seen["first"] = next(iter(todo))[1]
+    class Counting(LocalPool):  # the local pool's pre-flight, its compute replaced by a look at todo
+        def compute(self, exp, todo, store, bar, ctrl_c, **options):
+            seen["todo"] = len(todo)
+            seen["first"] = next(iter(todo))[1]
 
-    monkeypatch.setattr(pool_module, "_compute", compute)
     started = time.monotonic()
-    run_experiment(exp, tmp_path / "out", jobs=1, conditions=["curious"], progress=False)
+    run_experiment(exp, tmp_path / "out", conditions=["curious"], progress=False, executor=Counting(1))
     assert seen == {"todo": runs, "first": 0}
     assert time.monotonic() - started < 30
     assert (tmp_path / "out" / "config.toml").stat().st_size < 200_000

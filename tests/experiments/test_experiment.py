@@ -166,7 +166,7 @@ def test_unknown_condition_lists_the_known_ones():
         ('circuit = "CIRCUIT"\nruns = 1\nsteps = 10\n[conditions.a]\nlesion = "LC"', "conditions.a.lesion",
          "an array of lesion tables"),
         ('circuit = "CIRCUIT"\nruns = 1\nsteps = 10\n[conditions.a]\nlesion = [{ region = "XX", how = "random" }]',
-         "conditions.a.lesion[0].region", "a region of the circuit"),
+         "conditions.a.lesion[0].region", "a declared region"),
         ('circuit = "CIRCUIT"\nruns = 1\nsteps = 10\n[conditions.a]\nlesion = [{ region = "LC", how = "random", level = 1 }]',
          "conditions.a.lesion[0].level", "no further keys"),
         ('circuit = "CIRCUIT"\nruns = 1\nsteps = 10\n[conditions.a]\nreplace.LC = { type = "lc.nothing" }',

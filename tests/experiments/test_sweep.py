@@ -10,7 +10,7 @@ import pytest
 
 from neurocur.config import ConfigError
 from neurocur.experiments import load_experiment, parse_set, run_experiment
-from neurocur.experiments.sets import Values
+from neurocur.experiments.resolve import Values
 from neurocur.results import ResultsStore, load
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -1,0 +1,102 @@
+"""The entrance's third pass: each :class:`~.expand.Plan` → a :class:`~.conditions.Condition`,
+its circuit built once (the circuit file's tables as :mod:`.resolve` read them, the condition's
+variant, the overrides, the lesions) and its world's parameters checked once (the world itself
+is made per run, from these parameters).
+
+Errors name the file (or ``--set``) and the key that wrote the value: a world key in the
+table that set it, a ``"REGION.param"`` override where :mod:`.resolve` found it (a file's
+``[params]``, the condition's own ``params``, the ``[sweep]``, or ``--set KEY``).
+"""
+
+from __future__ import annotations
+
+import copy
+from pathlib import Path
+
+from neurocur.circuit import Circuit
+from neurocur.circuit.files import add_tables
+from neurocur.config import ConfigError, check_table, describe, make_params, resolve_paths
+from neurocur.contexts import DEFAULT_WORLD, WORLDS
+from neurocur.registry import UnknownType
+from neurocur.tables import deep_merge
+
+from .conditions import Condition, Experiment
+from .expand import Plan
+from .resolve import Entry, Resolved
+
+__all__ = ["build", "condition_world", "load_circuit"]
+
+
+def build(resolved: Resolved, plans: list[Plan]) -> Experiment:
+    """The experiment of ``resolved`` with the conditions of ``plans``, each built once."""
+    conditions = {}
+    for plan in plans:
+        world, world_params = condition_world(plan.world, resolved.path)
+        circuit = load_circuit(resolved.circuits[plan.condition.circuit], plan)
+        conditions[plan.label] = Condition(plan.label, plan.condition.circuit, plan.params, world, circuit,
+                                           world_params, plan.condition.description, plan.point)
+    return Experiment(name=resolved.name, path=resolved.path, description=resolved.description, runs=resolved.runs,
+                      steps=resolved.steps, seed=resolved.seed, conditions=conditions, control=resolved.control)
+
+
+def condition_world(layers: tuple[Entry, ...], source: Path):
+    """The merged world table and its parameters, from world tables (each an :class:`~.resolve.Entry`
+    whose key is the table's prefix: the file's ``[world]``, the condition's ``world``, a sweep
+    point's, ``--set world.KEY``), later tables winning.
+
+    The type comes from the last table that names one (:data:`~neurocur.contexts.DEFAULT_WORLD`
+    when none does). Each table's keys are checked on their own (so an error names that
+    table's key) and its paths made absolute against its folder; the merged table is then
+    checked as a whole (``world.KEY`` errors, naming ``source``).
+    """
+    typed = [(e.value["type"], e.source, e.key) for e in layers if "type" in e.value]
+    kind, type_source, type_prefix = typed[-1] if typed else (DEFAULT_WORLD, source, "world")
+    try:
+        cls = WORLDS.get(kind) if isinstance(kind, str) else None
+    except UnknownType:
+        cls = None
+    if cls is None or cls.Params is None:
+        raise ConfigError(type_source, f"{type_prefix}.type", f"a world type with parameters ({', '.join(WORLDS.names())})",
+                          describe(kind))
+    merged: dict = {}
+    for layer in layers:
+        body = resolve_paths(cls.Params, {k: v for k, v in layer.value.items() if k != "type"}, layer.here)
+        check_table(cls.Params, body, source=layer.source, prefix=layer.key)
+        merged = deep_merge(merged, body)
+    params = make_params(cls.Params, merged, source=source, prefix="world")
+    return {"type": kind, **merged} if typed else merged, params
+
+
+_OVERRIDES = "<experiment overrides>"
+
+
+def load_circuit(tables: dict, plan: Plan) -> Circuit:
+    """The plan's circuit from its circuit file's ``tables``: the condition's ``replace``, ``edges``
+    and ``lesion`` tables added as a file extending the circuit file would add them (each named
+    ``conditions.NAME.replace.REGION``, ``conditions.NAME.edges[i]``, ``conditions.NAME.lesion[i]``),
+    the overrides, the lesions, then the command line's ``REGION.param`` values, which win over
+    all of them. An override's error names the file (or ``--set``) and key that wrote it."""
+    condition = plan.condition
+    data = copy.deepcopy(tables)
+    overrides = {k: e.value for k, e in plan.overrides.items()}
+    try:
+        if condition.variant:
+            add_tables(data, condition.variant, condition.source, f"conditions.{condition.name}.")
+        circuit = Circuit.from_tables(data, condition.circuit, overrides=overrides, overrides_source=_OVERRIDES)
+    except ConfigError as exc:
+        raise _located(exc, plan.overrides, condition.source) from None
+    try:
+        return circuit.with_params({k: e.value for k, e in plan.set_params.items()}, source=_OVERRIDES)
+    except ConfigError as exc:
+        raise _located(exc, plan.set_params, f"--set {exc.key}") from None
+
+
+def _located(exc: ConfigError, entries: dict[str, Entry], default_source) -> ConfigError:
+    """``exc``, raised for one override, reported from the file (or ``--set``) and key that wrote it."""
+    if exc.source != _OVERRIDES or exc.key is None:
+        return exc
+    entry = entries.get(exc.key)
+    if entry is None:  # a check across parameters, naming one that was not overridden
+        return ConfigError(default_source, None if str(default_source).startswith("--set") else f"params.{exc.key}",
+                           exc.expected, exc.got)
+    return ConfigError(entry.source, entry.key, exc.expected, exc.got)
