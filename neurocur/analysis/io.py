@@ -17,7 +17,7 @@ from neurocur.results import ResultsStore, load, run_dirs
 
 from .results import Results, source_specs
 from .stats.efficiency import censoring_horizon
-from .stats.report import order_table, paired_test_rows, summary
+from .stats.report import order_table, paired_test_rows, reference_group, summary
 
 __all__ = ["load", "run_dirs", "source_specs", "order_tables", "throughput", "write_summary"]
 
@@ -46,7 +46,7 @@ def order_tables(
     table = table.loc[:, ~table.columns.duplicated()]
     reference = next(iter(specs), None) if reference is None else reference
     if tests and reference in specs:
-        group = results.select([c for c, s in specs.items() if s == specs[reference]])
+        group = reference_group(results.select(specs), reference)
         rows = paired_test_rows(group, reference, horizon=horizon, exclude_degenerate=exclude_degenerate)
         if len(rows):
             table = pd.concat([table, rows.reindex(columns=table.columns, fill_value="—")])

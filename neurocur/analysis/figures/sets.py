@@ -21,7 +21,8 @@ import pandas as pd
 from matplotlib.figure import Figure
 
 from neurocur.analysis.results import Results
-from neurocur.analysis.stats.efficiency import efficiency_per_run
+from neurocur.analysis.stats.efficiency import censoring_horizon, efficiency_per_run
+from neurocur.analysis.stats.report import paired_tests, reference_group
 from neurocur.registry import Registry
 
 from .learning import (
@@ -72,7 +73,11 @@ class StandardFigures(FigureSet):
             figures[f"neuromodulators_{condition}"] = fig_neuromodulators(episodes, condition=condition)
         reference, control = results.reference, results.control
         if control is not None and reference != control and {reference, control} <= set(results.conditions):
-            figures["efficiency"] = fig_efficiency(efficiency_per_run(results), reference, control)
+            # the order table's efficiency family (neurocur.analysis.io.order_tables): the same p-values
+            horizon = censoring_horizon(results)
+            tests = paired_tests(reference_group(results, reference), reference, horizon=horizon)["efficiency"]
+            figures["efficiency"] = fig_efficiency(efficiency_per_run(results, horizon=horizon), tests, reference,
+                                                   control)
         return figures
 
 
