@@ -4,7 +4,9 @@
 tables (through :class:`neurocur.results.ResultsStore`), each condition's sources and its
 ``config.toml``; every statistic and figure that needs more than one table takes that
 :class:`~neurocur.analysis.results.Results`. ``write_summary(DIR)`` writes ``summary.json``
-(:mod:`~neurocur.analysis.io`). Two rooms, every public name re-exported here:
+(:mod:`~neurocur.analysis.io`), and ``dataset(DIR)`` a folder's run tables as one
+:class:`pyarrow.dataset.Dataset` (``condition`` and ``run`` as columns) for pyarrow, duckdb or
+polars, read through the store's checks. Two rooms, every public name re-exported here:
 
 :mod:`~neurocur.analysis.stats` — one module per question:
 
@@ -50,6 +52,7 @@ import functools
 import importlib
 from pathlib import Path
 
+from neurocur.analysis.io import dataset as dataset
 from neurocur.analysis.io import load as load
 from neurocur.analysis.io import order_tables as order_tables
 from neurocur.analysis.io import run_dirs as run_dirs
@@ -86,7 +89,7 @@ from neurocur.analysis.stats.sweeps import *  # noqa: F403
 from neurocur.contexts.base import SourceSpec as SourceSpec
 from neurocur.contexts.synthetic import SYNTHETIC as SYNTHETIC
 
-_EAGER = ["load", "order_tables", "run_dirs", "source_specs", "throughput", "write_summary", "Results", "SourceSpec",
+_EAGER = ["dataset", "load", "order_tables", "run_dirs", "source_specs", "throughput", "write_summary", "Results", "SourceSpec",
           "SYNTHETIC", *order.__all__, *learning_time.__all__, *comparison.__all__, *significance.__all__,
           *bootstrap.__all__, *sweeps.__all__, *report.__all__, *dwell.__all__, *efficiency.__all__,
           *event_locked.__all__, *cycles.__all__, *degenerate.__all__]
