@@ -137,6 +137,25 @@ class Results:
                 out[name] = params[key] if key in params else getattr(kind.Params(), key)
         return out
 
+    def probe_docs(self, condition: str) -> dict[str, str]:
+        """What each recorded column of ``condition``'s episodes table is, by column: the
+        ``doc`` and ``unit`` of the probe (:class:`~neurocur.regions.base.Probe`) of the region
+        type that records it in the condition's resolved circuit, e.g. ``{"ne_phasic":
+        "event-locked burst (1 at module storage, engage advantage) [[0, 1]]"}``; empty when
+        ``config.toml`` records no circuit (tables in memory) or a region type is not installed."""
+        regions = self.config.get("conditions", {}).get(condition, {}).get("resolved_circuit", {}).get("regions", {})
+        docs = {}
+        for region in regions.values():
+            try:
+                kind = REGIONS.get(region.get("type"))
+            except UnknownType:
+                continue
+            for probe in getattr(kind, "probes", ()):
+                if probe.doc:
+                    unit = probe.unit if probe.unit.startswith("[") else f"[{probe.unit}]"
+                    docs[probe.name] = f"{probe.doc} {unit}" if probe.unit else probe.doc
+        return docs
+
 
 def _is_a(type_name, kind: type) -> bool:
     try:

@@ -70,7 +70,8 @@ class StandardFigures(FigureSet):
             figures[f"cumulative_error_{condition}"] = fig_cumulative_error(episodes, condition)
             figures[f"intrinsic_reward_{condition}"] = fig_intrinsic_reward(episodes, condition)
             figures[f"reward_function_{condition}"] = fig_reward_function(results, condition=condition)
-            figures[f"neuromodulators_{condition}"] = fig_neuromodulators(episodes, condition=condition)
+            figures[f"neuromodulators_{condition}"] = fig_neuromodulators(episodes, condition=condition,
+                                                                     captions=results.probe_docs(condition))
         reference, control = results.reference, results.control
         if control is not None and reference != control and {reference, control} <= set(results.conditions):
             # the order table's efficiency family (neurocur.analysis.io.order_tables): the same p-values
