@@ -177,8 +177,6 @@ def _cmd_run(args) -> int:
         from neurocur.experiments.processes import start_fork_server
 
         start_fork_server()
-    import pandas as pd
-
     from neurocur.experiments import load_experiment, run_experiment
     from neurocur.results import ResultsStore
 
@@ -197,9 +195,10 @@ def _cmd_run(args) -> int:
 
             for path in write_all(out):
                 print(path)
+    from neurocur.analysis import narrow
+
     print(f"results: {out}")
-    with pd.option_context("display.width", 200, "display.max_columns", None):
-        print(order_tables(out, conditions=list(exp.conditions), tables=tables).to_string())
+    print(narrow(order_tables(out, conditions=list(exp.conditions), tables=tables)))
     return 0
 
 

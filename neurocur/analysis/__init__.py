@@ -54,6 +54,7 @@ from pathlib import Path
 
 from neurocur.analysis.io import dataset as dataset
 from neurocur.analysis.io import load as load
+from neurocur.analysis.io import narrow as narrow
 from neurocur.analysis.io import order_tables as order_tables
 from neurocur.analysis.io import run_dirs as run_dirs
 from neurocur.analysis.io import throughput as throughput
@@ -89,7 +90,7 @@ from neurocur.analysis.stats.sweeps import *  # noqa: F403
 from neurocur.contexts.base import SourceSpec as SourceSpec
 from neurocur.contexts.synthetic import SYNTHETIC as SYNTHETIC
 
-_EAGER = ["dataset", "load", "order_tables", "run_dirs", "source_specs", "throughput", "write_summary", "Results", "SourceSpec",
+_EAGER = ["dataset", "load", "narrow", "order_tables", "run_dirs", "source_specs", "throughput", "write_summary", "Results", "SourceSpec",
           "SYNTHETIC", *order.__all__, *learning_time.__all__, *comparison.__all__, *significance.__all__,
           *bootstrap.__all__, *sweeps.__all__, *report.__all__, *dwell.__all__, *efficiency.__all__,
           *event_locked.__all__, *cycles.__all__, *degenerate.__all__]

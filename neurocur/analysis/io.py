@@ -8,6 +8,7 @@ learnable sources in Ω order) is in each run's ``run.json``.
 
 from __future__ import annotations
 
+import textwrap
 from pathlib import Path
 
 import pandas as pd
@@ -24,7 +25,8 @@ from .results import Results, source_specs
 from .stats.efficiency import censoring_horizon
 from .stats.report import order_table, paired_test_rows, reference_group, summary
 
-__all__ = ["dataset", "load", "run_dirs", "source_specs", "order_tables", "throughput", "write_summary"]
+__all__ = ["dataset", "load", "run_dirs", "source_specs", "order_tables", "narrow", "throughput",
+           "write_summary"]
 
 
 def dataset(results_dir: str | Path, table: str = "episodes") -> ds.Dataset:
@@ -98,6 +100,27 @@ def order_tables(
         if len(rows):
             table = pd.concat([table, rows.reindex(columns=table.columns, fill_value="—")])
     return table
+
+
+def narrow(table: pd.DataFrame, width: int = 100) -> str:
+    """An order table as text no wider than ``width`` columns: each row's label, then its cells as
+    ``column: value`` below it (the empty cells, "—", left out), indented, as many whole cells to a
+    line as fit (a cell longer than the line stands alone). ``neurocur run`` prints it; the wide
+    form is the table itself (:func:`order_tables`, e.g. ``order_tables(DIR).to_csv(path)``)."""
+    lines = []
+    for label, row in table.iterrows():
+        lines += textwrap.wrap(str(label), width, subsequent_indent="  ")
+        line = ""
+        for column, value in row.items():
+            if value == "—":
+                continue
+            cell = f"{column}: {value}"
+            if line and len(line) + 3 + len(cell) > width:
+                lines.append(line)
+                line = ""
+            line = f"{line} · {cell}" if line else f"    {cell}"
+        lines.append(line or "    —")
+    return "\n".join(lines)
 
 
 def write_summary(results_dir: str | Path, *, tables: tuple[pd.DataFrame, pd.DataFrame] | None = None) -> dict:

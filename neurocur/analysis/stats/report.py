@@ -211,7 +211,9 @@ def order_table(
     The conditions must share one world's sources (:attr:`~neurocur.analysis.results.Results.spec`).
     Columns: "paper" (curious agent, :data:`~neurocur.analysis.paper.SYNTHETIC_CURIOUS`),
     "paper (random)" (:data:`~neurocur.analysis.paper.SYNTHETIC_RANDOM`), then one column
-    per condition. The paper columns are filled only for the synthetic world.
+    per condition. The paper columns are there only for the paper's experiments: the synthetic
+    world in one of :data:`~neurocur.analysis.paper.EXPERIMENTS` (by the ``name`` of the folder's
+    ``config.toml``; tables in memory: the synthetic world).
     """
     require_order_columns(results.episodes, results.modules, needed_by="order_table")
     require_learning_columns(results.episodes, results.modules, needed_by="order_table")
@@ -239,16 +241,22 @@ def order_table(
             cell = _mean_sd(t["mean"], t["sd"])
             table.setdefault(f"{source} learning time (epochs)", {})[condition] = (
                 cell if cell == "—" else f"{cell} (n={int(t['n'])})")
-    curious, random = (paper.SYNTHETIC_CURIOUS, paper.SYNTHETIC_RANDOM) if spec == SYNTHETIC else ({}, {})
     if reference is not None:
         table.update(paired_test_rows(results, reference, adjust=adjust, horizon=horizon,
                                       exclude_degenerate=exclude_degenerate).to_dict("index"))
+    papers = {"paper": paper.SYNTHETIC_CURIOUS, "paper (random)": paper.SYNTHETIC_RANDOM} if _of_the_paper(results) else {}
     out = pd.DataFrame(
-        [{"paper": _paper_cell(curious, label), "paper (random)": _paper_cell(random, label), **cells}
+        [{**{column: _paper_cell(numbers, label) for column, numbers in papers.items()}, **cells}
          for label, cells in table.items()],
         index=pd.Index(list(table), name="outcome"),
     )
-    return out[["paper", "paper (random)", *conditions]]
+    return out[[*papers, *conditions]]
+
+
+def _of_the_paper(results: Results) -> bool:
+    """Whether ``results`` are the paper's synthetic experiment: its world, and one of
+    :data:`~neurocur.analysis.paper.EXPERIMENTS` (or no recorded experiment name: tables in memory)."""
+    return results.spec == SYNTHETIC and results.config.get("name") in (None, *paper.EXPERIMENTS)
 
 
 def _json_safe(value):
