@@ -246,7 +246,8 @@ def fig_learning_time(results: Results, condition: str | None = None, *, since: 
                     continue
                 row = summary.loc[(name, source)]
                 centre = x - 0.4 + width * (k + 0.5)
-                ax.bar(centre, row["mean"], width, color=colour, alpha=0.7, label=name if x == 0 else None,
+                ax.bar(centre, row["mean"], width, color=colour, alpha=0.7,
+                       label=None if name in ax.get_legend_handles_labels()[1] else name,
                        yerr=None if np.isnan(row["sd"]) else row["sd"], capsize=3)
                 runs = times.loc[(times["condition"] == name) & (times["source"] == source), "epochs"]
                 ax.scatter(centre + rng.uniform(-0.2, 0.2, len(runs)) * width, runs, color="0.2", s=9, zorder=3)
