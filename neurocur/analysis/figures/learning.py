@@ -16,18 +16,18 @@ import numpy as np
 import pandas as pd
 import seaborn as sns
 from matplotlib.figure import Figure
-from matplotlib.ticker import FixedLocator, FuncFormatter, MaxNLocator, NullLocator
+from matplotlib.ticker import MaxNLocator
 
 from neurocur.analysis.results import Results
 from neurocur.analysis.stats.bootstrap import bootstrap_ci
 from neurocur.analysis.stats.cycles import error_cycles
 from neurocur.analysis.stats.learning_time import learning_time_summary, learning_times, require_learning_columns
 from neurocur.analysis.stats.order import position_counts, require_order_columns
-from neurocur.analysis.stats.sweeps import sweep_points
 from neurocur.config import ConfigError
 from neurocur.contract import require_columns
 from neurocur.regions.pfc import PFCLSPI, SAMPLE_AVERAGE, PFCParams, eq14_rate, reward_update
 
+from .layout import panel_grid, symlog_axis
 from .style import figure, style
 
 __all__ = [
@@ -86,27 +86,6 @@ def _progress_linthresh(table: pd.DataFrame) -> float:
     progress = np.abs(table.loc[~table["familiar"].astype(bool), "da"].to_numpy(dtype=float))
     progress = progress[np.isfinite(progress) & (progress > 0)]
     return float(np.percentile(progress, 90)) if progress.size else 1.0
-
-
-def symlog_axis(ax, linthresh: float, *, max_ticks: int = 7) -> None:
-    """A symlog y-axis, linear within ±``linthresh``, with readable ticks: 0 and ±10^k at whole
-    decades from ``linthresh`` (or the decade below it, when above ``linthresh`` / 2) out to the data (every other decade when more than ``max_ticks``
-    would show), labelled as plain numbers ("−100", "−1", "0.1"), never "−10⁰"."""
-    ax.set_yscale("symlog", linthresh=linthresh)
-    low, high = ax.get_ylim()
-    first = int(np.ceil(np.log10(linthresh)))
-    first -= 10.0 ** (first - 1) >= linthresh / 2  # a decade inside the linear range, when far enough from 0
-    last = int(np.floor(np.log10(max(abs(low), abs(high), linthresh))))
-    decades = list(range(first, last + 1))
-    ticks = [0.0, *(-10.0 ** k for k in decades if -10.0 ** k >= low), *(10.0 ** k for k in decades if 10.0 ** k <= high)]
-    while len(ticks) > max_ticks and len(decades) > 1:
-        decades = decades[::-2][::-1]  # every other decade, keeping the outermost
-        ticks = [0.0, *(-10.0 ** k for k in decades if -10.0 ** k >= low),
-                 *(10.0 ** k for k in decades if 10.0 ** k <= high)]
-    ax.yaxis.set_major_locator(FixedLocator(sorted(ticks)))
-    ax.yaxis.set_minor_locator(NullLocator())
-    ax.yaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}".replace("-", "−")))
-    ax.set_ylim(low, high)
 
 
 def fig_cumulative_error(
@@ -348,7 +327,7 @@ def fig_order_counts(results: Results, *, wrap: int = 4) -> Figure:
     at most ``wrap`` panels."""
     require_order_columns(results.episodes, results.modules, needed_by="fig_order_counts")
     counts = position_counts(results)
-    grid = _panel_grid(results.episodes, sorted(counts["condition"].unique()), wrap)
+    grid = panel_grid(results.episodes, sorted(counts["condition"].unique()), wrap)
     sources = list(dict.fromkeys(counts["source"]))
     nrows, ncols = len(grid), max(len(row) for row in grid)
     with style():
@@ -371,20 +350,6 @@ def fig_order_counts(results: Results, *, wrap: int = 4) -> Figure:
     return fig
 
 
-def _panel_grid(table: pd.DataFrame, conditions: list[str], wrap: int) -> list[list[str | None]]:
-    """The conditions laid out as rows of panels: by base condition and sweep point in a sweep
-    (a point a base lacks is None), else in rows of ``wrap``."""
-    points = sweep_points(table[table["condition"].isin(conditions)])
-    swept = [c for c in points.columns if c not in ("condition", "base", "point")]
-    if not swept or points["point"].eq("").all():
-        return [conditions[i:i + wrap] for i in range(0, len(conditions), wrap)]
-    points = points.sort_values(swept, kind="stable")
-    labels = list(dict.fromkeys(points["point"]))
-    bases = list(dict.fromkeys(points.sort_values("condition")["base"]))
-    named = dict(zip(zip(points["base"], points["point"]), points["condition"]))
-    return [[named.get((base, label)) for label in labels] for base in bases]
-
-
 def fig_neuromodulators(
     episodes: pd.DataFrame,
     run: int | None = None,
@@ -400,7 +365,7 @@ def fig_neuromodulators(
     table has an ``epsilon`` column (the epsilon-greedy LC records it; other LC models need
     not), so there are three or four panels. DA is drawn on a symlog axis (linear within
     ``±da_linthresh``, default the 90th percentile of |DA| on unfamiliar episodes) so the
-    −100 boredom rewards and the small learning-progress rewards both show (:func:`symlog_axis`).
+    −100 boredom rewards and the small learning-progress rewards both show (:func:`~neurocur.analysis.figures.layout.symlog_axis`).
     ``captions``: what each column is, by column (the run's region models' probe docs,
     :meth:`~neurocur.analysis.results.Results.probe_docs`), written above its panel; the NE
     panels' axes span [0, 1] when their values do.
