@@ -6,7 +6,8 @@ tables (through :class:`neurocur.results.ResultsStore`), each condition's source
 :class:`~neurocur.analysis.results.Results`. ``write_summary(DIR)`` writes ``summary.json``
 (:mod:`~neurocur.analysis.io`), and ``dataset(DIR)`` a folder's run tables as one
 :class:`pyarrow.dataset.Dataset` (``condition`` and ``run`` as columns) for pyarrow, duckdb or
-polars, read through the store's checks. Two rooms, every public name re-exported here:
+polars, read through the store's checks; ``narrow(order_tables(DIR))`` the order table as
+``neurocur run`` prints it, within 100 columns. Two rooms, every public name re-exported here:
 
 :mod:`~neurocur.analysis.stats` — one module per question:
 
@@ -20,7 +21,9 @@ polars, read through the store's checks. Two rooms, every public name re-exporte
 - :mod:`~neurocur.analysis.stats.bootstrap` — percentile bootstrap intervals over runs and pairs;
 - :mod:`~neurocur.analysis.stats.sweeps` — every sweep point against a reference point, every
   condition against a reference condition at each point;
-- :mod:`~neurocur.analysis.stats.report` — the order table beside the paper's numbers, and the summary;
+- :mod:`~neurocur.analysis.stats.report` — the order table beside the paper's numbers, its paired
+  tests (``paired_tests``: the one computation of the adjusted p-values the table, the summary and
+  the efficiency figure show), and the summary;
 - :mod:`~neurocur.analysis.stats.degenerate` — conditions whose runs repeat another's, left out of
   the comparisons;
 - :mod:`~neurocur.analysis.stats.dwell` — visits, dwell per context, occupancy over time, the share

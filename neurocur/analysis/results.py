@@ -15,6 +15,8 @@ about the experiment is read from there, never from a condition's or a region's 
   :class:`~neurocur.regions.pfc.PFCLSPI`), whatever the circuit calls that region;
 - :attr:`Results.world_types` — the world types of the conditions, which pick the folder's
   figure set (:mod:`neurocur.analysis.figures.sets`).
+- :meth:`Results.probe_docs` — what each recorded column of a condition is, from the probes of
+  the region types of its resolved circuit (the figures' captions).
 
 Tables built in memory (tests, notebooks) are wrapped with :meth:`Results.of`.
 """
