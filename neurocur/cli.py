@@ -177,8 +177,6 @@ def _cmd_run(args) -> int:
 
     executor = executor_for(args.scheduler, args.jobs)
     executor.start()  # the local workers' fork server imports the model while this process does too
-    import pandas as pd
-
     from neurocur.experiments import load_experiment, run_experiment
 
     exp = load_experiment(args.experiment, sets=args.sets, runs=args.runs, steps=args.steps, seed=args.seed)
@@ -201,11 +199,10 @@ def _cmd_run(args) -> int:
     run_experiment(exp, out, conditions=args.condition, progress=args.progress, max_memory=args.max_memory,
                    accept_code_change=args.accept_code_change, executor=executor, finish=summarise,
                    checkpoint_every=args.checkpoint_every, save_agent=args.save_agent)
-    from neurocur.analysis import order_tables
+    from neurocur.analysis import narrow, order_tables
 
     print(f"results: {out}")
-    with pd.option_context("display.width", 200, "display.max_columns", None):
-        print(order_tables(out, conditions=list(exp.conditions), tables=tables).to_string())
+    print(narrow(order_tables(out, conditions=list(exp.conditions), tables=tables)))
     return 0
 
 

@@ -4,7 +4,10 @@
 tables (through :class:`neurocur.results.ResultsStore`), each condition's sources and its
 ``config.toml``; every statistic and figure that needs more than one table takes that
 :class:`~neurocur.analysis.results.Results`. ``write_summary(DIR)`` writes ``summary.json``
-(:mod:`~neurocur.analysis.io`). Two rooms, every public name re-exported here:
+(:mod:`~neurocur.analysis.io`), and ``dataset(DIR)`` a folder's run tables as one
+:class:`pyarrow.dataset.Dataset` (``condition`` and ``run`` as columns) for pyarrow, duckdb or
+polars, read through the store's checks; ``narrow(order_tables(DIR))`` the order table as
+``neurocur run`` prints it, within 100 columns. Two rooms, every public name re-exported here:
 
 :mod:`~neurocur.analysis.stats` — one module per question:
 
@@ -18,7 +21,9 @@ tables (through :class:`neurocur.results.ResultsStore`), each condition's source
 - :mod:`~neurocur.analysis.stats.bootstrap` — percentile bootstrap intervals over runs and pairs;
 - :mod:`~neurocur.analysis.stats.sweeps` — every sweep point against a reference point, every
   condition against a reference condition at each point;
-- :mod:`~neurocur.analysis.stats.report` — the order table beside the paper's numbers, and the summary;
+- :mod:`~neurocur.analysis.stats.report` — the order table beside the paper's numbers, its paired
+  tests (``paired_tests``: the one computation of the adjusted p-values the table, the summary and
+  the efficiency figure show), and the summary;
 - :mod:`~neurocur.analysis.stats.degenerate` — conditions whose runs repeat another's, left out of
   the comparisons;
 - :mod:`~neurocur.analysis.stats.dwell` — visits, dwell per context, occupancy over time, the share
@@ -50,7 +55,9 @@ import functools
 import importlib
 from pathlib import Path
 
+from neurocur.analysis.io import dataset as dataset
 from neurocur.analysis.io import load as load
+from neurocur.analysis.io import narrow as narrow
 from neurocur.analysis.io import order_tables as order_tables
 from neurocur.analysis.io import run_dirs as run_dirs
 from neurocur.analysis.io import throughput as throughput
@@ -86,7 +93,7 @@ from neurocur.analysis.stats.sweeps import *  # noqa: F403
 from neurocur.contexts.base import SourceSpec as SourceSpec
 from neurocur.contexts.synthetic import SYNTHETIC as SYNTHETIC
 
-_EAGER = ["load", "order_tables", "run_dirs", "source_specs", "throughput", "write_summary", "Results", "SourceSpec",
+_EAGER = ["dataset", "load", "narrow", "order_tables", "run_dirs", "source_specs", "throughput", "write_summary", "Results", "SourceSpec",
           "SYNTHETIC", *order.__all__, *learning_time.__all__, *comparison.__all__, *significance.__all__,
           *bootstrap.__all__, *sweeps.__all__, *report.__all__, *dwell.__all__, *efficiency.__all__,
           *event_locked.__all__, *cycles.__all__, *degenerate.__all__]

@@ -8,18 +8,67 @@ learnable sources in Ω order) is in each run's ``run.json``.
 
 from __future__ import annotations
 
+import textwrap
 from pathlib import Path
 
 import pandas as pd
+import pyarrow as pa
+import pyarrow.compute as pc
+import pyarrow.dataset as ds
+import pyarrow.parquet as pq
 
 from neurocur.contexts.base import SourceSpec
-from neurocur.results import ResultsStore, load, run_dirs
+from neurocur.results import ResultsError, ResultsStore, load, run_dirs
+from neurocur.results.runinfo import run_number
 
 from .results import Results, source_specs
 from .stats.efficiency import censoring_horizon
-from .stats.report import order_table, paired_test_rows, summary
+from .stats.report import order_table, paired_test_rows, reference_group, summary
 
-__all__ = ["load", "run_dirs", "source_specs", "order_tables", "throughput", "write_summary"]
+__all__ = ["dataset", "load", "run_dirs", "source_specs", "order_tables", "narrow", "throughput",
+           "write_summary"]
+
+
+def dataset(results_dir: str | Path, table: str = "episodes") -> ds.Dataset:
+    """Every run's ``<table>.parquet`` of a results folder as one :class:`pyarrow.dataset.Dataset`,
+    with ``condition`` and ``run`` as columns, so that a whole folder is read, filtered and
+    aggregated in one line without loading it into pandas::
+
+        analysis.dataset(DIR).to_table(filter=pyarrow.compute.field("run") == 0)
+        duckdb.sql("SELECT condition, avg(da) FROM ds GROUP BY condition")  # ds = analysis.dataset(DIR)
+        polars.scan_pyarrow_dataset(analysis.dataset(DIR, "modules"))
+
+    ``table``: ``episodes`` (default), ``modules`` or a further table of the world type (iCub:
+    ``features``). The run folders are those of :meth:`neurocur.results.ResultsStore.run_dirs`,
+    with every check of the store: a folder that is not a results folder, a copied or renamed run
+    folder, a ``run.json`` or a table that disagrees with ``config.toml`` or with its recorded
+    sha256 are refused as :func:`load` refuses them; and each file's ``condition`` and ``run``
+    must be its path's (ResultsError otherwise). A folder whose tables lack those columns
+    (written before the tables carried them) is refused, naming :func:`load`, which reads it.
+    The schema is every file's, unified (a column all null in one run takes another run's type).
+    """
+    folders = ResultsStore(results_dir).run_dirs()
+    files = [folder / f"{table}.parquet" for folder in folders if (folder / f"{table}.parquet").is_file()]
+    if not files:
+        raise ValueError(f"{results_dir}: no run folder holds a table {table}.parquet")
+    for path in files:
+        _check_keys(path)
+    schema = pa.unify_schemas([pq.read_schema(path) for path in files], promote_options="permissive")
+    return ds.dataset([str(path) for path in files], schema=schema, format="parquet")
+
+
+def _check_keys(path: Path) -> None:
+    """ResultsError when the table ``path`` lacks ``condition`` or ``run`` or names another run than its path."""
+    folder = path.parent
+    if not {"condition", "run"} <= set(pq.read_schema(path).names):
+        raise ResultsError(f"{path} has no 'condition' and 'run' columns (written by an older neurocur); "
+                           "read this folder with neurocur.analysis.load")
+    keys = pq.read_table(path, columns=["condition", "run"])
+    conditions, runs = (pc.unique(keys[k]).to_pylist() for k in ("condition", "run"))
+    condition, run = folder.parent.name, run_number(folder.name)
+    if keys.num_rows and (conditions, runs) != ([condition], [run]):
+        raise ResultsError(f"{path}: its 'condition' and 'run' columns say {conditions} and {runs}, not run {run} of "
+                           f"{condition!r} as its path says (a copied or renamed folder?)")
 
 
 def order_tables(
@@ -46,11 +95,32 @@ def order_tables(
     table = table.loc[:, ~table.columns.duplicated()]
     reference = next(iter(specs), None) if reference is None else reference
     if tests and reference in specs:
-        group = results.select([c for c, s in specs.items() if s == specs[reference]])
+        group = reference_group(results.select(specs), reference)
         rows = paired_test_rows(group, reference, horizon=horizon, exclude_degenerate=exclude_degenerate)
         if len(rows):
             table = pd.concat([table, rows.reindex(columns=table.columns, fill_value="—")])
     return table
+
+
+def narrow(table: pd.DataFrame, width: int = 100) -> str:
+    """An order table as text no wider than ``width`` columns: each row's label, then its cells as
+    ``column: value`` below it (the empty cells, "—", left out), indented, as many whole cells to a
+    line as fit (a cell longer than the line stands alone). ``neurocur run`` prints it; the wide
+    form is the table itself (:func:`order_tables`, e.g. ``order_tables(DIR).to_csv(path)``)."""
+    lines = []
+    for label, row in table.iterrows():
+        lines += textwrap.wrap(str(label), width, subsequent_indent="  ")
+        line = ""
+        for column, value in row.items():
+            if value == "—":
+                continue
+            cell = f"{column}: {value}"
+            if line and len(line) + 3 + len(cell) > width:
+                lines.append(line)
+                line = ""
+            line = f"{line} · {cell}" if line else f"    {cell}"
+        lines.append(line or "    —")
+    return "\n".join(lines)
 
 
 def write_summary(results_dir: str | Path, *, tables: tuple[pd.DataFrame, pd.DataFrame] | None = None) -> dict:

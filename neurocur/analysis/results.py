@@ -15,6 +15,8 @@ about the experiment is read from there, never from a condition's or a region's 
   :class:`~neurocur.regions.pfc.PFCLSPI`), whatever the circuit calls that region;
 - :attr:`Results.world_types` — the world types of the conditions, which pick the folder's
   figure set (:mod:`neurocur.analysis.figures.sets`).
+- :meth:`Results.probe_docs` — what each recorded column of a condition is, from the probes of
+  the region types of its resolved circuit (the figures' captions).
 
 Tables built in memory (tests, notebooks) are wrapped with :meth:`Results.of`.
 """
@@ -136,6 +138,25 @@ class Results:
                 params = found[0].get("params", {})
                 out[name] = params[key] if key in params else getattr(kind.Params(), key)
         return out
+
+    def probe_docs(self, condition: str) -> dict[str, str]:
+        """What each recorded column of ``condition``'s episodes table is, by column: the
+        ``doc`` and ``unit`` of the probe (:class:`~neurocur.regions.base.Probe`) of the region
+        type that records it in the condition's resolved circuit, e.g. ``{"ne_phasic":
+        "event-locked burst (1 at module storage, engage advantage) [[0, 1]]"}``; empty when
+        ``config.toml`` records no circuit (tables in memory) or a region type is not installed."""
+        regions = self.config.get("conditions", {}).get(condition, {}).get("resolved_circuit", {}).get("regions", {})
+        docs = {}
+        for region in regions.values():
+            try:
+                kind = REGIONS.get(region.get("type"))
+            except UnknownType:
+                continue
+            for probe in getattr(kind, "probes", ()):
+                if probe.doc:
+                    unit = probe.unit if probe.unit.startswith("[") else f"[{probe.unit}]"
+                    docs[probe.name] = f"{probe.doc} {unit}" if probe.unit else probe.doc
+        return docs
 
 
 def _is_a(type_name, kind: type) -> bool:

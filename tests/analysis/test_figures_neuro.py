@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 import pytest
+from conftest import CYCLE, make_run
 from matplotlib.collections import PathCollection
 from matplotlib.figure import Figure
 from neuro_tables import episodes_of, results_of
@@ -19,6 +20,8 @@ from neurocur.analysis import (
     fig_over_time,
     fig_tonic_phasic,
     occupancy,
+    order_tables,
+    paired_tests,
     signal_over_time,
     tonic_phasic,
 )
@@ -75,11 +78,14 @@ def test_tonic_phasic_scatter(tables):
     assert sum(len(c.get_offsets()) for c in points) == 7 * 5            # 7 runs × 5 contexts
 
 
+def _efficiency_figure(results, a="curious", b="random_switching"):
+    return fig_efficiency(efficiency_per_run(results), paired_tests(results, a)["efficiency"], a, b)
+
+
 def test_efficiency_paired_by_run(tables):
-    table = efficiency_per_run(results_of(*tables))
-    fig = fig_efficiency(table, "curious", "random_switching")
+    fig = _efficiency_figure(results_of(*tables))
     left, right = fig.axes
-    assert "Wilcoxon signed-rank p = 1 (Holm; n = 3 pairs)" in left.get_title()
+    assert "Wilcoxon signed-rank p = 1\n(paired; Holm, 4 tests; n = 3 pairs)" in left.get_title()
     hollow = [c for c in left.collections if isinstance(c, PathCollection) and len(c.get_offsets())
               and c.get_facecolors().size == 0]
     # pairs 0-2: every curious run learned all (filled), no random-switching run did (hollow, at the horizon)
@@ -90,6 +96,31 @@ def test_efficiency_paired_by_run(tables):
 
 def test_the_efficiency_figure_draws_the_cut_off_its_table_censored_at(tables):
     # every run learned all within 1000 frames: the dashed line is still the cut-off, the shortest run
-    table = efficiency_per_run(results_of(*tables)).assign(learned_all=True, frames_to_learn_all_censored=1000.0)
-    left = fig_efficiency(table, "curious", "random_switching").axes[0]
+    results = results_of(*tables)
+    table = efficiency_per_run(results).assign(learned_all=True, frames_to_learn_all_censored=1000.0)
+    left = fig_efficiency(table, paired_tests(results, "curious")["efficiency"], "curious", "random_switching").axes[0]
     assert left.lines[-1].get_ydata()[0] == table["horizon"].iloc[0] == 6000
+
+
+def _learns_all_by(episode):
+    return [(episode, "S-A", "C1"), (episode + 1, "S-B", "C3"), (episode + 2, "S-C", "C4")]
+
+
+def test_the_efficiency_figure_and_the_order_table_give_the_same_adjusted_p_values(tmp_path, write_folder):
+    # three conditions: the table's efficiency family is 2 comparisons x 4 metrics = 8 tests, and
+    # the figure (curious against its control) reads the same family, not a 4-test one of its own
+    runs = {"curious": [make_run(CYCLE, _learns_all_by(5 + i), seed=i) for i in range(6)],
+            "random_switching": [make_run(CYCLE, [], seed=10 + i) for i in range(6)],
+            "slow": [make_run(CYCLE, _learns_all_by(30 + i), seed=20 + i) for i in range(6)]}
+    folder = write_folder(tmp_path / "three", runs)
+    from neurocur.analysis import Results
+    from neurocur.analysis.figures.sets import StandardFigures
+
+    title = StandardFigures().draw(Results.load(folder))["efficiency"].axes[0].get_title()
+    table = order_tables(folder)
+    row = next(label for label in table.index if label.startswith("frames to learn all") and " vs curious" in label)
+    cell = table.loc[row, "random_switching"]
+    assert "Holm, 8 tests" in row and "Holm, 8 tests" in title
+    # six pairs, all of one sign: Wilcoxon p = 2/2^6 = 0.03125, Holm over 8 tests (the others p = 1): 0.25
+    assert cell == "0.25 (n=6)"
+    assert "p = 0.25\n" in title

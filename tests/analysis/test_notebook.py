@@ -123,3 +123,14 @@ def test_the_behaviour_analyses_agree_on_a_real_run(real_results):
     locked = event_locked_average(episodes, "da", "context_switch", window=2)
     at_switch = locked[locked["lag"] == 0].set_index("condition")["n_events"]
     assert at_switch.equals(switches.groupby("condition").sum().rename("n_events"))
+
+
+@pytest.mark.parametrize("name", ["synthetic.ipynb", "neuromodulators.ipynb"])
+def test_the_notebooks_text_names_the_paired_tests_their_cells_compute(name):
+    # compare() pairs by run by default (Wilcoxon signed-rank, McNemar exact); a notebook whose text
+    # names the unpaired tests above such a cell describes another computation than it shows
+    notebook = nbformat.read(ROOT / "analysis" / name, as_version=4)
+    text = "\n".join(cell.source for cell in notebook.cells if cell.cell_type == "markdown")
+    code = "\n".join(cell.source for cell in notebook.cells if cell.cell_type == "code")
+    assert "paired=False" not in code
+    assert "Mann–Whitney" not in text and "Fisher" not in text

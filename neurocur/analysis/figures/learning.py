@@ -10,20 +10,24 @@ them; a column that only some region models record (``epsilon``) is drawn when p
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import numpy as np
 import pandas as pd
 import seaborn as sns
 from matplotlib.figure import Figure
+from matplotlib.ticker import MaxNLocator
 
 from neurocur.analysis.results import Results
 from neurocur.analysis.stats.bootstrap import bootstrap_ci
 from neurocur.analysis.stats.cycles import error_cycles
-from neurocur.analysis.stats.learning_time import learning_times, require_learning_columns
+from neurocur.analysis.stats.learning_time import learning_time_summary, learning_times, require_learning_columns
 from neurocur.analysis.stats.order import position_counts, require_order_columns
 from neurocur.config import ConfigError
 from neurocur.contract import require_columns
 from neurocur.regions.pfc import PFCLSPI, SAMPLE_AVERAGE, PFCParams, eq14_rate, reward_update
 
+from .layout import panel_grid, symlog_axis
 from .style import figure, style
 
 __all__ = [
@@ -37,6 +41,8 @@ __all__ = [
     "reward_estimates",
 ]
 
+#: The y label of :func:`fig_cumulative_error` for the ``error`` column (eq 11 / M).
+CUMULATIVE_ERROR = "cumulative error ξ / M (eq 11)"
 #: gid of the vertical lines marking module storage, so they can be told from data lines.
 EVENT_GID = "module_learned"
 
@@ -94,8 +100,9 @@ def fig_cumulative_error(
 ) -> Figure:
     """Figure 4D: the estimation error falling within each learning cycle.
 
-    The paper's "cumulative estimation error" is read as eq 11's context-wide error
-    (accumulated over the context's states; column ``error``), not as a running sum over time.
+    The paper's "cumulative estimation error" is eq 11's context-wide error ξ, accumulated over
+    the context's states, drawn per state (ξ / M: column ``error``, the mean of the stored eq-10
+    errors) as the figure's title and axis say; not a running sum over time.
     Left: one run (``run``, default the first) per episode against the global step, each
     module storage marked (dashed, gid ``"module_learned"``). Right: the error of every
     learning cycle aligned to the storage that ends it
@@ -114,13 +121,16 @@ def fig_cumulative_error(
     if max_cycles is not None:
         cycles = cycles[cycles["cycle"] <= max_cycles]
     cycles = cycles[cycles.groupby(["cycle", "bin"])["run"].transform("nunique") >= min_runs]
+    ylabel = CUMULATIVE_ERROR if column == "error" else column
     with style():
-        fig, axes = figure(1, 2, figsize=(11.0, 4.0), sharey=True)
+        fig, axes = figure(1, 2, figsize=(11.0, 4.2), sharey=True)
+        fig.suptitle("Cumulative estimation error: eq 11, the context's error summed over its states (here per "
+                     "state); not a running sum over time", fontsize="medium")
         left, right = axes[0]
         left.plot(single["step"], single[column], lw=0.6, color="0.3", label=f"run {run}")
         for x in (single["step"] + single["n_frames"])[single["module_learned"].astype(bool)]:
             left.axvline(x, color="0.3", ls="--", lw=0.8, gid=EVENT_GID)
-        left.set(xlabel="global step (frames)", ylabel="estimation error",
+        left.set(xlabel="global step (frames)", ylabel=ylabel,
                  title=f"{condition}, run {run} (dashed: module stored)")
         palette = sns.color_palette("colorblind", max(1, cycles["cycle"].nunique()))
         for colour, (cycle, part) in zip(palette, cycles.groupby("cycle", sort=True)):
@@ -136,7 +146,7 @@ def fig_cumulative_error(
             right.legend(title=f"cycle ({table['run'].nunique()} runs; 95 % CI; ≥ {min_runs} runs a bin)",
                          loc="upper left")
         right.axvline(0.0, color="0.3", ls="--", lw=0.8, gid=EVENT_GID)
-        right.set(xlabel="frames before the module's storage", ylabel="estimation error",
+        right.set(xlabel="frames before the module's storage", ylabel=ylabel,
                   title="Per learning cycle, aligned to storage")
     return fig
 
@@ -176,7 +186,7 @@ def fig_intrinsic_reward(
         ax.axhline(0.0, color="0.5", lw=0.8, ls=":")
         note = "boredom −100 included" if include_boredom else "familiar episodes left out"
         if symlog:
-            ax.set_yscale("symlog", linthresh=_progress_linthresh(table))
+            symlog_axis(ax, _progress_linthresh(table))
             note += "; symlog axis"
         if ylim is not None:
             ax.set_ylim(*ylim)
@@ -187,12 +197,13 @@ def fig_intrinsic_reward(
 
 
 def fig_learning_time(results: Results, condition: str | None = None, *, since: str = "previous") -> Figure:
-    """Figure 4F: learning time per learnable source in epochs, median and interquartile range over runs
+    """Figure 4F: learning time per learnable source in epochs, mean ± sd over the runs that learned
+    it, the statistic of the order table: the bars are
+    :func:`~neurocur.analysis.stats.learning_time.learning_time_summary`, the runs drawn as points
     (learning times are skewed: a source learned late in a run can take ten times the median).
 
-    One bar per (source, condition) — all conditions unless ``condition`` is given — with
-    the runs as points. Learning time as in :func:`neurocur.analysis.stats.learning_time.learning_times`
-    (first module of each source).
+    One bar per (source, condition) — all conditions unless ``condition`` is given. Learning time
+    as in :func:`neurocur.analysis.stats.learning_time.learning_times` (first module of each source).
     """
     require_learning_columns(results.episodes, results.modules, needed_by="fig_learning_time")
     times = learning_times(results, since=since)
@@ -201,19 +212,30 @@ def fig_learning_time(results: Results, condition: str | None = None, *, since: 
     if condition is not None:
         conditions = [condition_of(results.episodes, condition)]
     learnable = list(dict.fromkeys(s for c in conditions for s in results.spec_of(c).learnable))
-    times = times[times["condition"].isin(conditions)]
+    summary = learning_time_summary(results.select(conditions), since=since).set_index(["condition", "source"])
+    width = 0.8 / len(conditions)
+    rng = np.random.default_rng(0)  # the points' horizontal jitter only
     with style():
         fig, axes = figure()
         ax = axes[0, 0]
-        if times.empty:
-            ax.text(0.5, 0.5, "no learnable source was learned", ha="center", va="center",
-                    transform=ax.transAxes)
+        palette = sns.color_palette("colorblind", len(conditions))
+        for k, (name, colour) in enumerate(zip(conditions, palette)):
+            for x, source in enumerate(learnable):
+                if (name, source) not in summary.index or not summary.loc[(name, source), "n"]:
+                    continue
+                row = summary.loc[(name, source)]
+                centre = x - 0.4 + width * (k + 0.5)
+                ax.bar(centre, row["mean"], width, color=colour, alpha=0.7,
+                       label=None if name in ax.get_legend_handles_labels()[1] else name,
+                       yerr=None if np.isnan(row["sd"]) else row["sd"], capsize=3)
+                runs = times.loc[(times["condition"] == name) & (times["source"] == source), "epochs"]
+                ax.scatter(centre + rng.uniform(-0.2, 0.2, len(runs)) * width, runs, color="0.2", s=9, zorder=3)
+        if times[times["condition"].isin(conditions)].empty:
+            ax.text(0.5, 0.5, "no learnable source was learned", ha="center", va="center", transform=ax.transAxes)
         else:
-            kwargs = dict(data=times, x="source", y="epochs", hue="condition", order=learnable,
-                          hue_order=conditions, ax=ax)
-            sns.barplot(**kwargs, estimator="median", errorbar=("pi", 50), capsize=0.15, alpha=0.7)
-            sns.stripplot(**kwargs, dodge=True, palette=["0.2"] * len(conditions), size=3, legend=False)
-        ax.set(xlabel="source", ylabel="learning time (epochs)", title="Learning time per source (median, quartiles)")
+            ax.legend(title="condition", fontsize="small")
+        ax.set(xticks=range(len(learnable)), xticklabels=learnable, xlabel="source", ylabel="learning time (epochs)",
+               title="Learning time per source (mean ± sd over the runs that learned it; points: runs)")
     return fig
 
 
@@ -290,26 +312,41 @@ def fig_reward_function(
         ax.set(xlabel="global step (frames)", ylabel="estimated reward R(context)",
                title=f"Reward function — {condition}, run {run} (eq 14, {'sample average' if alpha == SAMPLE_AVERAGE else f'α={alpha:g}'})")
         if symlog:
-            ax.set_yscale("symlog", linthresh=_progress_linthresh(table))
+            symlog_axis(ax, _progress_linthresh(table))
         ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0))
     return fig
 
 
-def fig_order_counts(results: Results) -> Figure:
-    """Which source was stored 1st/2nd/3rd, counted over runs; one panel per condition
-    (runs without any module count as "none")."""
+def fig_order_counts(results: Results, *, wrap: int = 4) -> Figure:
+    """Which source was stored 1st/2nd/3rd, counted over runs (runs without any module count
+    as "none"); the count axis is in whole runs.
+
+    One panel per condition, laid out by the swept parameters of a sweep
+    (:func:`~neurocur.analysis.stats.sweeps.sweep_points`): a row per base condition, a column per
+    sweep point (in the order of the swept values); without a sweep, the conditions in rows of
+    at most ``wrap`` panels."""
     require_order_columns(results.episodes, results.modules, needed_by="fig_order_counts")
     counts = position_counts(results)
-    conditions = sorted(counts["condition"].unique())
+    grid = panel_grid(results.episodes, sorted(counts["condition"].unique()), wrap)
     sources = list(dict.fromkeys(counts["source"]))
+    nrows, ncols = len(grid), max(len(row) for row in grid)
     with style():
-        fig, axes = figure(1, len(conditions), figsize=(4.0 * len(conditions), 3.8), sharey=True)
-        for ax, condition in zip(axes[0], conditions):
-            table = counts[counts["condition"] == condition]
-            sns.barplot(data=table, x="position", y="k", hue="source", hue_order=sources, ax=ax,
-                        palette="colorblind", legend=ax is axes[0, -1])
-            ax.set(xlabel="storage position", ylabel="runs",
-                   title=f"{condition} (n={int(table['n'].iloc[0])})")
+        fig, axes = figure(nrows, ncols, figsize=(3.6 * ncols + 1.4, 3.2 * nrows), sharey=True)
+        for i, row in enumerate(grid):
+            for j in range(ncols):
+                ax = axes[i, j]
+                if j >= len(row) or row[j] is None:
+                    ax.set_visible(False)
+                    continue
+                table = counts[counts["condition"] == row[j]]
+                sns.barplot(data=table, x="position", y="k", hue="source", hue_order=sources, ax=ax,
+                            palette="colorblind", legend=(i, j) == (0, len(grid[0]) - 1))
+                ax.yaxis.set_major_locator(MaxNLocator(integer=True))
+                ax.set(xlabel="storage position", ylabel="runs", title=f"{row[j]} (n={int(table['n'].iloc[0])})")
+        legend = axes[0, len(grid[0]) - 1].get_legend()
+        if legend is not None:
+            legend.set_bbox_to_anchor((1.0, 1.0))
+            legend.set_loc("upper left")
     return fig
 
 
@@ -319,6 +356,7 @@ def fig_neuromodulators(
     condition: str | None = None,
     *,
     da_linthresh: float | None = None,
+    captions: Mapping[str, str] | None = None,
 ) -> Figure:
     """DA, NE tonic, NE phasic and ε per episode for one run, module storage marked.
 
@@ -327,7 +365,10 @@ def fig_neuromodulators(
     table has an ``epsilon`` column (the epsilon-greedy LC records it; other LC models need
     not), so there are three or four panels. DA is drawn on a symlog axis (linear within
     ``±da_linthresh``, default the 90th percentile of |DA| on unfamiliar episodes) so the
-    −100 boredom rewards and the small learning-progress rewards both show.
+    −100 boredom rewards and the small learning-progress rewards both show (:func:`~neurocur.analysis.figures.layout.symlog_axis`).
+    ``captions``: what each column is, by column (the run's region models' probe docs,
+    :meth:`~neurocur.analysis.results.Results.probe_docs`), written above its panel; the NE
+    panels' axes span [0, 1] when their values do.
     """
     require_columns(episodes, ["condition", "run", "episode", "step", "n_frames", "module_learned", "da", "familiar",
                                "ne_tonic", "ne_phasic"], needed_by="fig_neuromodulators")
@@ -347,7 +388,12 @@ def fig_neuromodulators(
             for x in events:
                 ax.axvline(x, color="0.3", ls="--", lw=0.8, gid=EVENT_GID)
             ax.set_ylabel(label)
-        axes[0, 0].set_yscale("symlog", linthresh=da_linthresh)
-        axes[0, 0].set_title(f"Neuromodulators — {condition}, run {run} (dashed: module stored)")
+            values = table[column].to_numpy(dtype=float)
+            if column != "da" and np.nanmin(values, initial=0.0) >= 0.0 and np.nanmax(values, initial=0.0) <= 1.0:
+                ax.set_ylim(-0.05, 1.05)
+            if captions and column in captions:
+                ax.set_title(f"{label}: {captions[column]}", loc="left", fontsize="small")
+        symlog_axis(axes[0, 0], da_linthresh)
+        fig.suptitle(f"Neuromodulators — {condition}, run {run} (dashed: module stored)")
         axes[-1, 0].set_xlabel("global step (frames)")
     return fig

@@ -33,8 +33,8 @@ from matplotlib.figure import Figure
 
 from neurocur.analysis.stats.bootstrap import BOOTSTRAP_SEED, N_BOOT
 from neurocur.analysis.stats.dwell import context_indices, spec_of
-from neurocur.analysis.stats.efficiency import compare_efficiency
 from neurocur.analysis.stats.inverted_u import level_means, two_lines
+from neurocur.analysis.stats.report import family_note
 from neurocur.analysis.stats.significance import TESTS
 from neurocur.contract import require_columns
 
@@ -180,22 +180,29 @@ def fig_tonic_phasic(table: pd.DataFrame, tonic: str = "ne_tonic", phasic: str =
     return fig
 
 
-def fig_efficiency(table: pd.DataFrame, a: str, b: str) -> Figure:
-    """How efficiently ``a`` and ``b`` learn, paired by run (:func:`~neurocur.analysis.stats.efficiency.efficiency_per_run`).
+def fig_efficiency(table: pd.DataFrame, tests: pd.DataFrame, a: str, b: str) -> Figure:
+    """How efficiently ``a`` and ``b`` learn, paired by run: ``table`` is their
+    :func:`~neurocur.analysis.stats.efficiency.efficiency_per_run`, ``tests`` the efficiency family
+    of the order table (``paired_tests(results, a)["efficiency"]``,
+    :func:`~neurocur.analysis.stats.report.paired_tests`).
 
     Left: frames until every learnable source is learned; a run that did not is drawn hollow
     at the table's cut-off (its ``horizon``, the dashed line), where it is censored. Right: frames in the unlearnable
-    contexts. A grey line joins the two runs of a seed. Each title gives the paired test of
-    :func:`~neurocur.analysis.stats.efficiency.compare_efficiency` (Holm-adjusted p).
+    contexts. A grey line joins the two runs of a seed. Each title gives the paired test of ``b``
+    against the reference ``a`` read from ``tests`` (every condition against ``a``, adjusted
+    together), so the figure and the table show the same adjusted p-value; the title names the
+    adjustment and the family's size.
     """
     require_columns(table, ["condition", "run", "learned_all", "frames_to_learn_all_censored", "frames_unlearnable",
                             "horizon"], needed_by="fig_efficiency")
-    tests = compare_efficiency(table, a, b).set_index("metric")
+    require_columns(tests, ["metric", "method", "b", "p_adjusted", "adjustment", "n_tests", "n_pairs"],
+                    needed_by="fig_efficiency (tests)")
+    tests = tests[tests["b"] == b].set_index("metric")
     pairs = table[table["condition"].isin([a, b])].pivot(index="run", columns="condition")
     pairs = pairs.dropna(subset=[("frames_to_learn_all_censored", a), ("frames_to_learn_all_censored", b)])
     horizon = table["horizon"].iloc[0]
     with style():
-        fig, axes = figure(1, 2, figsize=(9.0, 4.0))
+        fig, axes = figure(1, 2, figsize=(9.0, 4.2))
         for ax, metric, label in ((axes[0, 0], "frames_to_learn_all_censored", "frames to learn all learnable sources"),
                                   (axes[0, 1], "frames_unlearnable", "frames in unlearnable contexts")):
             for _, row in pairs.iterrows():
@@ -210,8 +217,11 @@ def fig_efficiency(table: pd.DataFrame, a: str, b: str) -> Figure:
                            s=24)
             if metric != "frames_unlearnable":
                 ax.axhline(horizon, color="0.4", ls="--", lw=0.8)
-            test = tests.loc[metric]
-            ax.set(xticks=[0, 1], xticklabels=[a, b], xlim=(-0.4, 1.4), ylabel=label,
-                   title=f"{label}\n{TESTS[test['method']][0]} p = {test['p_adjusted']:.2g} "
-                         f"(Holm; n = {int(test['n_pairs'])} pairs)")
+            if metric in tests.index:
+                test = tests.loc[metric]
+                note = f"{TESTS[test['method']][0]} p = {test['p_adjusted']:.2g}\n" \
+                       f"({family_note(tests)}; n = {int(test['n_pairs'])} pairs)"
+            else:
+                note = f"not tested ({b}'s runs repeat another condition's)"
+            ax.set(xticks=[0, 1], xticklabels=[a, b], xlim=(-0.4, 1.4), ylabel=label, title=f"{label}\n{note}")
     return fig

@@ -21,7 +21,9 @@ import pandas as pd
 from matplotlib.figure import Figure
 
 from neurocur.analysis.results import Results
-from neurocur.analysis.stats.efficiency import efficiency_per_run
+from neurocur.analysis.stats.efficiency import censoring_horizon, efficiency_per_run
+from neurocur.analysis.stats.order import sweep_columns
+from neurocur.analysis.stats.report import paired_tests, reference_group
 from neurocur.registry import Registry
 
 from .learning import (
@@ -34,6 +36,7 @@ from .learning import (
 )
 from .neuro import fig_efficiency
 from .style import save_figures
+from .sweeps import fig_sweep_efficiency
 
 __all__ = ["FIGURE_SETS", "FigureSet", "StandardFigures", "figure_set", "write_all"]
 
@@ -58,7 +61,8 @@ class StandardFigures(FigureSet):
     ``cumulative_error_<condition>``, ``intrinsic_reward_<condition>``,
     ``reward_function_<condition>`` and ``neuromodulators_<condition>`` (the latter two for the
     condition's first run; the reward function with the condition's own eq-14 ``alpha``), and
-    ``efficiency`` when the experiment declares a control condition
+    ``sweep_efficiency`` for a sweep (:func:`~neurocur.analysis.figures.sweeps.fig_sweep_efficiency`:
+    heatmaps by condition and sweep point), and ``efficiency`` when the experiment declares a control condition
     (:attr:`~neurocur.analysis.results.Results.control`): the reference against it,
     :func:`~neurocur.analysis.figures.neuro.fig_efficiency`."""
 
@@ -69,10 +73,17 @@ class StandardFigures(FigureSet):
             figures[f"cumulative_error_{condition}"] = fig_cumulative_error(episodes, condition)
             figures[f"intrinsic_reward_{condition}"] = fig_intrinsic_reward(episodes, condition)
             figures[f"reward_function_{condition}"] = fig_reward_function(results, condition=condition)
-            figures[f"neuromodulators_{condition}"] = fig_neuromodulators(episodes, condition=condition)
+            figures[f"neuromodulators_{condition}"] = fig_neuromodulators(episodes, condition=condition,
+                                                                     captions=results.probe_docs(condition))
+        if sweep_columns(episodes):
+            figures["sweep_efficiency"] = fig_sweep_efficiency(efficiency_per_run(results))
         reference, control = results.reference, results.control
         if control is not None and reference != control and {reference, control} <= set(results.conditions):
-            figures["efficiency"] = fig_efficiency(efficiency_per_run(results), reference, control)
+            # the order table's efficiency family (neurocur.analysis.io.order_tables): the same p-values
+            horizon = censoring_horizon(results)
+            tests = paired_tests(reference_group(results, reference), reference, horizon=horizon)["efficiency"]
+            figures["efficiency"] = fig_efficiency(efficiency_per_run(results, horizon=horizon), tests, reference,
+                                                   control)
         return figures
 
 

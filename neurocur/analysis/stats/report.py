@@ -23,7 +23,7 @@ from neurocur.contexts.base import SourceSpec
 from neurocur.contexts.synthetic import SYNTHETIC
 
 from .bootstrap import BOOTSTRAP_SEED, N_BOOT
-from .comparison import ADJUSTMENT_NAMES, adjustment, compare_conditions
+from .comparison import ADJUSTMENT_NAMES, COMPARE_COLUMNS, adjustment, compare_conditions
 from .degenerate import degenerate_conditions
 from .dwell import engagement_summary
 from .efficiency import EFFICIENCY_LABELS, EFFICIENCY_TESTS, censoring_horizon, efficiency_per_run, efficiency_summary
@@ -31,7 +31,8 @@ from .learning_time import learning_time_summary, require_learning_columns
 from .order import condition_summary, order_counts, outcome_labels, per_run, require_order_columns
 from .significance import TESTS
 
-__all__ = ["TABLE_TESTS", "DEGENERATE_NOTE", "order_table", "comparison_rows", "paired_test_rows", "summary"]
+__all__ = ["TABLE_TESTS", "DEGENERATE_NOTE", "order_table", "comparison_rows", "family_note", "paired_tests",
+           "reference_group", "paired_test_rows", "summary"]
 
 #: The per-run metrics whose paired test against the reference condition the order table shows.
 TABLE_TESTS = ("exact_order", "gated_sources")
@@ -82,39 +83,27 @@ def _paper_cell(numbers: Mapping[str, paper.Reported], label: str) -> str:
     return "—" if reported is None else reported.cell()
 
 
-def comparison_rows(
-    runs: pd.DataFrame,
-    reference: str,
-    spec: SourceSpec,
-    *,
-    metrics=TABLE_TESTS,
-    adjust: str | None = "holm",
-    leave_out=(),
-) -> pd.DataFrame:
-    """The order table's test rows: ``reference`` against every other condition of the
-    :func:`~neurocur.analysis.stats.order.per_run` table ``runs`` but those of ``leave_out``, paired
-    by run, one row per metric; ``spec``: the sources of their world, which name the metrics.
+def comparison_rows(tests: pd.DataFrame, conditions, reference: str, spec: SourceSpec,
+                    horizon: float | None = None) -> pd.DataFrame:
+    """The order table's test rows of one family ``tests`` (a
+    :func:`~neurocur.analysis.stats.comparison.compare_conditions` table of ``reference`` against
+    the others, e.g. a value of :func:`paired_tests`), one row per metric; ``spec``: the sources
+    of their world and ``horizon`` the cut-off of the censored frames, which name the metrics.
 
     A row's label names the metric, the reference, the test and the adjustment, e.g.
     "learnable sources gated vs A: Wilcoxon signed-rank p (paired; Holm, 4 tests)";
-    the family adjusted together is every p-value of these rows. A cell is the adjusted
+    the family adjusted together is every p-value of ``tests``. A cell is the adjusted
     p-value with the pairs it rests on ("0.0023 (n=25)"; McNemar: "0.031 (7 of 25
-    discordant)"); "—" for the reference and where nothing could be tested. Columns: the
-    conditions of ``runs``. Empty without ``reference`` or another condition.
+    discordant)"); "—" for the reference and where nothing could be tested. Columns:
+    ``conditions``. Empty when ``tests`` is.
     """
-    conditions = sorted(runs["condition"].unique())
-    others = [c for c in conditions if c != reference and c not in leave_out]
-    if reference not in conditions or not others:
+    conditions = list(conditions)
+    if not len(tests):
         return pd.DataFrame(columns=conditions, dtype=object)
-    tests = compare_conditions(runs, reference, others, metric=list(metrics), adjust=adjust)
-    horizon = runs["horizon"].iloc[0] if "horizon" in runs and len(runs) else None
     labels = {**_NUMERIC_LABELS, **_efficiency_labels(spec, horizon), **outcome_labels(spec)}
-    adjusted = ADJUSTMENT_NAMES[adjustment(adjust) or "none"][0]
-    n_tests = int(tests["n_tests"].iloc[0])
     out: dict[str, dict[str, str]] = {}
     for metric, rows in tests.groupby("metric", sort=False):
-        test = TESTS[rows["method"].iloc[0]][0]
-        label = f"{labels.get(metric, metric)} vs {reference}: {test} p (paired; {adjusted}, {n_tests} tests)"
+        label = f"{labels.get(metric, metric)} vs {reference}: {TESTS[rows['method'].iloc[0]][0]} p ({family_note(rows)})"
         cells = dict.fromkeys(conditions, "—")
         for row in rows.itertuples(index=False):
             if math.isnan(row.p_adjusted):
@@ -126,6 +115,55 @@ def comparison_rows(
     return pd.DataFrame.from_dict(out, orient="index", columns=conditions).rename_axis("outcome")
 
 
+def family_note(tests: pd.DataFrame) -> str:
+    """How the p-values of ``tests`` (rows of a family) were adjusted, in words: the pairing, the
+    adjustment and the family's size, e.g. "paired; Holm, 8 tests". The order table's rows and the
+    efficiency figure's titles both say it so."""
+    row = tests.iloc[0]
+    paired = "" if pd.isna(row["n_pairs"]) else "paired; "
+    return f"{paired}{ADJUSTMENT_NAMES[row['adjustment']][0]}, {int(row['n_tests'])} tests"
+
+
+def paired_tests(
+    results: Results,
+    reference: str,
+    *,
+    adjust: str | None = "holm",
+    horizon: float | None = None,
+    exclude_degenerate: bool = True,
+    paired: bool = True,
+    n_boot: int = N_BOOT,
+    seed: int = BOOTSTRAP_SEED,
+) -> dict[str, pd.DataFrame]:
+    """The paired tests of ``reference`` against every other condition of ``results``, in two
+    families each adjusted on its own: ``"efficiency"`` (:data:`~neurocur.analysis.stats.efficiency.EFFICIENCY_TESTS`,
+    censored at ``horizon``, by default the shortest run of ``results``) and ``"order"``
+    (:data:`TABLE_TESTS`); each a :func:`~neurocur.analysis.stats.comparison.compare_conditions`
+    table, empty when there is nothing to compare. With ``exclude_degenerate`` (the default), a
+    condition whose runs repeat another's (:func:`~neurocur.analysis.stats.degenerate.degenerate_conditions`)
+    is left out of both. ``paired=False``: the unpaired tests
+    (:func:`~neurocur.analysis.stats.comparison.compare`).
+
+    The one computation of these p-values: the order table (:func:`paired_test_rows`), the
+    summary and the efficiency figure (:func:`~neurocur.analysis.figures.neuro.fig_efficiency`)
+    all read it, so that each shows the same adjusted p-value over the same family.
+    """
+    degenerate = degenerate_conditions(results) if exclude_degenerate else {}
+    others = [c for c in results.conditions if c != reference and c not in degenerate]
+    families = {"efficiency": (efficiency_per_run(results, horizon=horizon), list(EFFICIENCY_TESTS)),
+                "order": (per_run(results), list(TABLE_TESTS))}
+    return {name: (compare_conditions(runs, reference, others, metric=metrics, paired=paired, adjust=adjust,
+                                      n_boot=n_boot, seed=seed)
+                   if reference in results.conditions and others else pd.DataFrame(columns=COMPARE_COLUMNS))
+            for name, (runs, metrics) in families.items()}
+
+
+def reference_group(results: Results, reference: str) -> Results:
+    """The conditions of ``results`` whose world shows the same sources as ``reference``'s: those
+    :func:`paired_tests` compares with it (in the order table and the efficiency figure alike)."""
+    return results.select([c for c, s in results.specs.items() if s == results.spec_of(reference)])
+
+
 def paired_test_rows(
     results: Results,
     reference: str,
@@ -134,18 +172,16 @@ def paired_test_rows(
     horizon: float | None = None,
     exclude_degenerate: bool = True,
 ) -> pd.DataFrame:
-    """The order table's test rows (:func:`comparison_rows`) against ``reference``, two families
-    each adjusted on its own: the efficiency metrics (:data:`~neurocur.analysis.stats.efficiency.EFFICIENCY_TESTS`,
-    censored at ``horizon``, by default the shortest run of ``results``), then the order metrics
-    (:data:`TABLE_TESTS`). With ``exclude_degenerate`` (the default), a condition whose runs repeat
-    another's (:func:`~neurocur.analysis.stats.degenerate.degenerate_conditions`) is left out of
-    both families, and a last row, :data:`DEGENERATE_NOTE`, names the condition it repeats."""
+    """The order table's test rows (:func:`comparison_rows`) of the two families of
+    :func:`paired_tests` against ``reference``: the efficiency metrics, then the order metrics
+    (:data:`TABLE_TESTS`). With ``exclude_degenerate`` (the default), a last row,
+    :data:`DEGENERATE_NOTE`, names each left-out condition and the condition it repeats."""
     spec = results.spec
+    horizon = censoring_horizon(results) if horizon is None else horizon
+    families = paired_tests(results, reference, adjust=adjust, horizon=horizon, exclude_degenerate=exclude_degenerate)
+    blocks = [comparison_rows(tests, results.conditions, reference, spec, horizon if name == "efficiency" else None)
+              for name, tests in families.items()]
     degenerate = degenerate_conditions(results) if exclude_degenerate else {}
-    efficiency = efficiency_per_run(results, horizon=horizon)
-    blocks = [comparison_rows(efficiency, reference, spec, metrics=EFFICIENCY_TESTS, adjust=adjust,
-                              leave_out=degenerate),
-              comparison_rows(per_run(results), reference, spec, adjust=adjust, leave_out=degenerate)]
     if degenerate:
         note = {c: f"= {degenerate[c]}" if c in degenerate else "—" for c in results.conditions}
         blocks.append(pd.DataFrame([note], index=pd.Index([DEGENERATE_NOTE], name="outcome")))
@@ -175,7 +211,9 @@ def order_table(
     The conditions must share one world's sources (:attr:`~neurocur.analysis.results.Results.spec`).
     Columns: "paper" (curious agent, :data:`~neurocur.analysis.paper.SYNTHETIC_CURIOUS`),
     "paper (random)" (:data:`~neurocur.analysis.paper.SYNTHETIC_RANDOM`), then one column
-    per condition. The paper columns are filled only for the synthetic world.
+    per condition. The paper columns are there only for the paper's experiments: the synthetic
+    world in one of :data:`~neurocur.analysis.paper.EXPERIMENTS` (by the ``name`` of the folder's
+    ``config.toml``; tables in memory: the synthetic world).
     """
     require_order_columns(results.episodes, results.modules, needed_by="order_table")
     require_learning_columns(results.episodes, results.modules, needed_by="order_table")
@@ -203,16 +241,22 @@ def order_table(
             cell = _mean_sd(t["mean"], t["sd"])
             table.setdefault(f"{source} learning time (epochs)", {})[condition] = (
                 cell if cell == "—" else f"{cell} (n={int(t['n'])})")
-    curious, random = (paper.SYNTHETIC_CURIOUS, paper.SYNTHETIC_RANDOM) if spec == SYNTHETIC else ({}, {})
     if reference is not None:
         table.update(paired_test_rows(results, reference, adjust=adjust, horizon=horizon,
                                       exclude_degenerate=exclude_degenerate).to_dict("index"))
+    papers = {"paper": paper.SYNTHETIC_CURIOUS, "paper (random)": paper.SYNTHETIC_RANDOM} if _of_the_paper(results) else {}
     out = pd.DataFrame(
-        [{"paper": _paper_cell(curious, label), "paper (random)": _paper_cell(random, label), **cells}
+        [{**{column: _paper_cell(numbers, label) for column, numbers in papers.items()}, **cells}
          for label, cells in table.items()],
         index=pd.Index(list(table), name="outcome"),
     )
-    return out[["paper", "paper (random)", *conditions]]
+    return out[[*papers, *conditions]]
+
+
+def _of_the_paper(results: Results) -> bool:
+    """Whether ``results`` are the paper's synthetic experiment: its world, and one of
+    :data:`~neurocur.analysis.paper.EXPERIMENTS` (or no recorded experiment name: tables in memory)."""
+    return results.spec == SYNTHETIC and results.config.get("name") in (None, *paper.EXPERIMENTS)
 
 
 def _json_safe(value):
@@ -265,14 +309,14 @@ def summary(
     runs = per_run(results)
     conditions = sorted(runs["condition"].unique())
     efficiency = efficiency_per_run(results)
-    comparisons, efficiency_tests = pd.DataFrame(), pd.DataFrame()
+    comparisons = pd.DataFrame()
     degenerate = degenerate_conditions(results) if exclude_degenerate else {}
     others = [c for c in conditions if c != reference and c not in degenerate]
     if reference in conditions and others:
         comparisons = compare_conditions(runs, reference, others, paired=paired, adjust=adjust,
                                          n_boot=n_boot, seed=seed)
-        efficiency_tests = compare_conditions(efficiency, reference, others, metric=list(EFFICIENCY_TESTS),
-                                              paired=paired, adjust=adjust, n_boot=n_boot, seed=seed)
+    efficiency_tests = paired_tests(results, reference, adjust=adjust, exclude_degenerate=exclude_degenerate,
+                                    paired=paired, n_boot=n_boot, seed=seed)["efficiency"]
     adjusted = adjustment(adjust) or "none"
     methods = sorted(set(comparisons["method"])) if len(comparisons) else []
     result = {
