@@ -182,7 +182,7 @@ class SensoryPath:
         """Add one step of ``stream``; when it closes a block, run the pass and return its DA, else None."""
         feed = self._feed
         if self._counts:  # a pass per step, on the observation's context alone
-            feed.context = int(self.coder.contexts_of(self.coder.frames(np.asarray(observation)[None]))[0])
+            feed.context = self.coder.context_of(observation)
             feed.reward = float(reward)
             self._run(1)
             return self._bonus.da

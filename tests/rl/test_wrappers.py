@@ -270,3 +270,22 @@ def test_vector_wrapper_refuses_a_disabled_autoreset():
                         vector_kwargs={"autoreset_mode": AutoresetMode.DISABLED})
     with pytest.raises(ConfigError, match=r"autoreset_mode.*NEXT_STEP or SAME_STEP"):
         IntrinsicRewardVector(envs, "vta.novelty")
+
+
+@pytest.mark.parametrize("env_id, contexts", [("MountainCar-v0", "grid"), ("CartPole-v1", "simhash"),
+                                              ("Pendulum-v1", "grid")])
+def test_one_observations_compiled_context_is_the_frames_context(env_id, contexts):
+    """The count path codes one observation in a compiled pass (ObservationCoder.context_of): the same
+    grid cell or SimHash code as contexts_of(frames(...)) on 2000 observations of the space, out-of-bounds
+    ones included (the frame clips them)."""
+    from neurocur.rl.observations import ObservationCoder
+
+    space = gym.make(env_id).observation_space
+    coder = ObservationCoder(space, contexts=contexts, hash_bits=10, rng=np.random.default_rng(4))
+    rng = np.random.default_rng(5)
+    width = np.where(np.isfinite(space.high - space.low), space.high - space.low, 10.0)
+    centre = np.where(np.isfinite(space.low + space.high), (space.low + space.high) / 2, 0.0)
+    observations = centre + width * rng.uniform(-0.7, 0.7, size=(2000, space.shape[0]))
+    expected = coder.contexts_of(coder.frames(observations))
+    assert [coder.context_of(o) for o in observations] == expected.tolist()
+    assert len(set(expected.tolist())) > 10
