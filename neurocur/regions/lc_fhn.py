@@ -34,7 +34,11 @@ from .pfc import DISENGAGE, ENGAGE
 
 
 @dataclass(frozen=True)
-class FHNLCParams:
+class FHNUnitParams:
+    """The FitzHugh-Nagumo unit's parameters (Gilzenrat et al. 2002), shared by the LC over an
+    episode's sub-steps (:class:`FHNLCParams`) and over a trial's time steps
+    (:class:`~neurocur.regions.lc_fhn_trial.FHNTrialParams`)."""
+
     mode: float = param(1.0, float, low=0.0, high=1.0, doc="C: 1 phasic mode, lower values tonic mode")
     baseline: float = param(-0.5, float, doc="d, the recovery's level as C falls (a.u. of v)")
     alpha: float = param(0.5, float, low=0.0, high=1.0, low_open=True, high_open=True,
@@ -42,18 +46,22 @@ class FHNLCParams:
     tau_v: float = param(0.05, float, low=0.0, low_open=True, doc="time constant of the activation (time units)")
     tau_u: float = param(0.5, float, low=0.0, low_open=True, doc="time constant of the recovery (time units)")
     dt: float = param(0.005, float, low=0.0, low_open=True, doc="Euler step (time units)")
-    substeps: int = param(200, int, low=1, doc="Euler steps per episode: the decision window is substeps x dt")
-    pulse: float = param(0.1, float, low=0.0, doc="duration of the evidence input from the window's start (time units)")
-    drive: float = param(0.5, float, low=0.0, doc="w, input per unit of engage evidence (a.u. of v per time unit)")
     noise: float = param(0.01, float, low=0.0, doc="sigma, the input noise's standard deviation (a.u. of v per sqrt time unit)")
-    gain_base: float = param(0.5, float, low=0.0, doc="G, gain of the decision at zero firing (1 / DA units)")
-    gain_scale: float = param(3.0, float, low=0.0, doc="k, gain per unit of mean firing rate (1 / DA units)")
+    gain_base: float = param(0.5, float, low=0.0, doc="G, gain of the decision at zero firing")
+    gain_scale: float = param(3.0, float, low=0.0, doc="k, gain per unit of firing rate")
 
     def __post_init__(self):
         check_params(self)
         if self.dt > self.tau_v / 5:
             raise ConfigError(type(self).__name__, "dt", f"at most tau_v / 5 = {self.tau_v / 5:g} (Euler's step "
                               "well below the fast time constant)", repr(self.dt))
+
+
+@dataclass(frozen=True)
+class FHNLCParams(FHNUnitParams):
+    substeps: int = param(200, int, low=1, doc="Euler steps per episode: the decision window is substeps x dt")
+    pulse: float = param(0.1, float, low=0.0, doc="duration of the evidence input from the window's start (time units)")
+    drive: float = param(0.5, float, low=0.0, doc="w, input per unit of engage evidence (a.u. of v per time unit)")
 
 
 @njit(cache=True, fastmath=False)

@@ -15,32 +15,19 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..config import ConfigError, check_params, param
+from ..config import param
 from .base import Probe, Region, Signal, register
-from .lc_fhn import integrate, with_noise
+from .lc_fhn import FHNUnitParams, integrate, with_noise
 
 
 @dataclass(frozen=True)
-class FHNTrialParams:
-    mode: float = param(1.0, float, low=0.0, high=1.0, doc="C: 1 phasic mode, lower values tonic mode")
-    baseline: float = param(-0.5, float, doc="d, the recovery's level as C falls (a.u. of v)")
-    alpha: float = param(0.5, float, low=0.0, high=1.0, low_open=True, high_open=True,
-                         doc="threshold of the cubic v (alpha - v)(v - 1) (a.u. of v)")
-    tau_v: float = param(0.05, float, low=0.0, low_open=True, doc="time constant of the activation (time units)")
-    tau_u: float = param(0.5, float, low=0.0, low_open=True, doc="time constant of the recovery (time units)")
-    dt: float = param(0.005, float, low=0.0, low_open=True, doc="Euler step = one frame (time units)")
-    drive: float = param(0.3, float, low=0.0, doc="w, input per unit of the stimulus column (a.u. of v per time unit)")
-    noise: float = param(0.01, float, low=0.0, doc="sigma, the input noise (a.u. of v per sqrt time unit)")
-    channel: int = param(0, int, low=0, doc="the frame's column that drives the LC")
-    gain_base: float = param(0.5, float, low=0.0, doc="G, gain of the decision layer at zero firing")
-    gain_scale: float = param(3.0, float, low=0.0, doc="k, gain per unit of firing rate")
-    window: int = param(60, int, low=1, doc="time steps from the stimulus onset in which the burst is measured")
+class FHNTrialParams(FHNUnitParams):
+    """:class:`~neurocur.regions.lc_fhn.FHNUnitParams` (one Euler step ``dt`` per frame) and the task's
+    input and read-out."""
 
-    def __post_init__(self):
-        check_params(self)
-        if self.dt > self.tau_v / 5:
-            raise ConfigError(type(self).__name__, "dt", f"at most tau_v / 5 = {self.tau_v / 5:g} (Euler's step "
-                              "well below the fast time constant)", repr(self.dt))
+    drive: float = param(0.3, float, low=0.0, doc="w, input per unit of the stimulus column (a.u. of v per time unit)")
+    channel: int = param(0, int, low=0, doc="the frame's column that drives the LC")
+    window: int = param(60, int, low=1, doc="time steps from the stimulus onset in which the burst is measured")
 
 
 @register("lc_trial.fhn")
