@@ -1,5 +1,5 @@
-"""Shared by every test folder: where the shipped circuit files are, and a tiny stand-in world
-(small frames, few states, short episodes) for region and circuit tests."""
+"""Shared by every test folder: where the shipped circuit files are, a tiny stand-in world (small
+frames, few states, short episodes) for region and circuit tests, and executing a notebook."""
 
 from __future__ import annotations
 
@@ -59,3 +59,29 @@ def make_world():
 def small():
     """Overrides that make the CD-MISFA circuit fit the stand-in world."""
     return {"HPC.n_states": 20}
+
+
+def _execute_notebook(path: Path, *, timeout: int = 300, extra_cells=()):
+    """Execute the notebook at ``path`` in its folder (the kernel inherits the environment), with
+    ``extra_cells`` (code) appended; a failing cell fails the test. Returns the outputs of its code
+    cells and the text they printed."""
+    import nbclient
+    import nbformat
+
+    nb = nbformat.read(path, as_version=4)
+    nb.cells += [nbformat.v4.new_code_cell(code) for code in extra_cells]
+    client = nbclient.NotebookClient(nb, kernel_name="python3", timeout=timeout,
+                                     resources={"metadata": {"path": str(path.parent)}})
+    try:
+        client.execute()
+    except nbclient.exceptions.CellExecutionError as error:  # pragma: no cover - shown on failure
+        pytest.fail(f"notebook cell failed:\n{error}")
+    outputs = [o for cell in nb.cells if cell.cell_type == "code" for o in cell.outputs]
+    return outputs, "".join(o.get("text", "") for o in outputs if o.output_type == "stream")
+
+
+@pytest.fixture(scope="session")
+def execute_notebook():
+    """``execute_notebook(path, *, timeout=300, extra_cells=())`` -> (cell outputs, printed text)."""
+    return _execute_notebook
+

@@ -5,7 +5,6 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-import nbclient
 import nbformat
 import numpy as np
 import pandas as pd
@@ -40,22 +39,13 @@ def real_results(tmp_path_factory):
     return out
 
 
-def test_notebook_executes(real_results, monkeypatch):
+def test_notebook_executes(real_results, monkeypatch, execute_notebook):
     episodes, modules = load(real_results)
     assert set(episodes["condition"]) == {"curious", "random_switching"}
     assert episodes.groupby("condition")["step"].max().min() >= 19_900
 
     monkeypatch.setenv("NEUROCUR_RESULTS", str(real_results))  # the kernel inherits the environment
-    nb = nbformat.read(NOTEBOOK, as_version=4)
-    nb.cells.append(nbformat.v4.new_code_cell("import sys\nprint(sys.executable)"))
-    client = nbclient.NotebookClient(nb, kernel_name="python3", timeout=120,
-                                     resources={"metadata": {"path": str(NOTEBOOK.parent)}})
-    try:
-        client.execute()
-    except nbclient.exceptions.CellExecutionError as error:  # pragma: no cover - shown on failure
-        pytest.fail(f"notebook cell failed:\n{error}")
-    outputs = [o for cell in nb.cells if cell.cell_type == "code" for o in cell.outputs]
-    text = "".join(o.get("text", "") for o in outputs if o.output_type == "stream")
+    outputs, text = execute_notebook(NOTEBOOK, timeout=120, extra_cells=["import sys\nprint(sys.executable)"])
     # the kernel is this interpreter (jupyter_client starts "python" as sys.executable)
     assert text.strip().splitlines()[-1] == sys.executable
     assert str(real_results) in text
@@ -72,26 +62,19 @@ def test_notebook_executes(real_results, monkeypatch):
 NEUROMODULATORS = ROOT / "analysis" / "neuromodulators.ipynb"
 
 
-def test_neuromodulators_notebook_executes(tmp_path, monkeypatch):
+def test_neuromodulators_notebook_executes(tmp_path, monkeypatch, execute_notebook):
     """analysis/neuromodulators.ipynb runs its experiments small (2 runs x 5000 frames, three gains) and
     shows every analysis; every shipped LC and VTA circuit is a condition of its results."""
     out = tmp_path / "neuromodulators"
     for key, value in {"RESULTS": str(out), "RUNS": "2", "STEPS": "5000", "GAINS": "0.5,2,8", "JOBS": "2"}.items():
         monkeypatch.setenv(f"NEUROCUR_NEURO_{key}", value)
-    nb = nbformat.read(NEUROMODULATORS, as_version=4)
-    client = nbclient.NotebookClient(nb, kernel_name="python3", timeout=300,
-                                     resources={"metadata": {"path": str(NEUROMODULATORS.parent)}})
-    try:
-        client.execute()
-    except nbclient.exceptions.CellExecutionError as error:  # pragma: no cover - shown on failure
-        pytest.fail(f"notebook cell failed:\n{error}")
+    outputs, _ = execute_notebook(NEUROMODULATORS)
     episodes, _ = load(out / "models")
     models = {name for name in shipped_files("circuit") if name.startswith(("lc_", "vta_"))}
     assert set(episodes["condition"]) == {"curious", "random_switching", *models}
     assert episodes.groupby("condition")["run"].nunique().eq(2).all()
     swept, _ = load(out / "inverted_u")
     assert sorted(swept["LC.gain"].unique()) == [0.5, 2.0, 8.0]
-    outputs = [o for cell in nb.cells if cell.cell_type == "code" for o in cell.outputs]
     assert not [o for o in outputs if o.output_type == "error"]
     images = [o for o in outputs if "image/png" in o.get("data", {})]
     assert len(images) == 7  # occupancy, DA in the TV, efficiency, event-locked, tonic-phasic, Goldilocks, inverted U
