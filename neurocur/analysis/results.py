@@ -29,6 +29,7 @@ from pathlib import Path
 
 import pandas as pd
 
+from neurocur.contexts import DEFAULT_WORLD
 from neurocur.contexts.base import SourceSpec
 from neurocur.regions import REGIONS
 from neurocur.registry import UnknownType
@@ -122,9 +123,14 @@ class Results:
         return self.config.get("control")
 
     @property
+    def world_tables(self) -> dict[str, dict]:
+        """Each condition's resolved ``[world]`` table in ``config.toml``."""
+        return {name: c.get("world", {}) for name, c in self.config.get("conditions", {}).items()}
+
+    @property
     def world_types(self) -> set[str]:
         """The world types (``world.type``) of the conditions in ``config.toml``."""
-        return {c.get("world", {}).get("type", "synthetic") for c in self.config.get("conditions", {}).values()}
+        return {world.get("type", DEFAULT_WORLD) for world in self.world_tables.values()}
 
     def region_param(self, kind: type, key: str) -> dict[str, object]:
         """``key`` of the region of type ``kind`` (a region class, or a subclass of it) in each

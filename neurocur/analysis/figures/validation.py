@@ -5,12 +5,15 @@ figure ``validation`` and the per-run table it shows, ``validation.csv``."""
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
 from neurocur.analysis.results import Results
 from neurocur.analysis.stats.validation import blocks_per_run, conditioning_per_run, disengaged, vigilance_per_run
+from neurocur.contexts.reward_blocks import RewardBlocksParams
 
 from .sets import FIGURE_SETS, FigureSet
 from .style import figure, style
@@ -155,12 +158,13 @@ class ConditioningFigures(FigureSet):
 @FIGURE_SETS.register("reward_blocks")
 class RewardBlocksFigures(FigureSet):
     """Aston-Jones & Cohen 2005: :func:`fig_blocks`, and :func:`blocks_per_run`, with the blocks'
-    length from the world's ``block_visits`` (500 when the folder's config does not give it)."""
+    length from the world's ``block_visits`` (the world's default when the folder's config does not give it)."""
 
     @staticmethod
     def _block_visits(results: Results) -> int:
-        worlds = [c.get("world", {}) for c in results.config.get("conditions", {}).values()]
-        return int(worlds[0].get("block_visits", 500)) if worlds else 500
+        default = next(f.default for f in dataclasses.fields(RewardBlocksParams) if f.name == "block_visits")
+        worlds = list(results.world_tables.values())
+        return int(worlds[0].get("block_visits", default)) if worlds else default
 
     def tables(self, results: Results) -> dict[str, pd.DataFrame]:
         return {"validation": blocks_per_run(results.episodes, self._block_visits(results))}
