@@ -1,11 +1,14 @@
 """Maximum likelihood on replays: bounded, several starts, per data set or pooled; profile-likelihood intervals.
 
 The objective is the replayed log-likelihood (:meth:`neurocur.fit.replay.Replay.loglik`),
-maximised with scipy's L-BFGS-B inside the bounds from ``starts`` points (the first the
-bounds' midpoint, the others uniform draws from a seeded generator); the best end point
-wins. A theta where the observed decisions are impossible (-inf) costs a large constant, not
-NaN; such a start lies on a flat plateau the optimiser cannot leave, so it is drawn again (up
-to :data:`REDRAWS` times).
+maximised with scipy's L-BFGS-B inside the bounds from ``starts`` points: the log-likelihood
+is first evaluated on a space-filling design (the bounds' midpoint and :data:`DESIGN` points of
+a scrambled Sobol sequence, seeded; one vectorised call on a cached replay), and the optimiser
+starts from its ``starts`` best points; the best end point wins. A likelihood with a ridge
+(the softmax gain against eq 14's alpha) has local optima that one start from the midpoint
+can miss; a start where the observed decisions are impossible (-inf) lies on a flat plateau
+the optimiser cannot leave, and is never among the best while the design has a finite point.
+A theta where they are impossible costs a large constant, not NaN.
 
 Intervals are profile-likelihood intervals (Wilks' theorem): the values of parameter k
 whose profile log-likelihood, maximised over the other parameters, lies within
@@ -28,8 +31,8 @@ __all__ = ["MLFit", "fit_ml", "fit_table"]
 
 #: what an impossible theta costs instead of +inf
 IMPOSSIBLE = 1e12
-#: how many times a start where the observed decisions are impossible is drawn again
-REDRAWS = 20
+#: points of the scrambled Sobol design the starts are chosen from (a power of 2)
+DESIGN = 64
 
 
 @dataclass
@@ -82,6 +85,10 @@ def fit_ml(replays, bounds: Mapping[str, tuple[float, float]], *, starts: int = 
         theta = dict(zip(keys, map(float, x)))
         return float(sum(r.loglik(theta, mask) for r in replays))
 
+    def loglik_many(points) -> np.ndarray:
+        thetas = [dict(zip(keys, map(float, x))) for x in points]
+        return np.sum([np.asarray(r.loglik(thetas, mask), dtype=np.float64) for r in replays], axis=0)
+
     if not bounds:
         keys = []
         return MLFit(dataset, {}, loglik([]), n_obs)
@@ -91,14 +98,14 @@ def fit_ml(replays, bounds: Mapping[str, tuple[float, float]], *, starts: int = 
         ll = loglik(x)
         return IMPOSSIBLE if ll == -np.inf else -ll
 
-    rng = np.random.default_rng(seed)
-    points = [b.mean(axis=1)] + [rng.uniform(b[:, 0], b[:, 1]) for _ in range(max(0, starts - 1))]
-    for i in range(len(points)):  # a start where the data are impossible is a flat plateau: draw another
-        for _ in range(REDRAWS):
-            if cost(points[i]) < IMPOSSIBLE:
-                break
-            points[i] = rng.uniform(b[:, 0], b[:, 1])
-    best = min((optimize.minimize(cost, x0, method="L-BFGS-B", bounds=b) for x0 in points), key=lambda r: r.fun)
+    unit = stats.qmc.Sobol(len(keys), rng=np.random.default_rng(seed)).random_base2(int(np.log2(DESIGN)))
+    design = np.vstack([b.mean(axis=1), stats.qmc.scale(unit, b[:, 0], b[:, 1])])
+    values = loglik_many(design)
+    order = [i for i in np.argsort(-values, kind="stable")[:max(1, starts)] if values[i] > -np.inf]
+    if not order:  # no point of the design gives every observed decision a chance
+        return MLFit(dataset, dict(zip(keys, map(float, design[0]))), -np.inf, n_obs)
+    best = min((optimize.minimize(cost, design[i], method="L-BFGS-B", bounds=b) for i in order),
+               key=lambda r: r.fun)
     x = np.clip(best.x, b[:, 0], b[:, 1])
     fit = MLFit(dataset, dict(zip(keys, map(float, x))), loglik(x), n_obs)
     if ci is not None:

@@ -3,7 +3,7 @@
 The world shows the observed context sequence: the decision region (an LC model,
 :class:`~neurocur.regions.lc.LCRole`) still steps, but the action and next context it
 emits are the observed ones, and it scores the observed decision with the probability its
-draw used (:attr:`~neurocur.regions.lc.LCRole.probabilities`). Design section 7.
+draw used (:meth:`~neurocur.regions.lc.LCRole.log_probability`). Design section 7.
 
 - **Full replay**: the circuit as it is; EC and HPC learn from the frames of the observed
   contexts (data from agents in a known world; with the run's seed the world's frames are
@@ -23,7 +23,6 @@ from __future__ import annotations
 
 import copy
 import dataclasses
-import math
 from collections.abc import Mapping, Sequence
 
 import networkx as nx
@@ -32,8 +31,8 @@ import numpy as np
 from ..circuit import Circuit
 from ..config import ConfigError
 from ..regions.free_choice import RecordedSignal
-from ..regions.lc_choice import ChoiceLC
-from ..regions.lc_softmax import SoftmaxLC, p_disengage_array
+from ..regions.lc_choice import ChoiceLC, choice_log_probabilities
+from ..regions.lc_softmax import SoftmaxLC, log_p_decision
 from ..regions.pfc import DISENGAGE
 from ..scheduler import region_seed
 from .data import Behaviour
@@ -258,18 +257,16 @@ class Replay:
         previous = dict(outputs)
         out = np.empty(self.n_obs)
         decision, observed, plan, tapes = self.decision, self.observed, self._plan, self.tapes
-        with np.errstate(divide="ignore"):
-            for t in range(self.n_obs):
-                for name in self.part:
-                    args = tapes[name][t]
-                    if plan[name]:
-                        args = list(args)
-                        for i, src, j, delayed in plan[name]:
-                            args[i] = (previous if delayed else outputs)[src][j]
-                    outputs[name] = regions[name].step(*args)
-                previous = dict(outputs)
-                out[t] = math.log(regions[decision].probabilities[observed[t]]) \
-                    if regions[decision].probabilities[observed[t]] > 0 else -math.inf
+        for t in range(self.n_obs):
+            for name in self.part:
+                args = tapes[name][t]
+                if plan[name]:
+                    args = list(args)
+                    for i, src, j, delayed in plan[name]:
+                        args[i] = (previous if delayed else outputs)[src][j]
+                outputs[name] = regions[name].step(*args)
+            previous = dict(outputs)
+            out[t] = regions[decision].log_probability(observed[t])
         return out
 
     def first_impossible(self, logp: np.ndarray) -> str | None:
@@ -298,8 +295,7 @@ def _taped(cls: type, observed):
             if observed is None:
                 return out
             t, self.t = self.t, self.t + 1
-            p = self.probabilities[observed[2][t]]
-            self.logp.append(math.log(p) if p > 0 else -math.inf)
+            self.logp.append(self.log_probability(observed[2][t]))
             names = [s.name for s in cls.outputs]
             out = list(out)
             self.shown = (int(observed[0][t]), int(observed[1][t]))
@@ -331,9 +327,7 @@ def _softmax_logp(replay: Replay, thetas, tape) -> np.ndarray:
     q = np.array([args[i_q] for args in tape])
     gain = np.array([t.get(f"{replay.decision}.gain", replay.circuit.specs[replay.decision].params.gain)
                      for t in thetas])[:, None]
-    p = p_disengage_array(np.maximum(gain, 0.0), q[:, DISENGAGE] - q[:, 1 - DISENGAGE])
-    with np.errstate(divide="ignore"):
-        return np.log(np.where(replay.observed == DISENGAGE, p, 1.0 - p))
+    return log_p_decision(np.maximum(gain, 0.0), q[:, DISENGAGE] - q[:, 1 - DISENGAGE], replay.observed)
 
 
 def _choice_logp(replay: Replay, thetas, tape) -> np.ndarray:
@@ -344,13 +338,8 @@ def _choice_logp(replay: Replay, thetas, tape) -> np.ndarray:
     own = replay.circuit.specs[replay.decision].params
     gain = np.array([t.get(f"{replay.decision}.gain", own.gain) for t in thetas])
     stay = np.array([t.get(f"{replay.decision}.stay", own.stay) for t in thetas])
-    z = np.repeat(values[None, :, :], len(thetas), axis=0)
-    rows = np.arange(len(contexts))
-    z[:, rows, contexts] += stay[:, None]
-    z *= np.maximum(gain, 0.0)[:, None, None]
-    z -= z.max(axis=-1, keepdims=True)
-    logp = z - np.log(np.exp(z).sum(axis=-1, keepdims=True))
-    return logp[:, rows, replay.observed]
+    logp = choice_log_probabilities(np.maximum(gain, 0.0)[:, None], values, contexts, stay[:, None])
+    return logp[:, np.arange(len(contexts)), replay.observed]
 
 
 #: Decision region classes whose log-likelihood is vectorised across thetas ((replay, thetas, the decision's

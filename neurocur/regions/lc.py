@@ -44,6 +44,12 @@ class LCRole(Region):
     #: likelihood of each decision given the region's state, its inputs and its parameters (a
     #: drug's noise included: under a noise drug it is conditional on the drawn level).
     probabilities: tuple[float, float] = (0.5, 0.5)
+
+    def log_probability(self, decision: int) -> float:
+        """log P(``decision`` | state, theta) of this pass's draw (:attr:`probabilities`): -inf for a
+        decision the draw gave probability 0. The softmax models compute it without underflow."""
+        p = self.probabilities[decision]
+        return math.log(p) if p > 0 else -math.inf
     inputs = (
         Signal("context", "int64", ()),
         Signal("q", "float64", (2,)),

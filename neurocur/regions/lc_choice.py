@@ -12,6 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy import special
 
 from ..config import check_params, param
 from .base import Probe, Signal, register
@@ -40,6 +41,17 @@ def choice_probabilities(gain, values, context, stay):
     z -= z.max(axis=-1, keepdims=True)
     e = np.exp(z)
     return e / e.sum(axis=-1, keepdims=True)
+
+
+def choice_log_probabilities(gain, values, context, stay):
+    """log P(choose k), :func:`choice_probabilities` as a log-softmax (scipy's ``log_softmax``: a context
+    far below the best keeps its large negative log-probability instead of log 0). Broadcasts: ``values``
+    (..., n), ``context`` over its leading axes (one current context per row), ``gain`` and ``stay``
+    against them (e.g. a column of thetas against a row of episodes)."""
+    v = np.asarray(values, dtype=np.float64)
+    current = np.arange(v.shape[-1]) == np.asarray(context)[..., None]
+    bonus = np.asarray(stay, dtype=np.float64)[..., None] * current
+    return special.log_softmax(np.asarray(gain, dtype=np.float64)[..., None] * (v + bonus), axis=-1)
 
 
 @register("choice.softmax")
@@ -82,8 +94,14 @@ class ChoiceLC(LCRole):
         nxt = int(self.rng.choice(len(p), p=p))
         action = ENGAGE if nxt == context else DISENGAGE
         self.probabilities = tuple(p)
+        self._choice = (gain, values, int(context))
         self._rec = (action, nxt, float(p[nxt]), gain)
         return action, nxt, gain
+
+    def log_probability(self, decision: int) -> float:
+        """log P(choose ``decision``) of this pass's draw, :func:`choice_log_probabilities`."""
+        gain, values, context = self._choice
+        return float(choice_log_probabilities(gain, values, context, self.params.stay)[decision])
 
     def record(self):
         return self._rec

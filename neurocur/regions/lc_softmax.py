@@ -17,6 +17,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy import special
 
 from ..config import check_params, param
 from .base import Probe, register
@@ -32,10 +33,13 @@ def logistic(x: float, slope: float = 1.0) -> float:
     return 0.5 * (1.0 + math.tanh(0.5 * slope * x))
 
 
-def p_disengage_array(gain, dq):
-    """:func:`p_disengage` on numpy arrays: sigma(gain * dq), dq = Q_dis - Q_eng, broadcast (e.g. a
-    column of gains against a row of episodes, :mod:`neurocur.fit`)."""
-    return 0.5 * (1.0 + np.tanh(0.5 * np.multiply(gain, dq)))
+def log_p_decision(gain, dq, decision):
+    """log P(``decision`` | Q, gain) = log sigma(+-gain * dq), dq = Q_dis - Q_eng, + for disengage (1)
+    and - for engage (0); numpy arrays broadcast (e.g. a column of gains against a row of episodes,
+    :mod:`neurocur.fit`). Computed by scipy's ``log_expit``, so a decision far out in the tail gets its
+    large negative log-probability, not the -inf of a probability rounded to 0."""
+    sign = np.where(np.asarray(decision) == DISENGAGE, 1.0, -1.0)
+    return special.log_expit(sign * np.multiply(gain, dq))
 
 
 def p_disengage(gain: float, q) -> float:
@@ -55,8 +59,13 @@ class GainLC(LCRole):
         gain = max(0.0, self.modulate(gain))
         p = p_disengage(gain, q)
         self.probabilities = (1.0 - p, p)
+        self._gain_dq = (gain, float(q[DISENGAGE]) - float(q[ENGAGE]))
         action = DISENGAGE if self.rng.random() < p else ENGAGE
         return gain, p, action, next_context(context, action, self.n_contexts, self.rng)
+
+    def log_probability(self, decision: int) -> float:
+        """log P(``decision``) of this pass's draw, :func:`log_p_decision` (no underflow in the tails)."""
+        return float(log_p_decision(*self._gain_dq, decision))
 
 
 @dataclass(frozen=True)

@@ -92,7 +92,7 @@ def test_impossible_decisions_and_unknown_parameters_are_named():
         behaviour = type("B", (), {"name": "s1", "source": "data.csv"})()
 
         def loglik(self, theta, mask=None):
-            return -np.inf
+            return np.full(len(theta), -np.inf) if isinstance(theta, list) else -np.inf
 
         def episode_logp(self, theta):
             return np.array([0.0, -np.inf, 0.0])

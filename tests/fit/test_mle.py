@@ -10,24 +10,33 @@ from neurocur.config import ConfigError
 from neurocur.fit.mle import fit_ml, fit_table
 
 
-class Coin:
+class Stand:
+    """A replay stand-in's interface: the log-likelihood of one theta, or an array of them for a list."""
+
+    def loglik(self, theta, mask=None):
+        if isinstance(theta, list):
+            return np.array([self.loglik(t, mask) for t in theta])
+        return self.at(theta)
+
+
+class Coin(Stand):
     """A replay stand-in: k disengages in n decisions at a constant P(disengage) = p (key "LC.p")."""
 
     def __init__(self, k, n):
         self.k, self.n_obs = k, n
 
-    def loglik(self, theta, mask=None):
+    def at(self, theta):
         p = theta["LC.p"]
         with np.errstate(divide="ignore"):
             return special.xlogy(self.k, p) + special.xlog1py(self.n_obs - self.k, -p)
 
 
-class Gauss:
+class Gauss(Stand):
     """log L = -(a - 1)^2 / 2 s_a^2 - (b + 2)^2 / 2 s_b^2: intervals 1 +- 1.96 s_a, -2 +- 1.96 s_b."""
 
     n_obs = 100
 
-    def loglik(self, theta, mask=None):
+    def at(self, theta):
         return -(theta["a"] - 1) ** 2 / (2 * 0.3**2) - (theta["b"] + 2) ** 2 / (2 * 0.1**2)
 
 
@@ -60,17 +69,39 @@ def test_an_interval_reaching_its_bound_is_censored_there_and_impossible_starts_
         fit_ml(Coin(1, 2), {"LC.p": (0.5, 0.1)})
 
 
-class Plateau:
+class Plateau(Stand):
     """Impossible (-inf) for p > 0.3, a binomial log-likelihood (k = 5 of 50) below: the midpoint start
     lies on the plateau."""
 
     n_obs = 50
 
-    def loglik(self, theta, mask=None):
+    def at(self, theta):
         p = theta["LC.p"]
         return -np.inf if p > 0.3 else float(special.xlogy(5, p) + special.xlog1py(45, -p))
 
 
-def test_a_start_on_an_impossible_plateau_is_drawn_again():
+def test_a_start_is_never_on_an_impossible_plateau():
     fit = fit_ml(Plateau(), {"LC.p": (0.01, 0.99)}, starts=1, ci=None)
     assert abs(fit.estimate["LC.p"] - 0.1) < 1e-4 and np.isfinite(fit.loglik)
+
+
+class TwoPeaks(Stand):
+    """A low broad peak at 0.5 (log L 0), around the bounds' midpoint, and a higher narrow one at -4 (log L 3)."""
+
+    n_obs = 10
+
+    def at(self, theta):
+        x = theta["a"]
+        return float(np.logaddexp(-(x - 0.5) ** 2 / 2, 3 - (x + 4) ** 2 / (2 * 0.2**2)))
+
+
+def test_the_starts_come_from_a_design_so_one_start_finds_the_higher_peak():
+    """From the midpoint alone L-BFGS-B climbs the near, lower peak; the best point of the design is on the far one."""
+    from scipy import optimize
+
+    near = optimize.minimize(lambda x: -TwoPeaks().at({"a": x[0]}), [0.0], method="L-BFGS-B", bounds=[(-5, 5)])
+    assert abs(near.x[0] - 0.5) < 1e-3
+    fit = fit_ml(TwoPeaks(), {"a": (-5.0, 5.0)}, starts=1, ci=None)
+    assert abs(fit.estimate["a"] + 4) < 1e-3 and abs(fit.loglik - 3) < 1e-4
+    again = fit_ml(TwoPeaks(), {"a": (-5.0, 5.0)}, starts=1, ci=None)
+    assert again.estimate == fit.estimate  # seeded design: the same fit

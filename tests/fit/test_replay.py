@@ -79,6 +79,23 @@ def test_cached_decision_part_matches_a_fresh_replay(lc_circuit, make_world):
     assert abs(only_gain.loglik({"LC.gain": 0.0}) - 50 * np.log(0.5)) < 1e-9
 
 
+def test_a_softmax_decision_far_in_the_tail_keeps_its_log_probability(lc_circuit, make_world):
+    """At a gain where sigma rounds to 0 or 1, log P is still log sigma(+-gain dq) (no -inf): the analytic
+    log(1 + exp(-x)) of every episode, from the replayed Q values."""
+    circuit = lc_circuit({"type": "lc.softmax", "params": {"gain": 2.0}})
+    world = make_world()
+    episodes = simulate(circuit, world, 3, 50)
+    replay = Replay(circuit, make_world(), 3, as_behaviour(episodes, world.context_names), fitted=["LC.gain"])
+    gain = 1e4
+    dq = (episodes["q_disengage"] - episodes["q_engage"]).to_numpy()
+    x = np.where(episodes["action"] == "disengage", 1.0, -1.0) * gain * dq
+    assert (np.abs(x) > 80).sum() >= 10  # beyond where sigma rounds to 0 or 1
+    expected = -np.logaddexp(0.0, -x).sum()
+    assert -np.inf < expected < -100  # some decisions went against Q: the old rounding made them -inf
+    assert abs(replay.loglik({"LC.gain": gain}) - expected) < 1e-9 * abs(expected)
+    assert abs(replay.episode_logp({"LC.gain": gain}).sum() - expected) < 1e-9 * abs(expected)
+
+
 def test_a_decision_of_probability_zero_is_minus_infinity_with_its_episode(lc_circuit, make_world):
     circuit = lc_circuit({"type": "lc.epsilon_greedy", "params": {"epsilon0": 0.5, "decay": 0.9}})
     world = make_world()
