@@ -5,6 +5,7 @@
 | behaviour data: a tidy table of episodes, CSV, Parquet or a results folder | ``data`` |
 | replay: log P(observed decisions given theta), cached learning part | ``replay`` |
 | maximum likelihood with several starts, profile-likelihood intervals | ``mle`` |
+| parametric bootstrap: percentile intervals from refits of data sets simulated at the estimate | ``bootstrap`` |
 | random-effects Bayesian model selection (Stephan et al. 2009, Rigoux et al. 2014) | ``bms`` |
 
 A layer above :mod:`neurocur.experiments`: it builds circuits and worlds from experiment files.

@@ -1,8 +1,10 @@
 """The ``neurocur fit`` and ``neurocur recover`` subcommands (parsers and commands; :mod:`neurocur.cli` adds them).
 
-``fit DATA --experiment EXP [--condition C] --fit KEY ... [--bounds KEY=LOW:HIGH ...] [--out DIR]``
-writes ``DIR/fit.csv`` (``dataset, param, estimate, ci_low, ci_high``: each data set, then the
-pooled fit) and ``DIR/summary.json`` (``loglik, n_params, n_obs, aic, bic`` of the per-data-set
+``fit DATA --experiment EXP [--condition C] --fit KEY ... [--bounds KEY=LOW:HIGH ...] [--ci profile|bootstrap]
+[--bootstrap B] [--out DIR]`` writes ``DIR/fit.csv`` (``dataset, param, estimate, ci_low, ci_high``: each
+data set, then the pooled fit; with ``--ci bootstrap`` the data sets' intervals are parametric-bootstrap
+percentile intervals, :mod:`neurocur.fit.bootstrap`, their replicates in ``DIR/bootstrap.csv``, and the
+pooled fit has none) and ``DIR/summary.json`` (``loglik, n_params, n_obs, aic, bic`` of the per-data-set
 fits together, then each fit's). ``recover EXPERIMENT --fit KEY ...`` writes
 ``recovery.csv``, ``recovery_summary.csv`` and ``recovery.png``; with ``--models C1 C2 ...``
 also ``model_recovery.csv``, ``confusion_{aic,bic,heldout}.csv`` and ``confusion.png``.
@@ -56,6 +58,14 @@ def _common(p: argparse.ArgumentParser) -> None:
     p.add_argument("--out", metavar="DIR", help="output folder")
 
 
+def _intervals(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--ci", choices=("profile", "bootstrap"), default="profile",
+                   help="95%% intervals by profile likelihood (default) or parametric bootstrap (percentile "
+                   "intervals of --bootstrap refits of data sets simulated at the estimate)")
+    p.add_argument("--bootstrap", type=int, default=200, metavar="B",
+                   help="bootstrap replicates per data set with --ci bootstrap (default 200; cost: B fits)")
+
+
 def add_parsers(sub) -> None:
     """Add ``fit`` and ``recover`` to the ``neurocur`` command's subparsers."""
     fit = sub.add_parser(
@@ -63,13 +73,15 @@ def add_parsers(sub) -> None:
         description="Replay each data set of DATA (a CSV or Parquet table with columns dataset, episode, context, "
         "decision; or a results folder, whose runs are the data sets) through the experiment condition's circuit "
         "and fit the --fit parameters by maximum likelihood, per data set and pooled, with 95%% profile-likelihood "
-        "intervals. Writes OUT/fit.csv and OUT/summary.json.",
+        "intervals (--ci bootstrap: parametric-bootstrap intervals per data set, none for the pooled fit, the "
+        "replicates in OUT/bootstrap.csv). Writes OUT/fit.csv and OUT/summary.json.",
         epilog="example:\n  neurocur fit results/free_choice --experiment free_choice --condition learning_progress "
         "--fit LC.gain --bounds LC.gain=0:60 --signal HPC=error --out results/fit\n",
         formatter_class=argparse.RawDescriptionHelpFormatter)
     fit.add_argument("data", metavar="DATA", help="a behaviour table (.csv, .parquet) or a results folder")
     fit.add_argument("--experiment", required=True, metavar="EXP", help="experiment TOML file or shipped name")
     _common(fit)
+    _intervals(fit)
     recover = sub.add_parser(
         "recover", help="parameter (and model) recovery of an experiment's circuit (docs/fitting.md)",
         description="Simulate --datasets data sets of --episodes episodes at parameters drawn uniformly within "
@@ -80,6 +92,7 @@ def add_parsers(sub) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter)
     recover.add_argument("experiment", metavar="EXPERIMENT", help="experiment TOML file or shipped name")
     _common(recover)
+    _intervals(recover)
     recover.add_argument("--datasets", type=int, default=20, metavar="N", help="data sets (default 20)")
     recover.add_argument("--episodes", type=int, default=250, metavar="N", help="episodes per data set (default 250)")
     recover.add_argument("--models", nargs="+", metavar="CONDITION",
@@ -107,6 +120,9 @@ def _save(fig, path: Path) -> None:
 
 
 def _cmd_fit(args) -> int:
+    import pandas as pd
+
+    from .bootstrap import parametric_bootstrap
     from .mle import fit_table
     from .study import condition_of, default_bounds, fit_data, load_data, make_replays
 
@@ -114,18 +130,29 @@ def _cmd_fit(args) -> int:
     bounds = default_bounds(condition, args.keys, dict(args.bounds))
     data = load_data(args.data, condition, decision=args.decision, signal=args.signal)
     replays = make_replays(experiment, condition, data, args.keys, decision=args.decision, signal=args.signal)
-    fits = fit_data(replays, bounds, starts=args.starts, seed=args.seed)
+    fits = fit_data(replays, bounds, starts=args.starts, seed=args.seed, ci=0.95 if args.ci == "profile" else None)
     out = _out(args, f"results/fit-{experiment.name}")
+    if args.ci == "bootstrap":  # per data set (fits[i] is data[i]'s); the pooled fit keeps no interval
+        boots = [parametric_bootstrap(condition, fit.estimate, len(behaviour), bounds, replicates=args.bootstrap,
+                                      seed=[args.seed, i], starts=args.starts, decision=args.decision,
+                                      signal=args.signal, dataset=fit.dataset)
+                 for i, (fit, behaviour) in enumerate(zip(fits, data))]
+        for fit, boot in zip(fits, boots):
+            fit.ci = boot.ci
+        _write(out / "bootstrap.csv", pd.concat([b.replicates for b in boots]).to_csv(index=False))
     _write(out / "fit.csv", fit_table(fits).to_csv(index=False))
     each = [f for f in fits if f.dataset != "pooled" or len(fits) == 1]
     loglik, k, n = sum(f.loglik for f in each), sum(f.n_params for f in each), sum(f.n_obs for f in each)
     summary = {"experiment": experiment.name, "condition": condition.name, "fitted": list(args.keys),
-               "bounds": {key: list(v) for key, v in bounds.items()}, "loglik": loglik, "n_params": k, "n_obs": n,
+               "bounds": {key: list(v) for key, v in bounds.items()},
+               "intervals": args.ci if args.ci == "profile" else f"bootstrap ({args.bootstrap} replicates)",
+               "loglik": loglik, "n_params": k, "n_obs": n,
                "aic": 2 * k - 2 * loglik, "bic": k * math.log(n) - 2 * loglik,
                "fits": [f.summary() | {"estimate": f.estimate} for f in fits]}
     _write(out / "summary.json", json.dumps(summary, indent=2, allow_nan=True) + "\n")
     for f in fits:
-        print(f"{f.dataset}: " + ", ".join(f"{key} = {v:.4g} [{f.ci[key][0]:.4g}, {f.ci[key][1]:.4g}]"
+        print(f"{f.dataset}: " + ", ".join(f"{key} = {v:.4g}" + (f" [{f.ci[key][0]:.4g}, {f.ci[key][1]:.4g}]"
+                                                                 if key in f.ci else "")
                                            for key, v in f.estimate.items()) + f"  (log L = {f.loglik:.2f})")
     print(out / "fit.csv")
     return 0
@@ -147,7 +174,7 @@ def _cmd_recover(args) -> int:
     out = _out(args, f"results/recover-{experiment.name}")
     table = parameter_recovery(condition, bounds, n_datasets=args.datasets, n_episodes=args.episodes,
                                seed=args.seed, starts=args.starts, decision=args.decision, signal=args.signal,
-                               progress=_partial(out / "recovery.csv"))
+                               progress=_partial(out / "recovery.csv"), intervals=args.ci, bootstrap=args.bootstrap)
     summary = recovery_summary(table)
     _write(out / "recovery.csv", table.to_csv(index=False))
     _write(out / "recovery_summary.csv", summary.to_csv(index=False))

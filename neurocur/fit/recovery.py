@@ -3,7 +3,7 @@
 - :func:`parameter_recovery`: data sets simulated at known theta (drawn uniformly within the
   bounds from a seeded generator), each fitted by maximum likelihood on its replay; per
   parameter, Pearson r between true and fitted values, the bias (mean fitted - true), the
-  RMSE and the coverage of the profile-likelihood intervals (:func:`recovery_summary`).
+  RMSE and the coverage of the profile-likelihood or parametric-bootstrap intervals (:func:`recovery_summary`).
 - :func:`model_recovery`: data sets simulated from each of M models (experiment conditions),
   every model fitted to every data set; the confusion matrices count, per generating model,
   which model wins by AIC, by BIC and by the held-out log-likelihood (fitted on the first half
@@ -23,44 +23,25 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from scipy import stats
 
-from .data import behaviour_from_episodes
+from ..config import ConfigError
+from .bootstrap import parametric_bootstrap
 from .mle import fit_ml
-from .replay import Replay, signal_circuit
+from .study import replay_of, simulate
 
 __all__ = ["confusion", "confusion_figure", "model_recovery", "parameter_recovery", "recovery_figure",
            "recovery_summary", "simulate"]
 
 
-def simulate(condition, theta: Mapping[str, float], seed, n_episodes: int, *, decision: str = "LC",
-             signal: tuple[str, str] | None = None, name: str = "sim"):
-    """A data set of ``n_episodes`` simulated by the condition's circuit at ``theta``: its Behaviour
-    (the recorded ``signal`` column kept for signal replay) and the episodes table."""
-    circuit = condition.circuit.with_params(dict(theta), source="theta") if theta else condition.circuit
-    world = condition.make_world()
-    sim = circuit.build(world, seed=seed)
-    for _ in range(n_episodes):
-        sim.run(1)
-    episodes = sim.episodes()
-    free = getattr(circuit.specs[decision].cls, "decides", "action") == "next_context"
-    table = pd.DataFrame({"dataset": name, "episode": episodes["episode"], "context": episodes["context"],
-                          "decision": episodes["next_context" if free else "action"]})
-    if signal is not None:
-        table[signal[1]] = episodes[signal[1]]
-    (behaviour,) = behaviour_from_episodes(table, world.context_names, free_choice=free,
-                                           signals=[signal[1]] if signal else [], source=f"<simulated {name}>")
-    return behaviour, episodes
-
-
-def _replay(condition, behaviour, seed, fitted, decision, signal) -> Replay:
-    circuit = condition.circuit if signal is None else signal_circuit(condition.circuit, signal[0], behaviour, signal[1])
-    return Replay(circuit, condition.make_world(), seed, behaviour, decision=decision, fitted=fitted)
-
-
 def parameter_recovery(condition, bounds: Mapping[str, tuple[float, float]], *, n_datasets: int, n_episodes: int,
                        seed: int = 0, starts: int = 3, decision: str = "LC",
-                       signal: tuple[str, str] | None = None, progress=None) -> pd.DataFrame:
+                       signal: tuple[str, str] | None = None, progress=None, intervals: str = "profile",
+                       bootstrap: int = 200) -> pd.DataFrame:
     """Rows ``dataset, param, true, estimate, ci_low, ci_high, loglik``: ``n_datasets`` fits at known theta.
-    ``progress(table so far)`` is called after each data set."""
+    ``progress(table so far)`` is called after each data set. ``intervals``: ``"profile"`` (profile
+    likelihood) or ``"bootstrap"`` (percentile intervals of ``bootstrap`` replicates, :mod:`.bootstrap`;
+    data set i's replicates are seeded by ``(seed, i)``)."""
+    if intervals not in ("profile", "bootstrap"):
+        raise ConfigError("--ci", None, "profile or bootstrap", repr(intervals))
     keys = list(bounds)
     b = np.array([bounds[k] for k in keys], dtype=np.float64)
     root = np.random.SeedSequence(seed)
@@ -69,8 +50,12 @@ def parameter_recovery(condition, bounds: Mapping[str, tuple[float, float]], *, 
     for i, child in enumerate(root.spawn(n_datasets)):
         truth = dict(zip(keys, map(float, draw.uniform(b[:, 0], b[:, 1]))))
         behaviour, _ = simulate(condition, truth, child, n_episodes, decision=decision, signal=signal, name=f"d{i}")
-        fit = fit_ml(_replay(condition, behaviour, child, keys, decision, signal), bounds, starts=starts, seed=i,
-                     dataset=f"d{i}")
+        fit = fit_ml(replay_of(condition, behaviour, child, keys, decision=decision, signal=signal), bounds,
+                     starts=starts, seed=i, dataset=f"d{i}", ci=0.95 if intervals == "profile" else None)
+        if intervals == "bootstrap":
+            fit.ci = parametric_bootstrap(condition, fit.estimate, n_episodes, bounds, replicates=bootstrap,
+                                          seed=[seed, i], starts=starts, decision=decision, signal=signal,
+                                          dataset=f"d{i}").ci
         for k in keys:
             rows.append({"dataset": f"d{i}", "param": k, "true": truth[k], "estimate": fit.estimate[k],
                          "ci_low": fit.ci[k][0], "ci_high": fit.ci[k][1], "loglik": fit.loglik})
@@ -135,7 +120,7 @@ def model_recovery(conditions: Mapping[str, object], bounds: Mapping[str, Mappin
             truth = {k: float(draw.uniform(*lohi)) for k, lohi in bounds[gen].items()}
             behaviour, _ = simulate(condition, truth, child, n_episodes, decision=decision, name=f"{gen}/d{i}")
             for name, candidate in conditions.items():
-                replay = _replay(candidate, behaviour, child, list(bounds[name]), decision, None)
+                replay = replay_of(candidate, behaviour, child, list(bounds[name]), decision=decision)
                 full = fit_ml(replay, bounds[name], starts=starts, seed=i, ci=None)
                 first = fit_ml(replay, bounds[name], starts=starts, seed=i, ci=None, mask=train)
                 heldout = replay.loglik(first.estimate, ~train)

@@ -3,7 +3,9 @@
 The circuit and world are the experiment condition's (:func:`neurocur.experiments.load_experiment`).
 Each data set is replayed with its own seed: a results folder's run with the run's seed (so
 its world's frames are the run's own), the i-th data set of a table with the experiment's
-``run_seed(i)`` (data from agents in the same known world).
+``run_seed(i)`` (data from agents in the same known world). :func:`simulate` makes a data set
+from the condition's circuit at given parameters (recovery, the parametric bootstrap), and
+:func:`replay_of` is the one place a data set's replay is built.
 """
 
 from __future__ import annotations
@@ -12,14 +14,15 @@ import dataclasses
 from collections.abc import Mapping, Sequence
 
 import numpy as np
+import pandas as pd
 
 from ..config import ConfigError
 from ..experiments import load_experiment
-from .data import Behaviour, read_behaviour
+from .data import Behaviour, behaviour_from_episodes, read_behaviour
 from .mle import MLFit, fit_ml
 from .replay import Replay, signal_circuit
 
-__all__ = ["condition_of", "default_bounds", "fit_data", "load_data", "make_replays"]
+__all__ = ["condition_of", "default_bounds", "fit_data", "load_data", "make_replays", "replay_of", "simulate"]
 
 
 def condition_of(experiment, condition: str | None = None):
@@ -45,16 +48,39 @@ def load_data(data, condition, *, decision: str = "LC", signal: tuple[str, str] 
     return read_behaviour(data, world.context_names, free_choice=free, signals=[signal[1]] if signal else [])
 
 
+def simulate(condition, theta: Mapping[str, float], seed, n_episodes: int, *, decision: str = "LC",
+             signal: tuple[str, str] | None = None, name: str = "sim"):
+    """A data set of ``n_episodes`` simulated by the condition's circuit at ``theta``: its Behaviour
+    (the recorded ``signal`` column kept for signal replay) and the episodes table."""
+    circuit = condition.circuit.with_params(dict(theta), source="theta") if theta else condition.circuit
+    world = condition.make_world()
+    sim = circuit.build(world, seed=seed)
+    for _ in range(n_episodes):
+        sim.run(1)
+    episodes = sim.episodes()
+    free = getattr(circuit.specs[decision].cls, "decides", "action") == "next_context"
+    table = pd.DataFrame({"dataset": name, "episode": episodes["episode"], "context": episodes["context"],
+                          "decision": episodes["next_context" if free else "action"]})
+    if signal is not None:
+        table[signal[1]] = episodes[signal[1]]
+    (behaviour,) = behaviour_from_episodes(table, world.context_names, free_choice=free,
+                                           signals=[signal[1]] if signal else [], source=f"<simulated {name}>")
+    return behaviour, episodes
+
+
+def replay_of(condition, behaviour: Behaviour, seed, fitted: Sequence[str], *, decision: str = "LC",
+              signal: tuple[str, str] | None = None) -> Replay:
+    """The data set's cached replay through the condition's circuit with ``seed`` (``signal`` = (region,
+    column): signal replay)."""
+    circuit = condition.circuit if signal is None else signal_circuit(condition.circuit, signal[0], behaviour, signal[1])
+    return Replay(circuit, condition.make_world(), seed, behaviour, decision=decision, fitted=fitted)
+
+
 def make_replays(experiment, condition, datasets: Sequence[Behaviour], fitted: Sequence[str], *,
                  decision: str = "LC", signal: tuple[str, str] | None = None) -> list[Replay]:
-    """One cached replay per data set (``signal`` = (region, column): signal replay)."""
-    out = []
-    for i, behaviour in enumerate(datasets):
-        circuit = condition.circuit if signal is None else signal_circuit(condition.circuit, signal[0], behaviour,
-                                                                          signal[1])
-        seed = behaviour.seed if behaviour.seed is not None else experiment.run_seed(i)
-        out.append(Replay(circuit, condition.make_world(), seed, behaviour, decision=decision, fitted=fitted))
-    return out
+    """One cached replay per data set, each with its own seed (module docstring)."""
+    return [replay_of(condition, behaviour, behaviour.seed if behaviour.seed is not None else experiment.run_seed(i),
+                      fitted, decision=decision, signal=signal) for i, behaviour in enumerate(datasets)]
 
 
 def fit_data(replays: Sequence[Replay], bounds: Mapping[str, tuple[float, float]], *, pooled: bool = True,

@@ -105,3 +105,39 @@ def test_impossible_decisions_and_unknown_parameters_are_named():
     _, condition = condition_of("free_choice", "learning_progress")
     with pytest.raises(ConfigError, match="no parameter 'gian' of region 'LC'"):
         default_bounds(condition, ["LC.gian"], {})
+
+
+def test_fit_and_recover_with_bootstrap_intervals(tmp_path, capsys):
+    """--ci bootstrap: each data set's interval is the percentile interval of its replicates in bootstrap.csv,
+    the pooled fit has none; a bad --bootstrap is one line and exit 2."""
+    import numpy as np
+
+    condition = load_experiment("free_choice").conditions["learning_progress"]
+    tables = []
+    for i in range(2):
+        behaviour, episodes = simulate(condition, {"LC.gain": 20.0}, 200 + i, 60, signal=("HPC", "error"))
+        tables.append(pd.DataFrame({"dataset": f"s{i}", "episode": episodes["episode"], "context": episodes["context"],
+                                    "decision": episodes["next_context"], "error": episodes["error"]}))
+    data = tmp_path / "choices.csv"
+    pd.concat(tables).to_csv(data, index=False)
+    args = ["fit", str(data), "--experiment", "free_choice", "--condition", "learning_progress", "--fit", "LC.gain",
+            "--bounds", "LC.gain=1:60", "--signal", "HPC=error", "--starts", "1", "--ci", "bootstrap"]
+    out = tmp_path / "fit"
+    assert main(args + ["--bootstrap", "6", "--out", str(out)]) == 0
+    fit, boot = pd.read_csv(out / "fit.csv"), pd.read_csv(out / "bootstrap.csv")
+    assert list(boot.columns) == ["dataset", "replicate", "param", "estimate"] and len(boot) == 12
+    assert list(fit["dataset"]) == ["s0", "s1", "pooled"] and fit.iloc[2][["ci_low", "ci_high"]].isna().all()
+    for _, row in fit.iloc[:2].iterrows():
+        values = boot.loc[boot["dataset"] == row["dataset"], "estimate"]
+        np.testing.assert_allclose([row["ci_low"], row["ci_high"]], np.quantile(values, [0.025, 0.975]))
+    assert json.loads((out / "summary.json").read_text())["intervals"] == "bootstrap (6 replicates)"
+    capsys.readouterr()
+    assert main(args + ["--bootstrap", "0", "--out", str(tmp_path / "bad")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "--bootstrap: expected a number of bootstrap replicates of at least 2, got 0" in err
+    rec = tmp_path / "rec"
+    assert main(["recover", "free_choice", "--condition", "learning_progress", "--fit", "LC.gain", "--bounds",
+                 "LC.gain=2:40", "--signal", "HPC=error", "--datasets", "2", "--episodes", "50", "--starts", "1",
+                 "--ci", "bootstrap", "--bootstrap", "4", "--out", str(rec)]) == 0
+    table = pd.read_csv(rec / "recovery.csv")
+    assert (table["ci_low"] < table["ci_high"]).all() and len(table) == 2
