@@ -58,11 +58,22 @@ def _common(p: argparse.ArgumentParser) -> None:
     p.add_argument("--out", metavar="DIR", help="output folder")
 
 
+def _replicates(text: str) -> int:
+    """An argparse type: a number of bootstrap replicates (an integer >= 2), checked before any folder is made."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = None
+    if value is None or value < 2:
+        raise argparse.ArgumentTypeError(f"expected a number of bootstrap replicates of at least 2, got {text!r}")
+    return value
+
+
 def _intervals(p: argparse.ArgumentParser) -> None:
     p.add_argument("--ci", choices=("profile", "bootstrap"), default="profile",
                    help="95%% intervals by profile likelihood (default) or parametric bootstrap (percentile "
                    "intervals of --bootstrap refits of data sets simulated at the estimate)")
-    p.add_argument("--bootstrap", type=int, default=200, metavar="B",
+    p.add_argument("--bootstrap", type=_replicates, default=200, metavar="B",
                    help="bootstrap replicates per data set with --ci bootstrap (default 200; cost: B fits)")
 
 

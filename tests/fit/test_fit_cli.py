@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 
 import pandas as pd
+import pytest
 
 from neurocur.cli import main
 from neurocur.experiments import load_experiment
@@ -82,7 +83,6 @@ def test_impossible_decisions_and_unknown_parameters_are_named():
     """A data set no theta in the bounds can explain (log-likelihood -inf everywhere) is a one-line error
     naming the data set and the episode (from the replay); an unknown parameter names the region's."""
     import numpy as np
-    import pytest
 
     from neurocur.config import ConfigError
     from neurocur.fit.study import condition_of, default_bounds, fit_data
@@ -132,9 +132,12 @@ def test_fit_and_recover_with_bootstrap_intervals(tmp_path, capsys):
         np.testing.assert_allclose([row["ci_low"], row["ci_high"]], np.quantile(values, [0.025, 0.975]))
     assert json.loads((out / "summary.json").read_text())["intervals"] == "bootstrap (6 replicates)"
     capsys.readouterr()
-    assert main(args + ["--bootstrap", "0", "--out", str(tmp_path / "bad")]) == 2
-    err = capsys.readouterr().err.strip()
-    assert "\n" not in err and "--bootstrap: expected a number of bootstrap replicates of at least 2, got 0" in err
+    with pytest.raises(SystemExit) as info:
+        main(args + ["--bootstrap", "0", "--out", str(tmp_path / "bad")])
+    err = capsys.readouterr().err
+    assert info.value.code == 2 and "argument --bootstrap: expected a number of bootstrap replicates of at least 2, " \
+        "got '0'" in err
+    assert not (tmp_path / "bad").exists()  # refused before any folder is made
     rec = tmp_path / "rec"
     assert main(["recover", "free_choice", "--condition", "learning_progress", "--fit", "LC.gain", "--bounds",
                  "LC.gain=2:40", "--signal", "HPC=error", "--datasets", "2", "--episodes", "50", "--starts", "1",
