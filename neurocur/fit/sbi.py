@@ -200,7 +200,8 @@ class SBIStudy:
     the training runs (``out/sbi_training.toml`` into ``out/runs/``) and the held-out runs
     (``out/sbi_test/tNN.toml`` into ``out/sbi_test/tNN/``, one run each with its own seed) are
     experiments computed by ``executor`` (:func:`~neurocur.experiments.executors.executor_for`), so an
-    interrupted study resumes. torch is imported only by :meth:`fit`, after the runs."""
+    interrupted study resumes, run by run (a run is short next to the set: no checkpoints within a
+    run). torch is imported only by :meth:`fit`, after the runs."""
 
     experiment: object
     condition: str
@@ -217,12 +218,13 @@ class SBIStudy:
 
         path = training_experiment(self.experiment.path, self.prior, n_values=n_values(self.prior, simulations, runs),
                                    runs=runs, steps=self.steps, seed=self.seed, out=self.out)
-        run_experiment(load_experiment(path), own_dir(self.out, "runs"), conditions=[self.condition], executor=executor)
+        run_experiment(load_experiment(path), own_dir(self.out, "runs"), conditions=[self.condition], executor=executor,
+                       checkpoint_every=0)
         for i, (seed, theta) in enumerate(held_out_draws(self.prior, tests, self.seed)):
             path = _experiment_file(own_dir(self.out, "sbi_test") / f"t{i:02d}.toml", self.experiment.path, "sbi_test",
                                     {k: [v] for k, v in theta.items()}, runs=1, steps=self.steps, seed=seed)
             run_experiment(load_experiment(path), own_dir(self.out, "sbi_test", f"t{i:02d}"),
-                           conditions=[self.condition], executor=executor)
+                           conditions=[self.condition], executor=executor, checkpoint_every=0)
 
     def fit(self, n_contexts: int, *, epochs: int = 200):
         """The posterior sampler trained on the training runs (:func:`train`)."""
