@@ -7,7 +7,7 @@ fits together, then each fit's). ``recover EXPERIMENT --fit KEY ...`` writes
 ``recovery.csv``, ``recovery_summary.csv`` and ``recovery.png``; with ``--models C1 C2 ...``
 also ``model_recovery.csv``, ``confusion_{aic,bic,heldout}.csv`` and ``confusion.png``.
 ``sbi EXPERIMENT --prior KEY=LOW:HIGH ... --simulations N`` runs the training simulations into
-``DIR/runs/`` and trains NPE; with ``--data`` writes ``DIR/sbi.csv``, with ``--test N``
+``DIR/sbi_training/`` and trains NPE; with ``--data`` writes ``DIR/sbi.csv``, with ``--test N``
 ``sbi_recovery.csv``, ``sbi_recovery_summary.csv`` and ``sbi_recovery.png``.
 
 Files are written whole (a temporary file renamed into place) inside the output folder only;
@@ -92,8 +92,9 @@ def add_parsers(sub) -> None:
     sbi = sub.add_parser(
         "sbi", help="simulation-based inference (neural posterior estimation) of parameters without a likelihood "
         "(docs/fitting.md)",
-        description="Simulate the experiment condition at --simulations prior draws x runs (an experiment run into "
-        "OUT/runs/: it resumes, and runs on Dask with --scheduler), train a neural posterior estimator on the choice "
+        description="Simulate the experiment condition at --simulations / --runs prior draws, --runs runs each (an "
+        "experiment per draw, with a seed of its own, run into OUT/sbi_training/: it resumes, and runs on Dask with "
+        "--scheduler), train a neural posterior estimator on the choice "
         "sequences' summaries, and write the posterior median and 95%% interval of each data set of --data "
         "(OUT/sbi.csv); --test N checks it on N held-out simulations at prior draws, each with its own seed "
         "(OUT/sbi_recovery.csv, sbi_recovery_summary.csv, sbi_recovery.png). Needs the fit extra.",
@@ -105,9 +106,8 @@ def add_parsers(sub) -> None:
     sbi.add_argument("--prior", action="append", required=True, metavar="KEY=LOW:HIGH",
                      help="a parameter to infer and its uniform prior (repeatable), e.g. HPC.threshold=0.1:0.5")
     sbi.add_argument("--simulations", type=int, required=True, metavar="N",
-                     help="training simulations: prior draws (their product over the parameters) x --runs")
-    sbi.add_argument("--runs", type=int, default=5, metavar="R",
-                     help="runs at each prior draw, run i of every draw with the same seed (default 5)")
+                     help="training simulations: prior draws x --runs")
+    sbi.add_argument("--runs", type=int, default=5, metavar="R", help="runs at each prior draw (default 5)")
     sbi.add_argument("--steps", type=int, metavar="N", help="frames per run (default: the experiment's)")
     sbi.add_argument("--jobs", type=int, metavar="N", help="worker processes (default: all cores)")
     sbi.add_argument("--scheduler", metavar="ADDRESS", help="compute the runs on Dask: 'local' or tcp://HOST:PORT")
@@ -221,14 +221,14 @@ def _cmd_sbi(args) -> int:
     data = load_data(args.data, condition) if args.data else []
     out = _out(args, f"results/sbi-{experiment.name}")
     study = SBIStudy(experiment, condition.name, prior, out, args.steps or experiment.steps, args.seed)
-    study.simulate(executor, simulations=args.simulations, runs=args.runs, tests=args.test)
-    sample = study.fit(n_contexts, epochs=args.epochs)
+    training, held_out = study.simulate(executor, simulations=args.simulations, runs=args.runs, tests=args.test)
+    sample = study.fit(training, n_contexts, epochs=args.epochs)
     if data:
         table = study.posterior(sample, data, n_contexts)
         _write(out / "sbi.csv", table.to_csv(index=False))
         print(table.to_string(index=False))
     if args.test:
-        table = study.recovery(sample, n_contexts, args.test)
+        table = study.recovery(sample, held_out, n_contexts)
         _write(out / "sbi_recovery.csv", table.to_csv(index=False))
         _write(out / "sbi_recovery_summary.csv", recovery_summary(table).to_csv(index=False))
         _save(recovery_figure(table), out / "sbi_recovery.png")

@@ -7,11 +7,11 @@ be a whole new simulation for every theta. Neural posterior estimation (Greenber
 & Macke 2019; Tejero-Cantero et al. 2020, the ``sbi`` package) learns p(theta | x) from
 simulations instead, with x a vector of summary statistics of the behaviour (:func:`summaries`).
 
-The training simulations are an experiment: :func:`training_experiment` writes a file that
-extends the experiment and sweeps the parameters over values drawn from the uniform prior, and
-:func:`neurocur.experiments.run_experiment` runs it into a results folder (the local pool or a
-Dask cluster; an interrupted training set resumes). :func:`train` reads the folder, and the
-posterior is sampled at the observed data's summaries. :class:`SBIStudy` is what ``neurocur sbi``
+The training simulations are experiments: :func:`draw_experiments` writes one file per draw
+from the uniform prior, which extends the experiment at that draw with a seed of its own, and
+:func:`neurocur.experiments.run_experiment` runs each into a results folder (the local pool or a
+Dask cluster; an interrupted training set resumes). :func:`train` learns from the folders'
+runs, and the posterior is sampled at the observed data's summaries. :class:`SBIStudy` is what ``neurocur sbi``
 runs: the training runs, held-out runs at prior draws with seeds of their own (a
 simulation-based check: Talts et al. 2018), NPE, and the posterior of each data set.
 Install with ``pip install neurocur[fit]``.
@@ -30,7 +30,7 @@ from ..config import ConfigError, extra
 from ..results.safeio import atomic_text, own_dir
 from .data import Behaviour
 
-__all__ = ["SBIStudy", "held_out_draws", "n_values", "posterior_table", "summaries", "train", "training_experiment",
+__all__ = ["SBIStudy", "draw_experiments", "n_draws", "posterior_table", "prior_draws", "summaries", "train",
            "training_set"]
 
 #: the summary statistics before the per-context ones, in order (:func:`summaries`)
@@ -68,63 +68,65 @@ def summaries(behaviour: Behaviour, n_contexts: int) -> np.ndarray:
                             -(nz * np.log2(nz)).sum()], share, *parts, length / np.maximum(stays, 1)])
 
 
-def _experiment_file(path: Path, experiment_path, name: str, values: Mapping[str, Sequence[float]], *, runs: int,
-                     steps: int, seed: int) -> Path:
-    """Write (whole) an experiment file that extends ``experiment_path`` and sweeps ``values``."""
-    lines = [f"extends = {str(Path(experiment_path).resolve())!r}", f"name = {name!r}", f"runs = {int(runs)}",
-             f"steps = {int(steps)}", f"seed = {int(seed)}", "", "[sweep]"]
-    lines += [f'"{key}" = [{", ".join(repr(float(v)) for v in vs)}]' for key, vs in values.items()]
-    atomic_text(path, "\n".join(lines) + "\n")
-    return path
-
-
 def _check(prior: Mapping[str, tuple[float, float]]) -> None:
     for key, (low, high) in prior.items():
         if not low < high:
             raise ConfigError("prior", key, "LOW < HIGH", f"{low}:{high}")
 
 
-def training_experiment(experiment_path, prior: Mapping[str, tuple[float, float]], *, n_values: int, runs: int,
-                        steps: int, seed: int, out) -> Path:
-    """Write ``OUT/sbi_training.toml``: the experiment (extended), swept over ``n_values`` values of
-    each prior parameter drawn uniformly (seeded), ``runs`` runs per point of ``steps`` frames.
-    With several parameters the points are the product of their values. Every condition of the
-    file is swept; run the one to fit (``run_experiment(..., conditions=[name])``). Run *i* of
-    every point has the same seed (paired), so the runs give the posterior ``runs`` draws of the
-    model's noise at every theta."""
-    _check(prior)
-    rng = np.random.default_rng(seed)
-    values = {key: np.sort(rng.uniform(low, high, n_values)) for key, (low, high) in prior.items()}
-    Path(out).mkdir(parents=True, exist_ok=True)
-    return _experiment_file(own_dir(Path(out)) / "sbi_training.toml", experiment_path, "sbi_training", values,
-                            runs=runs, steps=steps, seed=seed)
-
-
-def held_out_draws(prior: Mapping[str, tuple[float, float]], n: int, seed: int) -> list[tuple[int, dict[str, float]]]:
-    """``n`` held-out simulations: each (its experiment seed, theta drawn uniformly from the prior),
-    from streams of their own (``SeedSequence([seed, 1])``), so none shares a training run's seed."""
+def prior_draws(prior: Mapping[str, tuple[float, float]], n: int, root: np.random.SeedSequence
+                ) -> list[tuple[int, dict[str, float]]]:
+    """``n`` draws from the uniform prior, each with an experiment seed of its own: ``(seed, theta)``.
+    theta and the seeds come from two children of ``root``."""
     _check(prior)
     b = np.array(list(prior.values()), dtype=np.float64)
-    theta = np.random.default_rng(np.random.SeedSequence([seed, 1])).uniform(b[:, 0], b[:, 1], (n, len(prior)))
-    seeds = np.random.SeedSequence([seed, 2]).generate_state(n, np.uint64) >> np.uint64(1)
-    return [(int(s), dict(zip(prior, map(float, t)))) for s, t in zip(seeds, theta)]
+    thetas, seeds = root.spawn(2)
+    theta = np.random.default_rng(thetas).uniform(b[:, 0], b[:, 1], (n, len(prior)))
+    return [(int(s), dict(zip(prior, map(float, t))))
+            for s, t in zip(seeds.generate_state(n, np.uint64) >> np.uint64(1), theta)]
 
 
-def training_set(results, prior: Mapping[str, tuple[float, float]], n_contexts: int) -> tuple[np.ndarray, np.ndarray]:
-    """(theta, x) of every run of a training results folder: the swept values and the summaries."""
+def draw_experiments(experiment_path, prior: Mapping[str, tuple[float, float]], *, n: int, runs: int, steps: int,
+                     seed: int, out, held_out: bool = False) -> list[Path]:
+    """Write (whole) one experiment file per prior draw: ``OUT/sbi_training/dNNN.toml`` (or, ``held_out``,
+    ``OUT/sbi_test/tNN.toml``), each extending the experiment at its draw (a sweep of one point, so
+    theta is a column of the tables), ``runs`` runs of ``steps`` frames, and a seed of its own.
+
+    Every simulation has its own seed: had the draws shared run *i*'s seed (a sweep's pairing),
+    the posterior would learn the few seeds' noise and be overconfident on any other run
+    (docs/hypotheses.md, run 14). Training and held-out draws come from ``SeedSequence([seed, 0])``
+    and ``SeedSequence([seed, 1])``."""
+    folder = Path(out)
+    folder.mkdir(parents=True, exist_ok=True)
+    folder = own_dir(folder, "sbi_test" if held_out else "sbi_training")
+    paths = []
+    for i, (run_seed, theta) in enumerate(prior_draws(prior, n, np.random.SeedSequence([seed, int(held_out)]))):
+        lines = [f"extends = {str(Path(experiment_path).resolve())!r}", f"name = {folder.name!r}", f"runs = {int(runs)}",
+                 f"steps = {int(steps)}", f"seed = {run_seed}", "", "[sweep]"]
+        lines += [f'"{key}" = [{value!r}]' for key, value in theta.items()]
+        path = folder / (f"t{i:02d}.toml" if held_out else f"d{i:03d}.toml")
+        atomic_text(path, "\n".join(lines) + "\n")
+        paths.append(path)
+    return paths
+
+
+def training_set(folders: Sequence, prior: Mapping[str, tuple[float, float]], n_contexts: int
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """(theta, x) of every run of the results folders: the swept values and the summaries."""
     from ..results import ResultsStore
 
-    episodes, _ = ResultsStore(results).load()
     keys = list(prior)
-    missing = [k for k in keys if k not in episodes]
-    if missing:
-        raise ConfigError(results, missing[0], "a swept column of the training runs", "none")
     theta, x = [], []
-    for _, run in episodes.groupby(["condition", "run"], sort=True):
-        b = Behaviour("run", run["context"].to_numpy(), np.zeros(len(run), np.int64), {}, str(results))
-        theta.append(run[keys].iloc[0].to_numpy(dtype=np.float64))
-        x.append(summaries(b, n_contexts))
-    return np.array(theta), np.array(x)
+    for results in folders:
+        episodes, _ = ResultsStore(results).load()
+        missing = [k for k in keys if k not in episodes]
+        if missing:
+            raise ConfigError(results, missing[0], "a swept column of the runs", "none")
+        for _, run in episodes.groupby(["condition", "run"], sort=True):
+            b = Behaviour("run", run["context"].to_numpy(), np.zeros(len(run), np.int64), {}, str(results))
+            theta.append(run[keys].iloc[0].to_numpy(dtype=np.float64))
+            x.append(summaries(b, n_contexts))
+    return np.array(theta).reshape(-1, len(keys)), np.array(x)
 
 
 class _Silent:
@@ -181,27 +183,23 @@ def posterior_table(samples: np.ndarray, prior: Mapping[str, tuple[float, float]
                           "ci_high": float(np.quantile(samples[:, i], 0.975))} for i, k in enumerate(prior)])
 
 
-def n_values(prior: Mapping[str, tuple[float, float]], simulations: int, runs: int) -> int:
-    """The prior draws of each parameter that make ``simulations`` training runs of ``runs`` runs per
-    point (their product over the parameters, times ``runs``); a one-line error when there is none."""
-    k = len(prior)
+def n_draws(simulations: int, runs: int) -> int:
+    """The prior draws that make ``simulations`` training runs of ``runs`` runs each (one line when none)."""
     if runs < 1:
         raise ConfigError("--runs", None, "an integer >= 1", str(runs))
-    n = max(2, round((simulations / runs) ** (1 / k)))
-    if n**k * runs != simulations:
-        raise ConfigError("--simulations", None, f"RUNS x DRAWS^{k} with at least 2 draws (--runs {runs}, "
-                          f"{k} prior parameter(s): e.g. {n**k * runs})", str(simulations))
-    return n
+    if simulations < 2 * runs or simulations % runs:
+        raise ConfigError("--simulations", None, f"a multiple of --runs ({runs}), at least 2 draws", str(simulations))
+    return simulations // runs
 
 
 @dataclass
 class SBIStudy:
     """NPE of ``condition``'s ``prior`` parameters (what ``neurocur sbi`` runs) inside the folder ``out``:
-    the training runs (``out/sbi_training.toml`` into ``out/runs/``) and the held-out runs
-    (``out/sbi_test/tNN.toml`` into ``out/sbi_test/tNN/``, one run each with its own seed) are
-    experiments computed by ``executor`` (:func:`~neurocur.experiments.executors.executor_for`), so an
-    interrupted study resumes, run by run (a run is short next to the set: no checkpoints within a
-    run). torch is imported only by :meth:`fit`, after the runs."""
+    each training draw is an experiment (``out/sbi_training/dNNN.toml`` run into ``dNNN/``), each
+    held-out draw too (``out/sbi_test/tNN.toml`` into ``tNN/``, one run), computed by ``executor``
+    (:func:`~neurocur.experiments.executors.executor_for`), so an interrupted study resumes, run by
+    run (a run is short next to the set: no checkpoints within a run). torch is imported only by
+    :meth:`fit`, after the runs."""
 
     experiment: object
     condition: str
@@ -210,35 +208,35 @@ class SBIStudy:
     steps: int
     seed: int = 0
 
-    def simulate(self, executor, *, simulations: int, runs: int, tests: int = 0) -> None:
-        """Compute (or resume) the training runs and ``tests`` held-out runs."""
-        if tests < 0:
-            raise ConfigError("--test", None, "an integer >= 0", str(tests))
+    def _run(self, paths: Sequence[Path], executor) -> list[Path]:
         from ..experiments import load_experiment, run_experiment
 
-        path = training_experiment(self.experiment.path, self.prior, n_values=n_values(self.prior, simulations, runs),
-                                   runs=runs, steps=self.steps, seed=self.seed, out=self.out)
-        run_experiment(load_experiment(path), own_dir(self.out, "runs"), conditions=[self.condition], executor=executor,
-                       checkpoint_every=0)
-        for i, (seed, theta) in enumerate(held_out_draws(self.prior, tests, self.seed)):
-            path = _experiment_file(own_dir(self.out, "sbi_test") / f"t{i:02d}.toml", self.experiment.path, "sbi_test",
-                                    {k: [v] for k, v in theta.items()}, runs=1, steps=self.steps, seed=seed)
-            run_experiment(load_experiment(path), own_dir(self.out, "sbi_test", f"t{i:02d}"),
-                           conditions=[self.condition], executor=executor, checkpoint_every=0)
+        for path in paths:
+            run_experiment(load_experiment(path), own_dir(path.parent, path.stem), conditions=[self.condition],
+                           executor=executor, checkpoint_every=0)
+        return [path.with_suffix("") for path in paths]
 
-    def fit(self, n_contexts: int, *, epochs: int = 200):
-        """The posterior sampler trained on the training runs (:func:`train`)."""
-        theta, x = training_set(self.out / "runs", self.prior, n_contexts)
+    def simulate(self, executor, *, simulations: int, runs: int, tests: int = 0) -> tuple[list[Path], list[Path]]:
+        """Compute (or resume) the training runs and ``tests`` held-out runs; returns their folders."""
+        if tests < 0:
+            raise ConfigError("--test", None, "an integer >= 0", str(tests))
+        common = {"steps": self.steps, "seed": self.seed, "out": self.out}
+        training = draw_experiments(self.experiment.path, self.prior, n=n_draws(simulations, runs), runs=runs, **common)
+        held_out = draw_experiments(self.experiment.path, self.prior, n=tests, runs=1, held_out=True, **common)
+        return self._run(training, executor), self._run(held_out, executor)
+
+    def fit(self, folders: Sequence[Path], n_contexts: int, *, epochs: int = 200):
+        """The posterior sampler trained on the runs of ``folders`` (:func:`train`)."""
+        theta, x = training_set(folders, self.prior, n_contexts)
         return train(theta, x, self.prior, seed=self.seed, max_epochs=epochs)
 
-    def recovery(self, sample, n_contexts: int, tests: int, n: int = 2000) -> pd.DataFrame:
-        """``dataset, param, true, estimate, ci_low, ci_high`` of the held-out runs (posterior median
-        and central 95 % interval of ``n`` samples at each run's summaries)."""
+    def recovery(self, sample, folders: Sequence[Path], n_contexts: int, n: int = 2000) -> pd.DataFrame:
+        """``dataset, param, true, estimate, ci_low, ci_high`` of the held-out runs in ``folders``
+        (posterior median and central 95 % interval of ``n`` samples at each run's summaries)."""
         tables = []
-        for i in range(tests):
-            theta, x = training_set(self.out / "sbi_test" / f"t{i:02d}", self.prior, n_contexts)
-            table = posterior_table(sample(x[0], n), self.prior, f"t{i:02d}")
-            tables.append(table.assign(true=theta[0]))
+        for folder in folders:
+            theta, x = training_set([folder], self.prior, n_contexts)
+            tables.append(posterior_table(sample(x[0], n), self.prior, folder.name).assign(true=theta[0]))
         columns = ["dataset", "param", "true", "estimate", "ci_low", "ci_high"]
         return pd.concat(tables, ignore_index=True)[columns] if tables else pd.DataFrame(columns=columns)
 

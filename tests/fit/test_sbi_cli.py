@@ -8,8 +8,9 @@ import pytest
 from neurocur.cli import main
 
 
-def test_sbi_writes_its_tables_resumes_and_repeats(tmp_path):
+def test_sbi_writes_its_tables_resumes_and_repeats(tmp_path, monkeypatch):
     pytest.importorskip("sbi")
+    monkeypatch.chdir(tmp_path)  # sbi's default tracker would write its logs here
     out = tmp_path / "sbi"
     argv = ["sbi", "synthetic", "--condition", "curious", "--prior", "HPC.threshold=0.1:0.5", "--simulations", "4",
             "--runs", "2", "--steps", "500", "--test", "3", "--epochs", "3", "--jobs", "1", "--seed", "5",
@@ -17,9 +18,9 @@ def test_sbi_writes_its_tables_resumes_and_repeats(tmp_path):
     assert main(["run", "synthetic", "--condition", "curious", "--runs", "2", "--steps", "500", "--jobs", "1",
                  "--out", str(tmp_path / "data")]) == 0
     assert main(argv) == 0
-    runs = sorted((out / "runs" / "runs").glob("*/run-*"))
+    runs = sorted((out / "sbi_training").glob("d*/runs/*/run-*"))
     tests = sorted((out / "sbi_test").glob("t*/runs/*/run-*"))
-    assert len(runs) == 4 and len(tests) == 3
+    assert len(runs) == 4 and len(tests) == 3 and len({p.parent.name for p in runs}) == 2
     posterior = pd.read_csv(out / "sbi.csv")
     assert list(posterior.columns) == ["dataset", "param", "estimate", "ci_low", "ci_high"]
     assert list(posterior["dataset"]) == ["curious/0", "curious/1"]
@@ -36,7 +37,7 @@ def test_sbi_writes_its_tables_resumes_and_repeats(tmp_path):
     assert {p: p.stat().st_mtime_ns for p in runs + tests} == stamps
     pd.testing.assert_frame_equal(pd.read_csv(out / "sbi_recovery.csv"), recovery)
     pd.testing.assert_frame_equal(pd.read_csv(out / "sbi.csv"), posterior)
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["data", "sbi"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["data", "sbi"]  # nothing outside --out
 
 
 def test_a_bad_prior_exits_2_with_one_line(tmp_path, capsys):
