@@ -222,7 +222,8 @@ class SBIStudy:
             raise ConfigError("--test", None, "an integer >= 0", str(tests))
         common = {"steps": self.steps, "seed": self.seed, "out": self.out}
         training = draw_experiments(self.experiment.path, self.prior, n=n_draws(simulations, runs), runs=runs, **common)
-        held_out = draw_experiments(self.experiment.path, self.prior, n=tests, runs=1, held_out=True, **common)
+        held_out = draw_experiments(self.experiment.path, self.prior, n=tests, runs=1, held_out=True, **common) \
+            if tests else []
         return self._run(training, executor), self._run(held_out, executor)
 
     def fit(self, folders: Sequence[Path], n_contexts: int, *, epochs: int = 200):
