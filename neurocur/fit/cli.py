@@ -1,4 +1,4 @@
-"""The ``neurocur fit`` and ``neurocur recover`` subcommands (parsers and commands; :mod:`neurocur.cli` adds them).
+"""The ``neurocur fit``, ``recover`` and ``sbi`` subcommands (parsers and commands; :mod:`neurocur.cli` adds them).
 
 ``fit DATA --experiment EXP [--condition C] --fit KEY ... [--bounds KEY=LOW:HIGH ...] [--out DIR]``
 writes ``DIR/fit.csv`` (``dataset, param, estimate, ci_low, ci_high``: each data set, then the
@@ -60,7 +60,7 @@ def _common(p: argparse.ArgumentParser) -> None:
 
 
 def add_parsers(sub) -> None:
-    """Add ``fit`` and ``recover`` to the ``neurocur`` command's subparsers."""
+    """Add ``fit``, ``recover`` and ``sbi`` to the ``neurocur`` command's subparsers."""
     fit = sub.add_parser(
         "fit", help="fit a circuit's parameters to behaviour by maximum likelihood (docs/fitting.md)",
         description="Replay each data set of DATA (a CSV or Parquet table with columns dataset, episode, context, "
@@ -87,8 +87,6 @@ def add_parsers(sub) -> None:
     recover.add_argument("--episodes", type=int, default=250, metavar="N", help="episodes per data set (default 250)")
     recover.add_argument("--models", nargs="+", metavar="CONDITION",
                          help="model recovery among these conditions (each fitted on the --fit keys it has)")
-
-
     sbi = sub.add_parser(
         "sbi", help="simulation-based inference (neural posterior estimation) of parameters without a likelihood "
         "(docs/fitting.md)",
