@@ -1,4 +1,4 @@
-"""The ``neurocur fit`` and ``neurocur recover`` subcommands (parsers and commands; :mod:`neurocur.cli` adds them).
+"""The ``neurocur fit``, ``recover`` and ``sbi`` subcommands (parsers and commands; :mod:`neurocur.cli` adds them).
 
 ``fit DATA --experiment EXP [--condition C] --fit KEY ... [--bounds KEY=LOW:HIGH ...] [--ci profile|bootstrap]
 [--bootstrap B] [--out DIR]`` writes ``DIR/fit.csv`` (``dataset, param, estimate, ci_low, ci_high``: each
@@ -8,6 +8,9 @@ pooled fit has none) and ``DIR/summary.json`` (``loglik, n_params, n_obs, aic, b
 fits together, then each fit's). ``recover EXPERIMENT --fit KEY ...`` writes
 ``recovery.csv``, ``recovery_summary.csv`` and ``recovery.png``; with ``--models C1 C2 ...``
 also ``model_recovery.csv``, ``confusion_{aic,bic,heldout}.csv`` and ``confusion.png``.
+``sbi EXPERIMENT --prior KEY=LOW:HIGH ... --simulations N`` runs the training simulations into
+``DIR/sbi_training/`` and trains NPE; with ``--data`` writes ``DIR/sbi.csv``, with ``--test N``
+``sbi_recovery.csv``, ``sbi_recovery_summary.csv`` and ``sbi_recovery.png``.
 
 Files are written whole (a temporary file renamed into place) inside the output folder only;
 an output path that is a symbolic link is refused.
@@ -78,7 +81,7 @@ def _intervals(p: argparse.ArgumentParser) -> None:
 
 
 def add_parsers(sub) -> None:
-    """Add ``fit`` and ``recover`` to the ``neurocur`` command's subparsers."""
+    """Add ``fit``, ``recover`` and ``sbi`` to the ``neurocur`` command's subparsers."""
     fit = sub.add_parser(
         "fit", help="fit a circuit's parameters to behaviour by maximum likelihood (docs/fitting.md)",
         description="Replay each data set of DATA (a CSV or Parquet table with columns dataset, episode, context, "
@@ -108,6 +111,33 @@ def add_parsers(sub) -> None:
     recover.add_argument("--episodes", type=int, default=250, metavar="N", help="episodes per data set (default 250)")
     recover.add_argument("--models", nargs="+", metavar="CONDITION",
                          help="model recovery among these conditions (each fitted on the --fit keys it has)")
+    sbi = sub.add_parser(
+        "sbi", help="simulation-based inference (neural posterior estimation) of parameters without a likelihood "
+        "(docs/fitting.md)",
+        description="Simulate the experiment condition at --simulations / --runs prior draws, --runs runs each (an "
+        "experiment per draw, with a seed of its own, run into OUT/sbi_training/: it resumes, and runs on Dask with "
+        "--scheduler), train a neural posterior estimator on the choice "
+        "sequences' summaries, and write the posterior median and 95%% interval of each data set of --data "
+        "(OUT/sbi.csv); --test N checks it on N held-out simulations at prior draws, each with its own seed "
+        "(OUT/sbi_recovery.csv, sbi_recovery_summary.csv, sbi_recovery.png). Needs the fit extra.",
+        epilog="example:\n  neurocur sbi synthetic --condition curious --prior HPC.threshold=0.1:0.5 "
+        "--simulations 200 --runs 5 --test 20 --out results/sbi\n",
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    sbi.add_argument("experiment", metavar="EXPERIMENT", help="experiment TOML file or shipped name")
+    sbi.add_argument("--condition", metavar="NAME", help="the condition to simulate (default: the first)")
+    sbi.add_argument("--prior", action="append", required=True, metavar="KEY=LOW:HIGH",
+                     help="a parameter to infer and its uniform prior (repeatable), e.g. HPC.threshold=0.1:0.5")
+    sbi.add_argument("--simulations", type=int, required=True, metavar="N",
+                     help="training simulations: prior draws x --runs")
+    sbi.add_argument("--runs", type=int, default=5, metavar="R", help="runs at each prior draw (default 5)")
+    sbi.add_argument("--steps", type=int, metavar="N", help="frames per run (default: the experiment's)")
+    sbi.add_argument("--jobs", type=int, metavar="N", help="worker processes (default: all cores)")
+    sbi.add_argument("--scheduler", metavar="ADDRESS", help="compute the runs on Dask: 'local' or tcp://HOST:PORT")
+    sbi.add_argument("--seed", type=int, default=0, metavar="N", help="seed of the draws, runs and training (default 0)")
+    sbi.add_argument("--data", metavar="DATA", help="a behaviour table (.csv, .parquet) or a results folder")
+    sbi.add_argument("--test", type=int, default=0, metavar="N", help="held-out simulations to check on (default 0)")
+    sbi.add_argument("--epochs", type=int, default=200, metavar="N", help="most training epochs (default 200)")
+    sbi.add_argument("--out", metavar="DIR", help="output folder (default results/sbi-EXPERIMENT)")
 
 
 def _out(args, default: str) -> Path:
@@ -209,6 +239,40 @@ def _cmd_recover(args) -> int:
     return 0
 
 
+def _cmd_sbi(args) -> int:
+    from neurocur.experiments.executors import executor_for
+
+    executor = executor_for(args.scheduler, args.jobs)
+    executor.start()  # the workers' fork server imports the model, never torch
+    from .recovery import recovery_figure, recovery_summary
+    from .sbi import SBIStudy
+    from .study import condition_of, load_data
+
+    try:
+        prior = dict(map(_bounds, args.prior))
+    except argparse.ArgumentTypeError as exc:
+        raise ValueError(f"--prior: {exc}") from None
+    experiment, condition = condition_of(args.experiment, args.condition)
+    n_contexts = len(condition.make_world().context_names)
+    data = load_data(args.data, condition) if args.data else []
+    out = _out(args, f"results/sbi-{experiment.name}")
+    study = SBIStudy(experiment, condition.name, prior, out, args.steps or experiment.steps, args.seed)
+    training, held_out = study.simulate(executor, simulations=args.simulations, runs=args.runs, tests=args.test)
+    sample = study.fit(training, n_contexts, epochs=args.epochs)
+    if data:
+        table = study.posterior(sample, data, n_contexts)
+        _write(out / "sbi.csv", table.to_csv(index=False))
+        print(table.to_string(index=False))
+    if args.test:
+        table = study.recovery(sample, held_out, n_contexts)
+        _write(out / "sbi_recovery.csv", table.to_csv(index=False))
+        _write(out / "sbi_recovery_summary.csv", recovery_summary(table).to_csv(index=False))
+        _save(recovery_figure(table), out / "sbi_recovery.png")
+        print(recovery_summary(table).to_string(index=False))
+    print(out)
+    return 0
+
+
 def _partial(path: Path):
     """A progress callback writing the table so far (``path``, whole) and saying how far it is."""
     def write(table) -> None:
@@ -226,4 +290,4 @@ def _has_param(condition, key: str) -> bool:
 
 
 #: the subcommands, by name
-COMMANDS = {"fit": _cmd_fit, "recover": _cmd_recover}
+COMMANDS = {"fit": _cmd_fit, "recover": _cmd_recover, "sbi": _cmd_sbi}

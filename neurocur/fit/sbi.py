@@ -7,80 +7,126 @@ be a whole new simulation for every theta. Neural posterior estimation (Greenber
 & Macke 2019; Tejero-Cantero et al. 2020, the ``sbi`` package) learns p(theta | x) from
 simulations instead, with x a vector of summary statistics of the behaviour (:func:`summaries`).
 
-The training simulations are an experiment: :func:`training_experiment` writes a file that
-extends the experiment and sweeps the parameters over values drawn from the uniform prior, and
-:func:`neurocur.experiments.run_experiment` runs it into a results folder (the local pool or a
-Dask cluster; an interrupted training set resumes). :func:`train` reads the folder, and the
-posterior is sampled at the observed data's summaries. Install with ``pip install neurocur[fit]``.
+The training simulations are experiments: :func:`draw_experiments` writes one file per draw
+from the uniform prior, which extends the experiment at that draw with a seed of its own, and
+:func:`neurocur.experiments.run_experiment` runs each into a results folder (the local pool or a
+Dask cluster; an interrupted training set resumes). :func:`train` learns from the folders'
+runs, and the posterior is sampled at the observed data's summaries. :class:`SBIStudy` is what ``neurocur sbi``
+runs: the training runs, held-out runs at prior draws with seeds of their own (a
+simulation-based check: Talts et al. 2018), NPE, and the posterior of each data set.
+Install with ``pip install neurocur[fit]``.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
 from ..config import ConfigError, extra
+from ..results.safeio import atomic_text, own_dir
 from .data import Behaviour
 
-__all__ = ["summaries", "train", "training_experiment", "training_set"]
+__all__ = ["SBIStudy", "draw_experiments", "n_draws", "posterior_table", "prior_draws", "summaries", "train",
+           "training_set"]
 
-#: the summary statistics, in order (:func:`summaries`)
+#: the summary statistics before the per-context ones, in order (:func:`summaries`)
 SUMMARY_NAMES = ("switch_rate", "switch_rate_first_half", "switch_rate_second_half", "mean_run_length_log",
                  "entropy_of_contexts")
+#: the parts of a data set whose context shares :func:`summaries` gives (quarters of the episodes)
+PARTS = 4
+
+
+def _mean(a: np.ndarray) -> float:
+    return float(a.mean()) if len(a) else 0.0
+
+
+def _shares(c: np.ndarray, n_contexts: int) -> np.ndarray:
+    return np.bincount(c, minlength=n_contexts) / len(c) if len(c) else np.zeros(n_contexts)
 
 
 def summaries(behaviour: Behaviour, n_contexts: int) -> np.ndarray:
-    """x of a data set: the share of decisions that leave the context (overall, first and second
-    half), the log of the mean number of episodes per stay, the entropy of the share of episodes in
-    each context (bits), then the share of episodes in each context (:data:`SUMMARY_NAMES` + shares)."""
+    """x of a data set, from its sequence of contexts alone: the share of decisions that leave the
+    context (overall, first and second half), the log of the mean number of episodes per stay, the
+    entropy of the share of episodes in each context (bits) (:data:`SUMMARY_NAMES`); then per context
+    its share of the episodes, its share in each of the :data:`PARTS` quarters of the episodes (part
+    by part: when the agent moves on from a context it has learned) and its mean stay length in
+    episodes (0 if never visited): 5 + (2 + PARTS) * n_contexts numbers."""
     c = np.asarray(behaviour.contexts)
     moved = c[1:] != c[:-1]
     half = len(moved) // 2
-    share = np.bincount(c, minlength=n_contexts) / len(c)
+    share = _shares(c, n_contexts)
     nz = share[share > 0]
-    runs = 1 + int(moved.sum())
-    return np.concatenate([[moved.mean(), moved[:half].mean(), moved[half:].mean(), np.log(len(c) / runs),
-                            -(nz * np.log2(nz)).sum()], share])
+    first = np.flatnonzero(np.r_[True, moved])  # the first episode of each stay
+    stays = np.bincount(c[first], minlength=n_contexts)
+    length = np.bincount(c[first], weights=np.diff(np.r_[first, len(c)]), minlength=n_contexts)
+    parts = [_shares(part, n_contexts) for part in np.array_split(c, PARTS)]
+    return np.concatenate([[_mean(moved), _mean(moved[:half]), _mean(moved[half:]), np.log(len(c) / len(first)),
+                            -(nz * np.log2(nz)).sum()], share, *parts, length / np.maximum(stays, 1)])
 
 
-def training_experiment(experiment_path, condition: str, prior: Mapping[str, tuple[float, float]], *,
-                        n_values: int, runs: int, steps: int, seed: int, out) -> Path:
-    """Write ``OUT/sbi_training.toml``: the experiment (extended), only ``condition``, swept over
-    ``n_values`` values of each prior parameter drawn uniformly (seeded), ``runs`` runs per point of
-    ``steps`` frames. With several parameters the points are the product of their values."""
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    rng = np.random.default_rng(seed)
-    lines = [f"extends = {str(Path(experiment_path).resolve())!r}", 'name = "sbi_training"',
-             f"runs = {int(runs)}", f"steps = {int(steps)}", f"seed = {int(seed)}", "", "[sweep]"]
+def _check(prior: Mapping[str, tuple[float, float]]) -> None:
     for key, (low, high) in prior.items():
         if not low < high:
             raise ConfigError("prior", key, "LOW < HIGH", f"{low}:{high}")
-        values = np.sort(rng.uniform(low, high, n_values))
-        lines.append(f'"{key}" = [{", ".join(repr(float(v)) for v in values)}]')
-    path = out / "sbi_training.toml"
-    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
-    return path
 
 
-def training_set(results, prior: Mapping[str, tuple[float, float]], n_contexts: int) -> tuple[np.ndarray, np.ndarray]:
-    """(theta, x) of every run of a training results folder: the swept values and the summaries."""
+def prior_draws(prior: Mapping[str, tuple[float, float]], n: int, root: np.random.SeedSequence
+                ) -> list[tuple[int, dict[str, float]]]:
+    """``n`` draws from the uniform prior, each with an experiment seed of its own: ``(seed, theta)``.
+    theta and the seeds come from two children of ``root``."""
+    _check(prior)
+    b = np.array(list(prior.values()), dtype=np.float64)
+    thetas, seeds = root.spawn(2)
+    theta = np.random.default_rng(thetas).uniform(b[:, 0], b[:, 1], (n, len(prior)))
+    return [(int(s), dict(zip(prior, map(float, t))))
+            for s, t in zip(seeds.generate_state(n, np.uint64) >> np.uint64(1), theta)]
+
+
+def draw_experiments(experiment_path, prior: Mapping[str, tuple[float, float]], *, n: int, runs: int, steps: int,
+                     seed: int, out, held_out: bool = False) -> list[Path]:
+    """Write (whole) one experiment file per prior draw: ``OUT/sbi_training/dNNN.toml`` (or, ``held_out``,
+    ``OUT/sbi_test/tNN.toml``), each extending the experiment at its draw (a sweep of one point, so
+    theta is a column of the tables), ``runs`` runs of ``steps`` frames, and a seed of its own.
+
+    Every simulation has its own seed: had the draws shared run *i*'s seed (a sweep's pairing),
+    the posterior would learn the few seeds' noise and be overconfident on any other run
+    (docs/hypotheses.md, run 14). Training and held-out draws come from ``SeedSequence([seed, 0])``
+    and ``SeedSequence([seed, 1])``."""
+    folder = Path(out)
+    folder.mkdir(parents=True, exist_ok=True)
+    folder = own_dir(folder, "sbi_test" if held_out else "sbi_training")
+    paths = []
+    for i, (run_seed, theta) in enumerate(prior_draws(prior, n, np.random.SeedSequence([seed, int(held_out)]))):
+        lines = [f"extends = {str(Path(experiment_path).resolve())!r}", f"name = {folder.name!r}", f"runs = {int(runs)}",
+                 f"steps = {int(steps)}", f"seed = {run_seed}", "", "[sweep]"]
+        lines += [f'"{key}" = [{value!r}]' for key, value in theta.items()]
+        path = folder / (f"t{i:02d}.toml" if held_out else f"d{i:03d}.toml")
+        atomic_text(path, "\n".join(lines) + "\n")
+        paths.append(path)
+    return paths
+
+
+def training_set(folders: Sequence, prior: Mapping[str, tuple[float, float]], n_contexts: int
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """(theta, x) of every run of the results folders: the swept values and the summaries."""
     from ..results import ResultsStore
 
-    episodes, _ = ResultsStore(results).load()
     keys = list(prior)
-    missing = [k for k in keys if k not in episodes]
-    if missing:
-        raise ConfigError(results, missing[0], "a swept column of the training runs", "none")
     theta, x = [], []
-    for _, run in episodes.groupby(["condition", "run"], sort=True):
-        b = Behaviour("run", run["context"].to_numpy(), np.zeros(len(run), np.int64), {}, str(results))
-        theta.append(run[keys].iloc[0].to_numpy(dtype=np.float64))
-        x.append(summaries(b, n_contexts))
-    return np.array(theta), np.array(x)
+    for results in folders:
+        episodes, _ = ResultsStore(results).load()
+        missing = [k for k in keys if k not in episodes]
+        if missing:
+            raise ConfigError(results, missing[0], "a swept column of the runs", "none")
+        for _, run in episodes.groupby(["condition", "run"], sort=True):
+            b = Behaviour("run", run["context"].to_numpy(), np.zeros(len(run), np.int64), {}, str(results))
+            theta.append(run[keys].iloc[0].to_numpy(dtype=np.float64))
+            x.append(summaries(b, n_contexts))
+    return np.array(theta).reshape(-1, len(keys)), np.array(x)
 
 
 class _Silent:
@@ -135,3 +181,67 @@ def posterior_table(samples: np.ndarray, prior: Mapping[str, tuple[float, float]
     return pd.DataFrame([{"dataset": dataset, "param": k, "estimate": float(np.median(samples[:, i])),
                           "ci_low": float(np.quantile(samples[:, i], 0.025)),
                           "ci_high": float(np.quantile(samples[:, i], 0.975))} for i, k in enumerate(prior)])
+
+
+def n_draws(simulations: int, runs: int) -> int:
+    """The prior draws that make ``simulations`` training runs of ``runs`` runs each (one line when none)."""
+    if runs < 1:
+        raise ConfigError("--runs", None, "an integer >= 1", str(runs))
+    if simulations < 2 * runs or simulations % runs:
+        raise ConfigError("--simulations", None, f"a multiple of --runs ({runs}), at least 2 draws", str(simulations))
+    return simulations // runs
+
+
+@dataclass
+class SBIStudy:
+    """NPE of ``condition``'s ``prior`` parameters (what ``neurocur sbi`` runs) inside the folder ``out``:
+    each training draw is an experiment (``out/sbi_training/dNNN.toml`` run into ``dNNN/``), each
+    held-out draw too (``out/sbi_test/tNN.toml`` into ``tNN/``, one run), computed by ``executor``
+    (:func:`~neurocur.experiments.executors.executor_for`), so an interrupted study resumes, run by
+    run (a run is short next to the set: no checkpoints within a run). torch is imported only by
+    :meth:`fit`, after the runs."""
+
+    experiment: object
+    condition: str
+    prior: dict
+    out: Path
+    steps: int
+    seed: int = 0
+
+    def _run(self, paths: Sequence[Path], executor) -> list[Path]:
+        from ..experiments import load_experiment, run_experiment
+
+        for path in paths:
+            run_experiment(load_experiment(path), own_dir(path.parent, path.stem), conditions=[self.condition],
+                           executor=executor, checkpoint_every=0)
+        return [path.with_suffix("") for path in paths]
+
+    def simulate(self, executor, *, simulations: int, runs: int, tests: int = 0) -> tuple[list[Path], list[Path]]:
+        """Compute (or resume) the training runs and ``tests`` held-out runs; returns their folders."""
+        if tests < 0:
+            raise ConfigError("--test", None, "an integer >= 0", str(tests))
+        common = {"steps": self.steps, "seed": self.seed, "out": self.out}
+        training = draw_experiments(self.experiment.path, self.prior, n=n_draws(simulations, runs), runs=runs, **common)
+        held_out = draw_experiments(self.experiment.path, self.prior, n=tests, runs=1, held_out=True, **common) \
+            if tests else []
+        return self._run(training, executor), self._run(held_out, executor)
+
+    def fit(self, folders: Sequence[Path], n_contexts: int, *, epochs: int = 200):
+        """The posterior sampler trained on the runs of ``folders`` (:func:`train`)."""
+        theta, x = training_set(folders, self.prior, n_contexts)
+        return train(theta, x, self.prior, seed=self.seed, max_epochs=epochs)
+
+    def recovery(self, sample, folders: Sequence[Path], n_contexts: int, n: int = 2000) -> pd.DataFrame:
+        """``dataset, param, true, estimate, ci_low, ci_high`` of the held-out runs in ``folders``
+        (posterior median and central 95 % interval of ``n`` samples at each run's summaries)."""
+        tables = []
+        for folder in folders:
+            theta, x = training_set([folder], self.prior, n_contexts)
+            tables.append(posterior_table(sample(x[0], n), self.prior, folder.name).assign(true=theta[0]))
+        columns = ["dataset", "param", "true", "estimate", "ci_low", "ci_high"]
+        return pd.concat(tables, ignore_index=True)[columns] if tables else pd.DataFrame(columns=columns)
+
+    def posterior(self, sample, datasets: Sequence[Behaviour], n_contexts: int, n: int = 2000) -> pd.DataFrame:
+        """:func:`posterior_table` of every data set."""
+        return pd.concat([posterior_table(sample(summaries(b, n_contexts), n), self.prior, b.name) for b in datasets],
+                         ignore_index=True)
