@@ -134,6 +134,7 @@ def run_experiment(exp: Experiment, out, *, jobs: int | None = None, conditions=
                     if todo:
                         executor.compute(exp, todo, store, bar, ctrl_c, checkpoint_every=checkpoint_every,
                                          save_agent=save_agent)
+                        store.tidy_checkpoints()  # no run in flight any more
                 finally:
                     store.clear_partial()
         finally:

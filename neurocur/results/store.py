@@ -262,14 +262,21 @@ class ResultsStore:
                            "again by another process); remove it")
 
     def _drop_checkpoint(self, condition: str, name: str) -> None:
-        """Remove a written run's checkpoint, and the checkpoint folders left empty."""
-        folder = self.root / CHECKPOINTS / condition / name
-        shutil.rmtree(folder, ignore_errors=True)
-        for empty in (folder.parent, folder.parent.parent):
+        """Remove a written run's checkpoint. Its condition's folder stays: another run of the condition
+        may be in flight and not have saved its first checkpoint into it yet (:meth:`tidy_checkpoints`)."""
+        shutil.rmtree(self.root / CHECKPOINTS / condition / name, ignore_errors=True)
+
+    def tidy_checkpoints(self) -> None:
+        """Remove the checkpoint folders left empty; only while no run is in flight (the runner calls it
+        once its executor has finished every run)."""
+        top = self.root / CHECKPOINTS
+        if top.is_symlink() or not top.is_dir():
+            return
+        for folder in [*(d for d in top.iterdir() if d.is_dir() and not d.is_symlink()), top]:
             try:
-                empty.rmdir()
-            except OSError:  # not empty (another run's checkpoint), or absent
-                break
+                folder.rmdir()
+            except OSError:  # not empty: a run's checkpoint kept for resuming
+                pass
 
     def write_summary(self, summary: Mapping) -> Path:
         """Write ``summary.json`` (aggregate statistics, computed by :mod:`neurocur.analysis`)."""

@@ -64,7 +64,7 @@ def test_a_run_killed_at_90_percent_resumes_from_its_checkpoint_to_identical_tab
                         or resumed[-1])
     compute_and_write(condition, 0, STEPS, seed, str(out), every=10)
     assert resumed == [True]  # continued from the checkpoint, not from the first frame
-    assert not (out / "checkpoints").exists()
+    assert not checkpoints.folder.exists()  # the written run's checkpoint is removed
     for a, b in zip(load(uninterrupted), load(out)):
         pd.testing.assert_frame_equal(a, b, check_exact=True)
     info = [json.loads((d / "runs" / "curious" / "run-000" / "run.json").read_text()) for d in (uninterrupted, out)]
@@ -82,6 +82,28 @@ def test_a_checkpoint_of_another_run_is_never_continued(tmp_path):
     other = agents_module.Checkpoints(checkpoints.folder, 5, {**meta, "steps": 4000})
     sim = condition.circuit.build(condition.make_world(), seed=seed)
     assert other.resume(sim) is False and sim.n_frames == 0 and not checkpoints.folder.exists()
+
+
+def test_a_written_run_leaves_its_condition_folder_to_a_run_that_has_not_saved_yet(tmp_path):
+    """Two runs of one condition in flight: the first is written (its checkpoint removed) before the second
+    saves its first checkpoint, which still finds its folder; the runner removes the empty folders at the end."""
+    exp, out = experiment(steps=3000), tmp_path / "out"
+    run_experiment(exp, out, jobs=1, conditions=["curious"], progress=False, checkpoint_every=5)
+    assert not (out / "checkpoints").exists()  # the runner tidied up
+    condition, store = exp.conditions["curious"], ResultsStore(out)
+    seeds = [exp.run_seed(i) for i in (1, 2)]
+    metas = [{"condition": "curious", "run": i, "steps": 3000, "seed": {"entropy": s.entropy, "spawn_key": [i]}}
+             for i, s in zip((1, 2), seeds)]
+    second = store.checkpoints("curious", 2, 5, metas[1])  # in flight, nothing saved yet
+    compute_and_write(condition, 1, 3000, seeds[0], str(out), every=5)  # the first run is written
+    assert second.folder.parent.is_dir()
+    run_one(condition, 2, 3000, seeds[1], checkpoints=second)  # saves every 5 episodes into its folder
+    assert (second.folder / "state.json").is_file()
+    store.tidy_checkpoints()
+    assert (out / "checkpoints" / "curious").is_dir()  # a kept checkpoint is not removed
+    second.clear()
+    store.tidy_checkpoints()
+    assert not (out / "checkpoints").exists()
 
 
 def test_checkpoints_are_on_by_default_only_for_long_runs():
