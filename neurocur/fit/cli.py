@@ -46,10 +46,11 @@ def _signal(text: str) -> tuple[str, str]:
     return region, column
 
 
-def _common(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--condition", metavar="NAME", help="the experiment's condition whose circuit to fit "
-                   "(default: the first)")
-    p.add_argument("--fit", dest="keys", action="append", required=True, metavar="KEY",
+def _common(p: argparse.ArgumentParser, *, condition: bool = True, keys_required: bool = True) -> None:
+    if condition:
+        p.add_argument("--condition", metavar="NAME", help="the experiment's condition whose circuit to fit "
+                       "(default: the first)")
+    p.add_argument("--fit", dest="keys", action="append", required=keys_required, default=[], metavar="KEY",
                    help="a parameter to fit, REGION.param (repeatable), e.g. LC.gain, PFC.alpha")
     p.add_argument("--bounds", action="append", type=_bounds, default=[], metavar="KEY=LOW:HIGH",
                    help="search range of a fitted parameter (default: its declared range, when finite)")
@@ -81,7 +82,7 @@ def _intervals(p: argparse.ArgumentParser) -> None:
 
 
 def add_parsers(sub) -> None:
-    """Add ``fit``, ``recover`` and ``sbi`` to the ``neurocur`` command's subparsers."""
+    """Add ``fit``, ``recover``, ``compare`` and ``sbi`` to the ``neurocur`` command's subparsers."""
     fit = sub.add_parser(
         "fit", help="fit a circuit's parameters to behaviour by maximum likelihood (docs/fitting.md)",
         description="Replay each data set of DATA (a CSV or Parquet table with columns dataset, episode, context, "
@@ -111,6 +112,24 @@ def add_parsers(sub) -> None:
     recover.add_argument("--episodes", type=int, default=250, metavar="N", help="episodes per data set (default 250)")
     recover.add_argument("--models", nargs="+", metavar="CONDITION",
                          help="model recovery among these conditions (each fitted on the --fit keys it has)")
+    compare = sub.add_parser(
+        "compare", help="compare models on behaviour: AIC, BIC, held-out and cross-validated log-likelihood, "
+        "random-effects BMS (docs/fitting.md)",
+        description="Fit every --models condition to every data set of DATA (each on the --fit keys it has) and "
+        "score it by AIC, BIC, the split-half held-out log-likelihood and leave-one-data-set-out cross-validation; "
+        "random-effects Bayesian model selection on -BIC/2 gives each model's expected frequency and (protected) "
+        "exceedance probability. Writes OUT/compare.csv, OUT/bms.csv and OUT/comparison.png.",
+        epilog="example:\n  neurocur compare choices.csv --experiment free_choice --models learning_progress random "
+        "--fit learning_progress:LC.gain --bounds LC.gain=0:60 --signal HPC=error --out results/compare\n",
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    compare.add_argument("data", metavar="DATA", help="a behaviour table (.csv, .parquet) or a results folder")
+    compare.add_argument("--experiment", required=True, metavar="EXP", help="experiment TOML file or shipped name")
+    compare.add_argument("--models", nargs="+", required=True, metavar="CONDITION",
+                         help="the conditions to compare, each fitted on the --fit keys it has (MODEL:KEY: in that "
+                         "model only)")
+    _common(compare, condition=False, keys_required=False)
+    compare.add_argument("--no-loo", action="store_true",
+                         help="skip the leave-one-data-set-out cross-validation (one pooled fit per data set)")
     sbi = sub.add_parser(
         "sbi", help="simulation-based inference (neural posterior estimation) of parameters without a likelihood "
         "(docs/fitting.md)",
@@ -208,7 +227,7 @@ def _cmd_recover(args) -> int:
         recovery_figure,
         recovery_summary,
     )
-    from .study import condition_of, default_bounds
+    from .study import condition_of, default_bounds, model_bounds
 
     experiment, condition = condition_of(args.experiment, args.condition)
     bounds = default_bounds(condition, args.keys, dict(args.bounds))
@@ -222,12 +241,8 @@ def _cmd_recover(args) -> int:
     _save(recovery_figure(table), out / "recovery.png")
     print(summary.to_string(index=False))
     if args.models:
-        models = {name: condition_of(experiment, name)[1] for name in args.models}
-        model_bounds = {}
-        for name, c in models.items():
-            keys = [key for key in args.keys if _has_param(c, key)]
-            model_bounds[name] = default_bounds(c, keys, dict(args.bounds))
-        mr = model_recovery(models, model_bounds, n_datasets=args.datasets, n_episodes=args.episodes,
+        models, bounds_of = model_bounds(experiment, args.models, args.keys, dict(args.bounds))
+        mr = model_recovery(models, bounds_of, n_datasets=args.datasets, n_episodes=args.episodes,
                             seed=args.seed, decision=args.decision, progress=_partial(out / "model_recovery.csv"))
         _write(out / "model_recovery.csv", mr.to_csv(index=False))
         for by in ("aic", "bic", "heldout"):
@@ -281,13 +296,26 @@ def _partial(path: Path):
     return write
 
 
-def _has_param(condition, key: str) -> bool:
-    """True when the condition's circuit has the parameter ``REGION.param`` and it can vary (a random
-    LC, epsilon fixed at 1, is a model without its decision parameters)."""
-    region, _, name = key.partition(".")
-    spec = condition.circuit.specs.get(region)
-    return spec is not None and hasattr(spec.params, name) and not any(r == region for r, _, _ in condition.circuit.lesions)
+def _cmd_compare(args) -> int:
+    from .compare import bms_table, compare_models, comparison_figure
+    from .study import condition_of, load_data, model_bounds
+
+    experiment, _ = condition_of(args.experiment, None)
+    models, bounds_of = model_bounds(experiment, args.models, args.keys, dict(args.bounds))
+    data = load_data(args.data, next(iter(models.values())), decision=args.decision, signal=args.signal)
+    out = _out(args, f"results/compare-{experiment.name}")
+    table = compare_models(experiment, data, models, bounds_of, decision=args.decision, signal=args.signal,
+                           starts=args.starts, seed=args.seed, loo=not args.no_loo,
+                           progress=_partial(out / "compare.csv"))
+    selection = bms_table(table)
+    _write(out / "compare.csv", table.to_csv(index=False))
+    _write(out / "bms.csv", selection.to_csv(index=False))
+    _save(comparison_figure(table, selection), out / "comparison.png")
+    totals = table.groupby("model", sort=False)[["loglik", "aic", "bic", "heldout", "loo"]].sum(min_count=1)
+    print(totals.join(selection.set_index("model")).round(3).to_string())
+    print(out)
+    return 0
 
 
 #: the subcommands, by name
-COMMANDS = {"fit": _cmd_fit, "recover": _cmd_recover, "sbi": _cmd_sbi}
+COMMANDS = {"fit": _cmd_fit, "recover": _cmd_recover, "compare": _cmd_compare, "sbi": _cmd_sbi}

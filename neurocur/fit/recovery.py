@@ -25,6 +25,7 @@ from scipy import stats
 
 from ..config import ConfigError
 from .bootstrap import parametric_bootstrap
+from .compare import score
 from .mle import fit_ml
 from .study import replay_of, simulate
 
@@ -105,15 +106,13 @@ def recovery_figure(table: pd.DataFrame):
 def model_recovery(conditions: Mapping[str, object], bounds: Mapping[str, Mapping[str, tuple[float, float]]], *,
                    n_datasets: int, n_episodes: int, seed: int = 0, starts: int = 2, decision: str = "LC",
                    progress=None) -> pd.DataFrame:
-    """Rows ``generating, dataset, fitted, loglik, n_params, aic, bic, heldout``: every model (condition,
+    """Rows ``generating, dataset, fitted, loglik, n_params, n_obs, aic, bic, heldout`` (:func:`~neurocur.fit.compare.score`): every model (condition,
     with its ``bounds``, empty for none) fitted to ``n_datasets`` data sets simulated from each model
     (theta drawn uniformly within the generating model's bounds). Data set i of every model has the
     same seed (paired). ``progress(table so far)`` is called after each data set."""
     root = np.random.SeedSequence(seed)
     children = root.spawn(n_datasets)
     draw = np.random.default_rng(root.spawn(1)[0])
-    half = n_episodes // 2
-    train = np.arange(n_episodes) < half
     rows = []
     for i, child in enumerate(children):  # data set by data set, every model's: a partial table stays balanced
         for gen, condition in conditions.items():
@@ -121,11 +120,8 @@ def model_recovery(conditions: Mapping[str, object], bounds: Mapping[str, Mappin
             behaviour, _ = simulate(condition, truth, child, n_episodes, decision=decision, name=f"{gen}/d{i}")
             for name, candidate in conditions.items():
                 replay = replay_of(candidate, behaviour, child, list(bounds[name]), decision=decision)
-                full = fit_ml(replay, bounds[name], starts=starts, seed=i, ci=None)
-                first = fit_ml(replay, bounds[name], starts=starts, seed=i, ci=None, mask=train)
-                heldout = replay.loglik(first.estimate, ~train)
-                rows.append({"generating": gen, "dataset": f"{gen}/d{i}", "fitted": name, "loglik": full.loglik,
-                             "n_params": full.n_params, "aic": full.aic, "bic": full.bic, "heldout": heldout})
+                rows.append({"generating": gen, "dataset": f"{gen}/d{i}", "fitted": name,
+                             **score(replay, bounds[name], starts=starts, seed=i)})
             if progress is not None:
                 progress(pd.DataFrame(rows))
     return pd.DataFrame(rows)

@@ -22,7 +22,7 @@ from .data import Behaviour, behaviour_from_episodes, read_behaviour
 from .mle import MLFit, fit_ml
 from .replay import Replay, signal_circuit
 
-__all__ = ["condition_of", "default_bounds", "fit_data", "load_data", "make_replays", "replay_of", "simulate"]
+__all__ = ["condition_of", "default_bounds", "model_bounds", "fit_data", "load_data", "make_replays", "replay_of", "simulate"]
 
 
 def condition_of(experiment, condition: str | None = None):
@@ -119,3 +119,29 @@ def default_bounds(condition, keys: Sequence[str], given: Mapping[str, tuple[flo
                               "none")
         out[key] = (float(low), float(high))
     return out
+
+
+def model_bounds(experiment, names: Sequence[str], keys: Sequence[str],
+                 given: Mapping[str, tuple[float, float]]) -> tuple[dict, dict]:
+    """The conditions ``names`` of the experiment as models, and each one's bounds (:func:`default_bounds`)
+    on the ``keys`` it has. A key ``MODEL:REGION.param`` is fitted in that model only; a plain key in every
+    model that has the parameter: not one whose region the condition lacks or lesions (a random LC,
+    epsilon fixed at 1, is a model without its decision parameters)."""
+    models = {name: condition_of(experiment, name)[1] for name in names}
+    for key in keys:
+        model = key.rpartition(":")[0]
+        if model and model not in models:
+            raise ConfigError("--fit", key, f"REGION.param or MODEL:REGION.param with MODEL one of {', '.join(names)}",
+                              repr(model))
+    bounds = {}
+    for name, condition in models.items():
+        lesioned = {region for region, _, _ in condition.circuit.lesions}
+        own = []
+        for key in keys:
+            model, _, key = key.rpartition(":")
+            region, _, param = key.partition(".")
+            spec = condition.circuit.specs.get(region)
+            if model in ("", name) and spec is not None and hasattr(spec.params, param) and region not in lesioned:
+                own.append(key)
+        bounds[name] = default_bounds(condition, own, given)
+    return models, bounds

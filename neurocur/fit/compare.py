@@ -1,0 +1,97 @@
+"""Model comparison on data: every model fitted to every data set, scored four ways (Wilson & Collins 2019, rule 7).
+
+Per data set and model (:func:`score`): the maximised log-likelihood, AIC and BIC
+(:class:`~neurocur.fit.mle.MLFit`), and the split-half held-out log-likelihood (fitted on the
+first half of the episodes, scored on the second). Across data sets (:func:`compare_models`,
+``loo``): leave-one-data-set-out cross-validation, the model's pooled fit to every other data
+set scoring the one left out, which asks whether a model's parameters generalise across
+subjects. Random-effects Bayesian model selection (:func:`bms_table`) on the log evidences
+-BIC / 2 (Stephan et al. 2009, Rigoux et al. 2014; :mod:`neurocur.fit.bms`) gives each model's
+expected frequency, exceedance and protected exceedance probability.
+
+The tables are tidy, one row per data set and model (:func:`compare_models`) and one per model
+(:func:`bms_table`); :func:`comparison_figure` draws them.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+import pandas as pd
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+
+from .bms import bms
+from .mle import fit_ml
+from .study import make_replays
+
+__all__ = ["bms_table", "compare_models", "comparison_figure", "score"]
+
+
+def score(replay, bounds: Mapping[str, tuple[float, float]], *, starts: int, seed: int) -> dict:
+    """``loglik, n_params, n_obs, aic, bic, heldout`` of one model on one replayed data set: the fit to
+    every episode, and the fit to the first half of the episodes scoring the second half."""
+    full = fit_ml(replay, bounds, starts=starts, seed=seed, ci=None)
+    train = np.arange(replay.n_obs) < replay.n_obs // 2
+    first = fit_ml(replay, bounds, starts=starts, seed=seed, ci=None, mask=train)
+    return {"loglik": full.loglik, "n_params": full.n_params, "n_obs": full.n_obs, "aic": full.aic,
+            "bic": full.bic, "heldout": replay.loglik(first.estimate, ~train)}
+
+
+def compare_models(experiment, data: Sequence, models: Mapping[str, object],
+                   bounds: Mapping[str, Mapping[str, tuple[float, float]]], *, decision: str = "LC",
+                   signal: tuple[str, str] | None = None, starts: int = 5, seed: int = 0, loo: bool = True,
+                   progress=None) -> pd.DataFrame:
+    """Rows ``dataset, model, loglik, n_params, n_obs, aic, bic, heldout, loo``: every model (an experiment
+    condition, fitted on its ``bounds``, empty for none) on every data set (Behaviour, replayed with its
+    own seed). ``loo``: the data set's log-likelihood under the model's pooled fit to the other data
+    sets (NaN with one data set, or ``loo=False``). ``progress(table so far)`` after each model."""
+    rows = []
+    for name, condition in models.items():
+        replays = make_replays(experiment, condition, data, list(bounds[name]), decision=decision, signal=signal)
+        for k, replay in enumerate(replays):
+            left_out = np.nan
+            if loo and len(replays) > 1:
+                others = [r for j, r in enumerate(replays) if j != k]
+                left_out = replay.loglik(fit_ml(others, bounds[name], starts=starts, seed=seed, ci=None).estimate)
+            rows.append({"dataset": replay.behaviour.name, "model": name,
+                         **score(replay, bounds[name], starts=starts, seed=seed), "loo": left_out})
+        if progress is not None:
+            progress(pd.DataFrame(rows))
+    return pd.DataFrame(rows)
+
+
+def bms_table(table: pd.DataFrame) -> pd.DataFrame:
+    """Per model: ``expected`` frequency, exceedance ``xp``, protected exceedance ``pxp`` and the Bayesian omnibus
+    risk ``bor`` (the same on every row), from random-effects BMS on the log evidences -BIC / 2."""
+    wide = table.pivot(index="dataset", columns="model", values="bic")[list(dict.fromkeys(table["model"]))]
+    result = bms(-wide.to_numpy() / 2.0)
+    return pd.DataFrame({"model": wide.columns, "expected": result.expected, "xp": result.xp, "pxp": result.pxp,
+                         "bor": result.bor})
+
+
+def comparison_figure(table: pd.DataFrame, selection: pd.DataFrame):
+    """Three panels: each model's summed BIC above the best model's, its summed held-out and cross-validated
+    log-likelihoods below the best's, and its protected exceedance probability."""
+    models = list(dict.fromkeys(table["model"]))
+    total = table.groupby("model", sort=False)[["bic", "heldout", "loo"]].sum(min_count=1).reindex(models)
+    fig = Figure(figsize=(11.4, 3.5), layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(1, 3)
+    y = np.arange(len(models))
+    axes[0].barh(y, total["bic"] - total["bic"].min(), color="0.5")
+    axes[0].set(title="summed BIC above the best", xlabel="ΔBIC")
+    width = 0.4
+    for offset, column, label in ((-width / 2, "heldout", "split-half"), (width / 2, "loo", "leave one data set out")):
+        axes[1].barh(y + offset, total[column] - total[column].max(), height=width, label=label)
+    axes[1].set(title="held-out log-likelihood below the best", xlabel="Δ log L")
+    axes[1].legend(fontsize=7)
+    axes[2].barh(y, selection.set_index("model").reindex(models)["pxp"], color="tab:blue")
+    axes[2].set(title=f"random-effects BMS (BOR = {selection['bor'].iloc[0]:.2f})", xlabel="protected exceedance",
+                xlim=(0, 1))
+    for ax in axes:
+        ax.set_yticks(y, models, fontsize=7)
+        ax.invert_yaxis()
+        ax.title.set_fontsize(8)
+    return fig
