@@ -81,30 +81,40 @@ def _intervals(p: argparse.ArgumentParser) -> None:
                    help="bootstrap replicates per data set with --ci bootstrap (default 200; cost: B fits)")
 
 
+def _parser(sub, name: str, help: str, description: str, example: str) -> argparse.ArgumentParser:
+    """A subcommand's parser: its one-line ``help``, its ``description`` and one example after it."""
+    return sub.add_parser(name, help=help, description=description, epilog=f"example:\n  {example}\n",
+                          formatter_class=argparse.RawDescriptionHelpFormatter)
+
+
+def _data(p: argparse.ArgumentParser) -> None:
+    p.add_argument("data", metavar="DATA", help="a behaviour table (.csv, .parquet) or a results folder")
+    p.add_argument("--experiment", required=True, metavar="EXP", help="experiment TOML file or shipped name")
+
+
 def add_parsers(sub) -> None:
     """Add ``fit``, ``recover``, ``compare`` and ``sbi`` to the ``neurocur`` command's subparsers."""
-    fit = sub.add_parser(
-        "fit", help="fit a circuit's parameters to behaviour by maximum likelihood (docs/fitting.md)",
-        description="Replay each data set of DATA (a CSV or Parquet table with columns dataset, episode, context, "
-        "decision; or a results folder, whose runs are the data sets) through the experiment condition's circuit "
-        "and fit the --fit parameters by maximum likelihood, per data set and pooled, with 95%% profile-likelihood "
-        "intervals (--ci bootstrap: parametric-bootstrap intervals per data set, none for the pooled fit, the "
-        "replicates in OUT/bootstrap.csv). Writes OUT/fit.csv and OUT/summary.json.",
-        epilog="example:\n  neurocur fit results/free_choice --experiment free_choice --condition learning_progress "
-        "--fit LC.gain --bounds LC.gain=0:60 --signal HPC=error --out results/fit\n",
-        formatter_class=argparse.RawDescriptionHelpFormatter)
-    fit.add_argument("data", metavar="DATA", help="a behaviour table (.csv, .parquet) or a results folder")
-    fit.add_argument("--experiment", required=True, metavar="EXP", help="experiment TOML file or shipped name")
+    fit = _parser(
+        sub, "fit",
+        "fit a circuit's parameters to behaviour by maximum likelihood (docs/fitting.md)",
+        "Replay each data set of DATA (a CSV or Parquet table with columns dataset, episode, context, "
+        "decision; or a results folder, whose runs are the data sets) through the experiment condition's "
+        "circuit and fit the --fit parameters by maximum likelihood, per data set and pooled, with 95 % "
+        "profile-likelihood intervals (--ci bootstrap: parametric-bootstrap intervals per data set, none for "
+        "the pooled fit, the replicates in OUT/bootstrap.csv). Writes OUT/fit.csv and OUT/summary.json.",
+        "neurocur fit results/free_choice --experiment free_choice --condition learning_progress --fit LC.gain "
+        "--bounds LC.gain=0:60 --signal HPC=error --out results/fit")
+    _data(fit)
     _common(fit)
     _intervals(fit)
-    recover = sub.add_parser(
-        "recover", help="parameter (and model) recovery of an experiment's circuit (docs/fitting.md)",
-        description="Simulate --datasets data sets of --episodes episodes at parameters drawn uniformly within "
-        "the bounds, fit each, and report r, bias and interval coverage per parameter; with --models, also "
-        "fit every model to data sets simulated from each and report the confusion matrices.",
-        epilog="example:\n  neurocur recover free_choice --condition learning_progress --fit LC.gain "
-        "--bounds LC.gain=1:60 --signal HPC=error --datasets 20 --episodes 250\n",
-        formatter_class=argparse.RawDescriptionHelpFormatter)
+    recover = _parser(
+        sub, "recover",
+        "parameter (and model) recovery of an experiment's circuit (docs/fitting.md)",
+        "Simulate --datasets data sets of --episodes episodes at parameters drawn uniformly within the bounds, "
+        "fit each, and report r, bias and interval coverage per parameter; with --models, also fit every model "
+        "to data sets simulated from each and report the confusion matrices.",
+        "neurocur recover free_choice --condition learning_progress --fit LC.gain --bounds LC.gain=1:60 "
+        "--signal HPC=error --datasets 20 --episodes 250")
     recover.add_argument("experiment", metavar="EXPERIMENT", help="experiment TOML file or shipped name")
     _common(recover)
     _intervals(recover)
@@ -112,36 +122,35 @@ def add_parsers(sub) -> None:
     recover.add_argument("--episodes", type=int, default=250, metavar="N", help="episodes per data set (default 250)")
     recover.add_argument("--models", nargs="+", metavar="CONDITION",
                          help="model recovery among these conditions (each fitted on the --fit keys it has)")
-    compare = sub.add_parser(
-        "compare", help="compare models on behaviour: AIC, BIC, held-out and cross-validated log-likelihood, "
-        "random-effects BMS (docs/fitting.md)",
-        description="Fit every --models condition to every data set of DATA (each on the --fit keys it has) and "
-        "score it by AIC, BIC, the split-half held-out log-likelihood and leave-one-data-set-out cross-validation; "
-        "random-effects Bayesian model selection on -BIC/2 gives each model's expected frequency and (protected) "
-        "exceedance probability. Writes OUT/compare.csv, OUT/bms.csv and OUT/comparison.png.",
-        epilog="example:\n  neurocur compare choices.csv --experiment free_choice --models learning_progress random "
-        "--fit learning_progress:LC.gain --bounds LC.gain=0:60 --signal HPC=error --out results/compare\n",
-        formatter_class=argparse.RawDescriptionHelpFormatter)
-    compare.add_argument("data", metavar="DATA", help="a behaviour table (.csv, .parquet) or a results folder")
-    compare.add_argument("--experiment", required=True, metavar="EXP", help="experiment TOML file or shipped name")
+    compare = _parser(
+        sub, "compare",
+        "compare models on behaviour: AIC, BIC, held-out and cross-validated log-likelihood, random-effects "
+        "BMS (docs/fitting.md)",
+        "Fit every --models condition to every data set of DATA (each on the --fit keys it has) and score it "
+        "by AIC, BIC, the split-half held-out log-likelihood and leave-one-data-set-out cross-validation; "
+        "random-effects Bayesian model selection on -BIC/2 gives each model's expected frequency and "
+        "(protected) exceedance probability. Writes OUT/compare.csv, OUT/bms.csv and OUT/comparison.png.",
+        "neurocur compare choices.csv --experiment free_choice --models learning_progress random --fit "
+        "learning_progress:LC.gain --bounds LC.gain=0:60 --signal HPC=error --out results/compare")
+    _data(compare)
     compare.add_argument("--models", nargs="+", required=True, metavar="CONDITION",
                          help="the conditions to compare, each fitted on the --fit keys it has (MODEL:KEY: in that "
                          "model only)")
     _common(compare, condition=False, keys_required=False)
     compare.add_argument("--no-loo", action="store_true",
                          help="skip the leave-one-data-set-out cross-validation (one pooled fit per data set)")
-    sbi = sub.add_parser(
-        "sbi", help="simulation-based inference (neural posterior estimation) of parameters without a likelihood "
+    sbi = _parser(
+        sub, "sbi",
+        "simulation-based inference (neural posterior estimation) of parameters without a likelihood "
         "(docs/fitting.md)",
-        description="Simulate the experiment condition at --simulations / --runs prior draws, --runs runs each (an "
-        "experiment per draw, with a seed of its own, run into OUT/sbi_training/: it resumes, and runs on Dask with "
-        "--scheduler), train a neural posterior estimator on the choice "
-        "sequences' summaries, and write the posterior median and 95%% interval of each data set of --data "
-        "(OUT/sbi.csv); --test N checks it on N held-out simulations at prior draws, each with its own seed "
-        "(OUT/sbi_recovery.csv, sbi_recovery_summary.csv, sbi_recovery.png). Needs the fit extra.",
-        epilog="example:\n  neurocur sbi synthetic --condition curious --prior HPC.threshold=0.1:0.5 "
-        "--simulations 200 --runs 5 --test 20 --out results/sbi\n",
-        formatter_class=argparse.RawDescriptionHelpFormatter)
+        "Simulate the experiment condition at --simulations / --runs prior draws, --runs runs each (an "
+        "experiment per draw, with a seed of its own, run into OUT/sbi_training/: it resumes, and runs on Dask "
+        "with --scheduler), train a neural posterior estimator on the choice sequences' summaries, and write "
+        "the posterior median and 95 % interval of each data set of --data (OUT/sbi.csv); --test N checks it "
+        "on N held-out simulations at prior draws, each with its own seed (OUT/sbi_recovery.csv, "
+        "sbi_recovery_summary.csv, sbi_recovery.png). Needs the fit extra.",
+        "neurocur sbi synthetic --condition curious --prior HPC.threshold=0.1:0.5 --simulations 200 --runs 5 "
+        "--test 20 --out results/sbi")
     sbi.add_argument("experiment", metavar="EXPERIMENT", help="experiment TOML file or shipped name")
     sbi.add_argument("--condition", metavar="NAME", help="the condition to simulate (default: the first)")
     sbi.add_argument("--prior", action="append", required=True, metavar="KEY=LOW:HIGH",
