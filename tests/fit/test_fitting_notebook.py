@@ -16,4 +16,4 @@ def test_fitting_notebook_executes(monkeypatch, execute_notebook):
     own = next(line for line in lines if line.startswith("the agent's own"))
     assert replayed.split()[-1] == own.split()[-1]  # replay = the agent's own log-probabilities
     assert "Bayesian omnibus risk" in text and "coverage" in text
-    assert len([o for o in outputs if "image/png" in o.get("data", {})]) == 2
+    assert len([o for o in outputs if "image/png" in o.get("data", {})]) == 3
