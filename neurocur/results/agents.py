@@ -22,6 +22,7 @@ a run that was never stopped.
 
 from __future__ import annotations
 
+import contextlib
 import shutil
 from collections.abc import Mapping
 from pathlib import Path
@@ -81,6 +82,15 @@ def checkpoint_every(steps: int, every: int | None = None) -> int:
     if every is not None:
         return max(0, int(every))
     return CHECKPOINT_EPISODES if steps >= CHECKPOINT_FROM_STEPS else 0
+
+
+def remove_empty(top: Path) -> None:
+    """Remove the folders in ``top`` that are empty, then ``top`` when it is; links and files are left alone."""
+    if top.is_symlink() or not top.is_dir():
+        return
+    for folder in [*(d for d in top.iterdir() if d.is_dir() and not d.is_symlink()), top]:
+        with contextlib.suppress(OSError):  # not empty: a run's checkpoint kept for resuming
+            folder.rmdir()
 
 
 class Checkpoints:

@@ -55,7 +55,7 @@ import pandas as pd
 
 from neurocur.config import ConfigError
 
-from .agents import AGENT, Checkpoints
+from .agents import AGENT, Checkpoints, remove_empty
 from .configfile import comparable, lookup, read_config
 from .errors import ResultsError
 from .fingerprint import changed_input, code_changed, code_fingerprint, file_hashes, portable
@@ -267,16 +267,9 @@ class ResultsStore:
         shutil.rmtree(self.root / CHECKPOINTS / condition / name, ignore_errors=True)
 
     def tidy_checkpoints(self) -> None:
-        """Remove the checkpoint folders left empty; only while no run is in flight (the runner calls it
-        once its executor has finished every run)."""
-        top = self.root / CHECKPOINTS
-        if top.is_symlink() or not top.is_dir():
-            return
-        for folder in [*(d for d in top.iterdir() if d.is_dir() and not d.is_symlink()), top]:
-            try:
-                folder.rmdir()
-            except OSError:  # not empty: a run's checkpoint kept for resuming
-                pass
+        """Remove the checkpoint folders left empty (:func:`~neurocur.results.agents.remove_empty`); only while no
+        run is in flight (the runner calls it once its executor has finished every run)."""
+        remove_empty(self.root / CHECKPOINTS)
 
     def write_summary(self, summary: Mapping) -> Path:
         """Write ``summary.json`` (aggregate statistics, computed by :mod:`neurocur.analysis`)."""
