@@ -310,8 +310,10 @@ class World(ABC):
 
     @classmethod
     def from_params(cls, params) -> World:
-        """The world of a :attr:`Params` instance."""
-        raise NotImplementedError(f"{cls.__name__} has no parameter class: build it from Python")
+        """The world of a :attr:`Params` instance: ``cls(params=params)`` (a world built otherwise overrides it)."""
+        if cls.Params is None:
+            raise NotImplementedError(f"{cls.__name__} has no parameter class: build it from Python")
+        return cls(params=params)
 
     def as_env(self, *, max_frames: int | None = None, render_mode: str | None = "rgb_array"):
         """This world as a ``gymnasium.Env`` (:class:`neurocur.contexts.env.WorldEnv`): the action is

@@ -65,10 +65,6 @@ class ConditioningWorld(World):
         self.params = p = params if params is not None else ConditioningParams(**kwargs)
         self.n_states = self.max_frames = p.trial_length
 
-    @classmethod
-    def from_params(cls, params: ConditioningParams) -> ConditioningWorld:
-        return cls(params)
-
     def _reset(self) -> None:
         self.trial = 0
 

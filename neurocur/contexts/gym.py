@@ -183,10 +183,6 @@ class GymWorld(World):
         self._steps = [0] * n
         self._ended = [True] * n
 
-    @classmethod
-    def from_params(cls, params: GymParams) -> GymWorld:
-        return cls(params=params)
-
     def close(self) -> None:
         """Close every environment."""
         for env in self.envs:

@@ -137,10 +137,6 @@ class ICubWorld(World):
         self._reset()
 
     @classmethod
-    def from_params(cls, params: ICubParams) -> ICubWorld:
-        return cls(params=params)
-
-    @classmethod
     def prepare(cls, params: ICubParams) -> None:
         """Simulate the episode data set into its cache (constructing the world does that)."""
         cls.from_params(params)

@@ -51,10 +51,6 @@ class RewardBlocksWorld(SyntheticWorld):
 
     Params = RewardBlocksParams
 
-    @classmethod
-    def from_params(cls, params: RewardBlocksParams) -> RewardBlocksWorld:
-        return cls(params=params)
-
     def _reset(self) -> None:
         super()._reset()
         self.visit_count = 0

@@ -234,10 +234,6 @@ class SyntheticWorld(World):
         self._clocks = np.zeros(self.n_contexts, dtype=np.int64)
 
     @classmethod
-    def from_params(cls, params: SyntheticParams) -> SyntheticWorld:
-        return cls(params=params)
-
-    @classmethod
     def from_sources(cls, sources: Mapping[str, np.ndarray], contexts: Sequence[str] | None = None, **kwargs):
         """A world of user driving forces ``{name: (n_steps, n_dims) array}``.
 

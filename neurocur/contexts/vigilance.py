@@ -64,10 +64,6 @@ class VigilanceWorld(World):
         self.n_states = self.max_frames = p.trial_length
         self.rewards = Rewards.of(p.rewards)
 
-    @classmethod
-    def from_params(cls, params: VigilanceParams) -> VigilanceWorld:
-        return cls(params)
-
     def _reset(self) -> None:
         return None
 
