@@ -31,18 +31,6 @@ def tiny():
     return load_experiment(SYNTHETIC, runs=2, steps=1000)
 
 
-@pytest.fixture(scope="module")
-def written(tmp_path_factory):
-    out = tmp_path_factory.mktemp("hostile") / "out"
-    run_experiment(tiny(), out, jobs=2, conditions=["curious"], progress=False)
-    return out
-
-
-@pytest.fixture
-def folder(written, tmp_path):
-    return Path(shutil.copytree(written, tmp_path / "out", symlinks=True))
-
-
 @contextmanager
 def within(seconds):
     """Fail (instead of hanging) when the block takes longer than ``seconds``."""

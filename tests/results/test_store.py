@@ -35,19 +35,6 @@ def tables(out):
     return {p.relative_to(out): pd.read_parquet(p) for p in sorted(Path(out).glob("runs/*/*/*.parquet"))}
 
 
-@pytest.fixture(scope="module")
-def written(tmp_path_factory):
-    out = tmp_path_factory.mktemp("store") / "out"
-    run_experiment(tiny(), out, jobs=2, conditions=["curious"], progress=False)
-    return out
-
-
-@pytest.fixture
-def folder(written, tmp_path):
-    """A copy of the written results folder, to break."""
-    return Path(shutil.copytree(written, tmp_path / "out"))
-
-
 # --- the folder is the truth ------------------------------------------------------------------
 
 def test_a_copied_condition_folder_is_refused_naming_both_paths(folder, capsys):
