@@ -81,13 +81,12 @@ def fit_ml(replays, bounds: Mapping[str, tuple[float, float]], *, starts: int = 
     replays = [replays] if not isinstance(replays, Sequence) else list(replays)
     n_obs = int(sum(r.n_obs for r in replays)) if mask is None else int(np.sum(mask))
 
-    def loglik(x) -> float:
-        theta = dict(zip(keys, map(float, x)))
-        return float(sum(r.loglik(theta, mask) for r in replays))
-
     def loglik_many(points) -> np.ndarray:
         thetas = [dict(zip(keys, map(float, x))) for x in points]
         return np.sum([np.asarray(r.loglik(thetas, mask), dtype=np.float64) for r in replays], axis=0)
+
+    def loglik(x) -> float:
+        return float(loglik_many([x])[0])
 
     if not bounds:
         keys = []

@@ -44,12 +44,6 @@ class LCRole(Region):
     #: likelihood of each decision given the region's state, its inputs and its parameters (a
     #: drug's noise included: under a noise drug it is conditional on the drawn level).
     probabilities: tuple[float, float] = (0.5, 0.5)
-
-    def log_probability(self, decision: int) -> float:
-        """log P(``decision`` | state, theta) of this pass's draw (:attr:`probabilities`): -inf for a
-        decision the draw gave probability 0. The softmax models compute it without underflow."""
-        p = self.probabilities[decision]
-        return math.log(p) if p > 0 else -math.inf
     inputs = (
         Signal("context", "int64", ()),
         Signal("q", "float64", (2,)),
@@ -65,6 +59,12 @@ class LCRole(Region):
         if world.n_contexts < 2:
             raise ValueError(f"{self.name}: engage/disengage needs at least 2 contexts; got {world.n_contexts}")
         self.n_contexts = world.n_contexts
+
+    def log_probability(self, decision: int) -> float:
+        """log P(``decision`` | state, theta) of this pass's draw (:attr:`probabilities`): -inf for a
+        decision the draw gave probability 0. The softmax models compute it without underflow."""
+        p = self.probabilities[decision]
+        return math.log(p) if p > 0 else -math.inf
 
 
 #: The decision's probes, recorded first by every LC model.
