@@ -106,9 +106,10 @@ def recovery_figure(table: pd.DataFrame):
 def model_recovery(conditions: Mapping[str, object], bounds: Mapping[str, Mapping[str, tuple[float, float]]], *,
                    n_datasets: int, n_episodes: int, seed: int = 0, starts: int = 2, decision: str = "LC",
                    progress=None) -> pd.DataFrame:
-    """Rows ``generating, dataset, fitted, loglik, n_params, n_obs, aic, bic, heldout`` (:func:`~neurocur.fit.compare.score`): every model (condition,
-    with its ``bounds``, empty for none) fitted to ``n_datasets`` data sets simulated from each model
-    (theta drawn uniformly within the generating model's bounds). Data set i of every model has the
+    """Rows ``generating, dataset, fitted, loglik, n_params, n_obs, aic, bic, heldout``
+    (:func:`~neurocur.fit.compare.score`): every model (condition, with its ``bounds``, empty for none)
+    fitted to ``n_datasets`` data sets simulated from each model (theta drawn uniformly within the
+    generating model's bounds). Data set i of every model has the
     same seed (paired). ``progress(table so far)`` is called after each data set."""
     root = np.random.SeedSequence(seed)
     children = root.spawn(n_datasets)

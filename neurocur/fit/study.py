@@ -22,7 +22,8 @@ from .data import Behaviour, behaviour_from_episodes, read_behaviour
 from .mle import MLFit, fit_ml
 from .replay import Replay, signal_circuit
 
-__all__ = ["condition_of", "default_bounds", "model_bounds", "fit_data", "load_data", "make_replays", "replay_of", "simulate"]
+__all__ = ["condition_of", "default_bounds", "fit_data", "load_data", "make_replays", "model_bounds", "replay_of",
+           "simulate"]
 
 
 def condition_of(experiment, condition: str | None = None):
