@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 import pytest
-from conftest import CYCLE, make_run
+from fake_runs import CYCLE, make_run
 from matplotlib.collections import PathCollection
 from matplotlib.figure import Figure
 from neuro_tables import episodes_of, results_of

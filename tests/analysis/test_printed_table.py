@@ -4,7 +4,7 @@ printed within 100 columns."""
 from __future__ import annotations
 
 import pytest
-from conftest import CYCLE, make_run
+from fake_runs import CYCLE, make_run
 
 from neurocur.analysis import narrow, order_tables
 
