@@ -1,4 +1,4 @@
-"""The ``neurocur fit``, ``recover`` and ``sbi`` subcommands (parsers and commands; :mod:`neurocur.cli` adds them).
+"""The ``neurocur fit``, ``recover``, ``compare`` and ``sbi`` subcommands (parsers and commands; :mod:`neurocur.cli` adds them).
 
 ``fit DATA --experiment EXP [--condition C] --fit KEY ... [--bounds KEY=LOW:HIGH ...] [--ci profile|bootstrap]
 [--bootstrap B] [--out DIR]`` writes ``DIR/fit.csv`` (``dataset, param, estimate, ci_low, ci_high``: each
@@ -21,8 +21,9 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import os
 from pathlib import Path
+
+from ..results.safeio import atomic_text
 
 __all__ = ["COMMANDS", "add_parsers"]
 
@@ -176,18 +177,6 @@ def _out(args, default: str) -> Path:
     return out
 
 
-def _write(path: Path, text: str) -> None:
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    tmp.write_text(text, encoding="utf-8")
-    os.replace(tmp, path)
-
-
-def _save(fig, path: Path) -> None:
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp.png")
-    fig.savefig(tmp, dpi=120)
-    os.replace(tmp, path)
-
-
 def _cmd_fit(args) -> int:
     import pandas as pd
 
@@ -208,8 +197,8 @@ def _cmd_fit(args) -> int:
                  for i, (fit, behaviour) in enumerate(zip(fits, data))]
         for fit, boot in zip(fits, boots):
             fit.ci = boot.ci
-        _write(out / "bootstrap.csv", pd.concat([b.replicates for b in boots]).to_csv(index=False))
-    _write(out / "fit.csv", fit_table(fits).to_csv(index=False))
+        atomic_text(out / "bootstrap.csv", pd.concat([b.replicates for b in boots]).to_csv(index=False))
+    atomic_text(out / "fit.csv", fit_table(fits).to_csv(index=False))
     each = [f for f in fits if f.dataset != "pooled" or len(fits) == 1]
     loglik, k, n = sum(f.loglik for f in each), sum(f.n_params for f in each), sum(f.n_obs for f in each)
     summary = {"experiment": experiment.name, "condition": condition.name, "fitted": list(args.keys),
@@ -218,7 +207,7 @@ def _cmd_fit(args) -> int:
                "loglik": loglik, "n_params": k, "n_obs": n,
                "aic": 2 * k - 2 * loglik, "bic": k * math.log(n) - 2 * loglik,
                "fits": [f.summary() | {"estimate": f.estimate} for f in fits]}
-    _write(out / "summary.json", json.dumps(summary, indent=2, allow_nan=True) + "\n")
+    atomic_text(out / "summary.json", json.dumps(summary, indent=2, allow_nan=True) + "\n")
     for f in fits:
         print(f"{f.dataset}: " + ", ".join(f"{key} = {v:.4g}" + (f" [{f.ci[key][0]:.4g}, {f.ci[key][1]:.4g}]"
                                                                  if key in f.ci else "")
@@ -228,6 +217,7 @@ def _cmd_fit(args) -> int:
 
 
 def _cmd_recover(args) -> int:
+    from ..analysis.figures.style import save_figure
     from .recovery import (
         confusion,
         confusion_figure,
@@ -245,20 +235,20 @@ def _cmd_recover(args) -> int:
                                seed=args.seed, starts=args.starts, decision=args.decision, signal=args.signal,
                                progress=_partial(out / "recovery.csv"), intervals=args.ci, bootstrap=args.bootstrap)
     summary = recovery_summary(table)
-    _write(out / "recovery.csv", table.to_csv(index=False))
-    _write(out / "recovery_summary.csv", summary.to_csv(index=False))
-    _save(recovery_figure(table), out / "recovery.png")
+    atomic_text(out / "recovery.csv", table.to_csv(index=False))
+    atomic_text(out / "recovery_summary.csv", summary.to_csv(index=False))
+    save_figure(recovery_figure(table), out / "recovery.png")
     print(summary.to_string(index=False))
     if args.models:
         models, bounds_of = model_bounds(experiment, args.models, args.keys, dict(args.bounds))
         mr = model_recovery(models, bounds_of, n_datasets=args.datasets, n_episodes=args.episodes,
                             seed=args.seed, decision=args.decision, progress=_partial(out / "model_recovery.csv"))
-        _write(out / "model_recovery.csv", mr.to_csv(index=False))
+        atomic_text(out / "model_recovery.csv", mr.to_csv(index=False))
         for by in ("aic", "bic", "heldout"):
             m = confusion(mr, by)
-            _write(out / f"confusion_{by}.csv", m.to_csv())
+            atomic_text(out / f"confusion_{by}.csv", m.to_csv())
             print(f"confusion by {by}:\n{m.round(2).to_string()}")
-        _save(confusion_figure(mr), out / "confusion.png")
+        save_figure(confusion_figure(mr), out / "confusion.png")
     print(out)
     return 0
 
@@ -268,6 +258,7 @@ def _cmd_sbi(args) -> int:
 
     executor = executor_for(args.scheduler, args.jobs)
     executor.start()  # the workers' fork server imports the model, never torch
+    from ..analysis.figures.style import save_figure
     from .recovery import recovery_figure, recovery_summary
     from .sbi import SBIStudy
     from .study import condition_of, load_data
@@ -285,13 +276,13 @@ def _cmd_sbi(args) -> int:
     sample = study.fit(training, n_contexts, epochs=args.epochs)
     if data:
         table = study.posterior(sample, data, n_contexts)
-        _write(out / "sbi.csv", table.to_csv(index=False))
+        atomic_text(out / "sbi.csv", table.to_csv(index=False))
         print(table.to_string(index=False))
     if args.test:
         table = study.recovery(sample, held_out, n_contexts)
-        _write(out / "sbi_recovery.csv", table.to_csv(index=False))
-        _write(out / "sbi_recovery_summary.csv", recovery_summary(table).to_csv(index=False))
-        _save(recovery_figure(table), out / "sbi_recovery.png")
+        atomic_text(out / "sbi_recovery.csv", table.to_csv(index=False))
+        atomic_text(out / "sbi_recovery_summary.csv", recovery_summary(table).to_csv(index=False))
+        save_figure(recovery_figure(table), out / "sbi_recovery.png")
         print(recovery_summary(table).to_string(index=False))
     print(out)
     return 0
@@ -300,12 +291,13 @@ def _cmd_sbi(args) -> int:
 def _partial(path: Path):
     """A progress callback writing the table so far (``path``, whole) and saying how far it is."""
     def write(table) -> None:
-        _write(path, table.to_csv(index=False))
+        atomic_text(path, table.to_csv(index=False))
         print(f"{path.name}: {table['dataset'].nunique()} data sets", flush=True)
     return write
 
 
 def _cmd_compare(args) -> int:
+    from ..analysis.figures.style import save_figure
     from .compare import bms_table, compare_models, comparison_figure
     from .study import condition_of, load_data, model_bounds
 
@@ -317,9 +309,9 @@ def _cmd_compare(args) -> int:
                            starts=args.starts, seed=args.seed, loo=not args.no_loo,
                            progress=_partial(out / "compare.csv"))
     selection = bms_table(table)
-    _write(out / "compare.csv", table.to_csv(index=False))
-    _write(out / "bms.csv", selection.to_csv(index=False))
-    _save(comparison_figure(table, selection), out / "comparison.png")
+    atomic_text(out / "compare.csv", table.to_csv(index=False))
+    atomic_text(out / "bms.csv", selection.to_csv(index=False))
+    save_figure(comparison_figure(table, selection), out / "comparison.png")
     totals = table.groupby("model", sort=False)[["loglik", "aic", "bic", "heldout", "loo"]].sum(min_count=1)
     print(totals.join(selection.set_index("model")).round(3).to_string())
     print(out)

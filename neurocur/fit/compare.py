@@ -19,9 +19,8 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 import pandas as pd
-from matplotlib.backends.backend_agg import FigureCanvasAgg
-from matplotlib.figure import Figure
 
+from ..analysis.figures.style import figure
 from .bms import bms
 from .mle import fit_ml
 from .study import make_replays
@@ -76,9 +75,8 @@ def comparison_figure(table: pd.DataFrame, selection: pd.DataFrame):
     log-likelihoods below the best's, and its protected exceedance probability."""
     models = list(dict.fromkeys(table["model"]))
     total = table.groupby("model", sort=False)[["bic", "heldout", "loo"]].sum(min_count=1).reindex(models)
-    fig = Figure(figsize=(11.4, 3.5), layout="constrained")
-    FigureCanvasAgg(fig)
-    axes = fig.subplots(1, 3)
+    fig, axes = figure(1, 3, figsize=(11.4, 3.5))
+    axes = axes[0]
     y = np.arange(len(models))
     axes[0].barh(y, total["bic"] - total["bic"].min(), color="0.5")
     axes[0].set(title="summed BIC above the best", xlabel="ΔBIC")

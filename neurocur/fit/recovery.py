@@ -19,10 +19,9 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 import pandas as pd
-from matplotlib.backends.backend_agg import FigureCanvasAgg
-from matplotlib.figure import Figure
 from scipy import stats
 
+from ..analysis.figures.style import figure
 from ..config import ConfigError
 from .bootstrap import parametric_bootstrap
 from .compare import score
@@ -78,17 +77,10 @@ def recovery_summary(table: pd.DataFrame) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def _figure(ncols: int):
-    """A Figure of ``ncols`` panels on its own Agg canvas (no pyplot state)."""
-    fig = Figure(figsize=(3.8 * ncols, 3.5), layout="constrained")
-    FigureCanvasAgg(fig)
-    return fig, fig.subplots(1, ncols, squeeze=False)
-
-
 def recovery_figure(table: pd.DataFrame):
     """Fitted against true value per parameter, with the intervals and the identity line."""
     params = list(dict.fromkeys(table["param"]))
-    fig, axes = _figure(len(params))
+    fig, axes = figure(1, len(params), figsize=(3.8 * len(params), 3.5))
     summary = recovery_summary(table).set_index("param")
     for ax, param in zip(axes[0], params):
         t = table[table["param"] == param]
@@ -144,7 +136,7 @@ def confusion(table: pd.DataFrame, by: str) -> pd.DataFrame:
 
 def confusion_figure(table: pd.DataFrame, by: Sequence[str] = ("aic", "bic", "heldout")):
     """The confusion matrices side by side (rows: generating model, columns: winning fitted model)."""
-    fig, axes = _figure(len(by))
+    fig, axes = figure(1, len(by), figsize=(3.8 * len(by), 3.5))
     for ax, key in zip(axes[0], by):
         m = confusion(table, key)
         ax.imshow(m.to_numpy(), vmin=0, vmax=1, cmap="Blues")

@@ -14,7 +14,7 @@ import os
 import stat
 from pathlib import Path
 
-__all__ = ["UnsafePath", "atomic_text", "open_new", "own_dir"]
+__all__ = ["UnsafePath", "atomic_bytes", "atomic_text", "open_new", "own_dir"]
 
 
 class UnsafePath(ValueError):
@@ -66,7 +66,13 @@ def open_new(path: Path, *, exclusive: bool = True) -> int:
 
 
 def atomic_text(path: Path, text: str) -> None:
-    """Write ``text`` into ``path`` atomically: a new temporary file beside it, then one rename.
+    """Write ``text`` (UTF-8) into ``path`` atomically (:func:`atomic_bytes`)."""
+    atomic_bytes(path, text.encode("utf-8"))
+
+
+def atomic_bytes(path: Path, data: bytes) -> None:
+    """Write ``data`` into ``path`` atomically: a new temporary file beside it, then one rename (which
+    replaces a link planted at ``path``, never writes through it).
 
     The temporary file is removed when writing fails (a full disk, ``ulimit -f``)."""
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
@@ -76,8 +82,8 @@ def atomic_text(path: Path, text: str) -> None:
         pass
     fd = open_new(tmp)
     try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
         os.replace(tmp, path)
     except BaseException as exc:
         try:

@@ -249,3 +249,21 @@ def test_reward_estimates_are_the_pfc_model_pooled_over_previous_context_and_act
     # C2 is entered by disengaging from C1, then by engaging: the figure pools the two entries
     assert estimates[-1, 1] == reward_update(model[-1][0, DISENGAGE, 1], da[4], 0.3)
     assert model[-1][1, ENGAGE, 1] == reward_update(0.0, da[4], 0.3)
+
+
+def test_a_figure_replaces_a_link_planted_at_its_name_and_never_writes_through_it(tmp_path):
+    """save_figures writes each PNG whole into a temporary file renamed into place: a symbolic link at the
+    figure's name is replaced by the figure, and the file it pointed to is left as it was."""
+    from neurocur.analysis.figures.style import figure, save_figures
+
+    outside = tmp_path / "outside.txt"
+    outside.write_text("keep me")
+    out = tmp_path / "figures"
+    out.mkdir()
+    (out / "order.png").symlink_to(outside)
+    fig, axes = figure()
+    axes[0, 0].plot([0, 1], [1, 0])
+    (path,) = save_figures({"order": fig}, out)
+    assert outside.read_text() == "keep me"
+    assert not path.is_symlink() and path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert sorted(p.name for p in out.iterdir()) == ["order.png"]  # no temporary file left

@@ -8,11 +8,12 @@ Each figure function of :mod:`neurocur.analysis` draws on a :func:`figure` insid
         axes[0, 0].plot(x, y)
 
 A :func:`figure` is a :class:`matplotlib.figure.Figure` on its own Agg canvas: no pyplot
-state, no window, nothing to close. :func:`save_figures` writes a batch of them as PNG.
+state, no window, nothing to close. :func:`save_figure` writes one as PNG, :func:`save_figures` a batch.
 """
 
 from __future__ import annotations
 
+import io
 from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 from pathlib import Path
@@ -22,7 +23,9 @@ import seaborn as sns
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-__all__ = ["style", "figure", "save_figures"]
+from ...results.safeio import atomic_bytes
+
+__all__ = ["style", "figure", "save_figure", "save_figures"]
 
 
 @contextmanager
@@ -43,11 +46,16 @@ def figure(nrows: int = 1, ncols: int = 1, *, figsize=(7.0, 4.0), **kwargs) -> t
     return fig, axes
 
 
+def save_figure(fig: Figure, path: str | Path, dpi: int = 120) -> Path:
+    """Write ``fig`` as a PNG file at ``path``, whole (:func:`~neurocur.results.safeio.atomic_bytes`: a
+    temporary file renamed into place, no link followed)."""
+    png = io.BytesIO()
+    fig.savefig(png, dpi=dpi, format="png")
+    atomic_bytes(Path(path), png.getvalue())
+    return Path(path)
+
+
 def save_figures(figures: Mapping[str, Figure], out: str | Path, dpi: int = 120) -> list[Path]:
-    """Write each ``{name: Figure}`` as ``out/<name>.png`` (``out`` must exist); return the paths in order."""
-    paths = []
-    for name, fig in figures.items():
-        path = Path(out) / f"{name}.png"
-        fig.savefig(path, dpi=dpi)
-        paths.append(path)
-    return paths
+    """Write each ``{name: Figure}`` as ``out/<name>.png`` (``out`` must exist; :func:`save_figure`);
+    return the paths in order."""
+    return [save_figure(fig, Path(out) / f"{name}.png", dpi) for name, fig in figures.items()]
