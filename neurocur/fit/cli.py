@@ -298,7 +298,7 @@ def _partial(path: Path):
 
 def _cmd_compare(args) -> int:
     from ..analysis.figures.style import save_figure
-    from .compare import bms_table, compare_models, comparison_figure
+    from .compare import bms_table, compare_models, comparison_figure, totals
     from .study import condition_of, load_data, model_bounds
 
     experiment, _ = condition_of(args.experiment, None)
@@ -312,8 +312,7 @@ def _cmd_compare(args) -> int:
     atomic_text(out / "compare.csv", table.to_csv(index=False))
     atomic_text(out / "bms.csv", selection.to_csv(index=False))
     save_figure(comparison_figure(table, selection), out / "comparison.png")
-    totals = table.groupby("model", sort=False)[["loglik", "aic", "bic", "heldout", "loo"]].sum(min_count=1)
-    print(totals.join(selection.set_index("model")).round(3).to_string())
+    print(totals(table, selection).round(3).to_string())
     print(out)
     return 0
 

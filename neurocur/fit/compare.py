@@ -25,7 +25,7 @@ from .bms import bms
 from .mle import fit_ml
 from .study import make_replays
 
-__all__ = ["bms_table", "compare_models", "comparison_figure", "score"]
+__all__ = ["bms_table", "compare_models", "comparison_figure", "score", "totals"]
 
 
 def score(replay, bounds: Mapping[str, tuple[float, float]], *, starts: int, seed: int) -> dict:
@@ -70,11 +70,20 @@ def bms_table(table: pd.DataFrame) -> pd.DataFrame:
                          "bor": result.bor})
 
 
+def totals(table: pd.DataFrame, selection: pd.DataFrame) -> pd.DataFrame:
+    """Per model (in the table's order): its ``loglik, aic, bic, heldout, loo`` summed over the data sets
+    (NaN when a score is missing everywhere) and its BMS columns (:func:`bms_table`): what the figure draws
+    and ``neurocur compare`` prints."""
+    models = list(dict.fromkeys(table["model"]))
+    summed = table.groupby("model", sort=False)[["loglik", "aic", "bic", "heldout", "loo"]].sum(min_count=1)
+    return summed.reindex(models).join(selection.set_index("model"))
+
+
 def comparison_figure(table: pd.DataFrame, selection: pd.DataFrame):
     """Three panels: each model's summed BIC above the best model's, its summed held-out and cross-validated
     log-likelihoods below the best's, and its protected exceedance probability."""
-    models = list(dict.fromkeys(table["model"]))
-    total = table.groupby("model", sort=False)[["bic", "heldout", "loo"]].sum(min_count=1).reindex(models)
+    total = totals(table, selection)
+    models = list(total.index)
     fig, axes = figure(1, 3, figsize=(11.4, 3.5))
     axes = axes[0]
     y = np.arange(len(models))
@@ -85,8 +94,8 @@ def comparison_figure(table: pd.DataFrame, selection: pd.DataFrame):
         axes[1].barh(y + offset, total[column] - total[column].max(), height=width, label=label)
     axes[1].set(title="held-out log-likelihood below the best", xlabel="Δ log L")
     axes[1].legend(fontsize=7)
-    axes[2].barh(y, selection.set_index("model").reindex(models)["pxp"], color="tab:blue")
-    axes[2].set(title=f"random-effects BMS (BOR = {selection['bor'].iloc[0]:.2f})", xlabel="protected exceedance",
+    axes[2].barh(y, total["pxp"], color="tab:blue")
+    axes[2].set(title=f"random-effects BMS (BOR = {total['bor'].iloc[0]:.2f})", xlabel="protected exceedance",
                 xlim=(0, 1))
     for ax in axes:
         ax.set_yticks(y, models, fontsize=7)

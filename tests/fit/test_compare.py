@@ -9,7 +9,7 @@ import pytest
 from neurocur.cli import main
 from neurocur.config import ConfigError
 from neurocur.experiments import load_experiment
-from neurocur.fit.compare import bms_table, compare_models
+from neurocur.fit.compare import bms_table, compare_models, totals
 from neurocur.fit.mle import fit_ml
 from neurocur.fit.study import make_replays, model_bounds, simulate
 
@@ -53,6 +53,11 @@ def test_every_model_on_every_data_set_against_closed_forms_and_a_refit(choices)
     assert list(selection["model"]) == ["learning_progress", "random"]
     np.testing.assert_allclose([selection["xp"].sum(), selection["pxp"].sum(), selection["expected"].sum()], 1.0)
     assert selection.loc[0, "expected"] > 0.7 and selection.loc[0, "pxp"] > selection.loc[1, "pxp"]
+    summed = totals(table, selection)  # what the figure draws and the command prints
+    assert list(summed.index) == ["learning_progress", "random"]
+    np.testing.assert_allclose(summed.loc["random", ["loglik", "heldout", "loo"]],
+                               [3 * N * np.log(0.25), 3 * (N - N // 2) * np.log(0.25), 3 * N * np.log(0.25)])
+    np.testing.assert_allclose(summed["pxp"], selection["pxp"])
 
 
 def test_a_model_prefix_must_name_a_compared_model(choices):
