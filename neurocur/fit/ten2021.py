@@ -235,3 +235,82 @@ def free_play(table: pd.DataFrame, n_trials: int = FREE_TRIALS) -> pd.DataFrame:
         raise ValueError(f"free_play expected {n_trials} free-play trials per subject, got {int(short.iloc[0])} "
                          f"for subject {short.index[0]}")
     return free[free["free_trial"] <= n_trials].reset_index(drop=True)
+
+
+def _study(table: pd.DataFrame, n_bins: int, n_permutations: int, seed: int) -> dict:
+    """The tables and figures of docs/hypotheses.md, entry 16, from a trial table of both groups."""
+    from ..analysis.figures.choice_shares import fig_choice_shares, fig_peak_bins
+    from ..analysis.stats.choice_shares import (
+        ordered_peaks,
+        peak_bins,
+        permutation_tests,
+        share_array,
+        share_change,
+        share_summary,
+    )
+
+    order, falling = [0, 1, 2], ACTIVITIES.index("R")
+    free = free_play(table)
+    shares, summaries, peaks, per_subject = {}, {}, {}, []
+    for group in GROUPS:
+        shares[group], subjects = share_array(free[free["group"] == group], ACTIVITIES, n_bins=n_bins)
+        summaries[group] = share_summary(shares[group], ACTIVITIES).assign(group=group)
+        peaks[group] = peak_bins(shares[group])
+        per_subject.append(pd.DataFrame({"subject": subjects, "group": group,
+                                         **{f"peak_{a}": peaks[group][:, k] for k, a in enumerate(ACTIVITIES)},
+                                         "ordered": ordered_peaks(peaks[group], order),
+                                         "change_R": share_change(shares[group], falling)}))
+    trials_per_bin = FREE_TRIALS // n_bins if FREE_TRIALS % n_bins == 0 else None
+    return {"shares": pd.concat(summaries.values(), ignore_index=True),
+            "peaks": pd.concat(per_subject, ignore_index=True),
+            "tests": permutation_tests(shares, order, falling, n_permutations=n_permutations, seed=seed),
+            "figures": {"shares": fig_choice_shares(summaries, ACTIVITIES, trials_per_bin=trials_per_bin),
+                        "peaks": fig_peak_bins(peaks, ACTIVITIES)}}
+
+
+def main(argv=None) -> int:
+    """``python -m neurocur.fit.ten2021 FREE STRAT --out DIR``: the descriptive study of
+    docs/hypotheses.md, entry 16, written into DIR (``participants.csv``, ``shares.csv``,
+    ``peaks.csv``, ``tests.csv``, ``shares.png``, ``peaks.png``)."""
+    import argparse
+    import sys
+
+    from ..analysis.figures.style import save_figures
+    from ..analysis.stats.choice_shares import N_PERMUTATIONS
+    from ..results.safeio import atomic_text
+
+    parser = argparse.ArgumentParser(prog="python -m neurocur.fit.ten2021", description=__doc__.splitlines()[0])
+    parser.add_argument("free", help="the free-instructions group's file (main_free.csv)")
+    parser.add_argument("strat", help="the test-instructions group's file (main_strat.csv)")
+    parser.add_argument("--out", required=True, metavar="DIR", help="output folder")
+    parser.add_argument("--keep-all", action="store_true", help="keep every participant (no exclusion)")
+    parser.add_argument("--bins", type=int, default=10, help="bins of the 250 free-play trials (default 10)")
+    parser.add_argument("--permutations", type=int, default=N_PERMUTATIONS, help="shuffles of each test")
+    parser.add_argument("--seed", type=int, default=2021, help="seed of the shuffles (default 2021)")
+    args = parser.parse_args(argv)
+    if not 1 <= args.bins <= FREE_TRIALS or args.permutations < 1:
+        parser.error("--bins expected 1 to 250 and --permutations at least 1")
+    out = Path(args.out)
+    if out.is_symlink():
+        parser.error(f"--out: expected a folder, not a symbolic link, got {str(out)!r}")
+    try:
+        table, report = read_ten2021_groups(args.free, args.strat, exclude=not args.keep_all)
+    except ConfigError as err:
+        print(f"error: {err}", file=sys.stderr)
+        return 2
+    found = _study(table, args.bins, args.permutations, args.seed)
+    out.mkdir(parents=True, exist_ok=True)
+    for name, frame in (("participants", report), ("shares", found["shares"]), ("peaks", found["peaks"]),
+                        ("tests", found["tests"])):
+        atomic_text(out / f"{name}.csv", frame.to_csv(index=False))
+    save_figures(found["figures"], out)
+    kept = report[~report["excluded"]] if not args.keep_all else report
+    counts = ", ".join(f"{g} {int((report['group'] == g).sum())} -> {int((kept['group'] == g).sum())}" for g in GROUPS)
+    print(f"participants (posted -> analysed): {counts}")
+    print(found["tests"].to_string(index=False, float_format=lambda v: f"{v:.4g}"))
+    print(f"written to {out}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

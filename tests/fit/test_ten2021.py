@@ -144,3 +144,47 @@ def test_free_play_keeps_the_first_free_trials(tmp_path):
     assert list(free.loc[free["subject"] == "free-0", "trial"]) == [3, 4, 5, 6]
     with pytest.raises(ValueError, match="free-1"):
         free_play(read_ten2021(path), n_trials=5)
+
+
+def curriculum(sid, free_families):
+    """15 forced trials per family, then one free choice per entry of ``free_families``."""
+    forced = [(0, family, 1, 1) for family in (1, 2, 3, 4) for _ in range(15)]
+    return rows(sid, forced + [(1, family, 1, 1) for family in free_families])
+
+
+def test_the_study_command_on_hand_made_files(tmp_path, capsys):
+    from neurocur.fit.ten2021 import main
+
+    # GreenMonster = 1D, Squid = I1D, Bear = 2D, Bunny = R (MAPPING): 1D, then I1D, then 2D, R at the start
+    ordered = [2] * 25 + [3] * 75 + [4] * 75 + [1] * 75
+    reverse = [1] * 100 + [4] * 75 + [3] * 50 + [2] * 25
+    free = write(tmp_path / "main_free.csv", curriculum(0, ordered) + curriculum(1, ordered))
+    strat = write(tmp_path / "main_strat.csv", curriculum(0, reverse) + curriculum(1, reverse))
+    out = tmp_path / "out"
+    assert main([str(free), str(strat), "--out", str(out), "--permutations", "200", "--keep-all"]) == 0
+    assert sorted(p.name for p in out.iterdir()) == ["participants.csv", "peaks.csv", "peaks.png", "shares.csv",
+                                                     "shares.png", "tests.csv"]
+    peaks = pd.read_csv(out / "peaks.csv").set_index("subject")
+    # free: R fills bin 1, 1D bins 2-4 (tie, mean 3), I1D bins 5-7 (6), 2D bins 8-10 (9); R falls by 1/5
+    assert peaks.loc["free-0", ["peak_R", "peak_1D", "peak_I1D", "peak_2D"]].tolist() == [1.0, 3.0, 6.0, 9.0]
+    assert peaks.loc["free-0", "ordered"] == 1.0 and peaks.loc["free-0", "change_R"] == pytest.approx(-0.2)
+    assert peaks.loc["strat-1", "ordered"] == 0.0
+    shares = pd.read_csv(out / "shares.csv")
+    first = shares[(shares["group"] == "free") & (shares["bin"] == 1)].set_index("option")["mean"]
+    assert first.to_dict() == {"1D": 0.0, "I1D": 0.0, "2D": 0.0, "R": 1.0}
+    tests = pd.read_csv(out / "tests.csv")
+    assert tests[["group", "statistic"]].values.tolist() == [["free", "ordered peaks"], ["free", "change in share"],
+                                                            ["strat", "ordered peaks"], ["strat", "change in share"]]
+    assert tests["observed"].tolist() == pytest.approx([2.0, -0.2, 0.0, 0.2])
+    assert "free 2 -> 2, strat 2 -> 2" in capsys.readouterr().out
+
+
+def test_the_study_command_refuses_a_bad_file_in_one_line(tmp_path, capsys):
+    from neurocur.fit.ten2021 import main
+
+    free = write(tmp_path / "main_free.csv", rows(0, [(0, 1, 1, 1)]), [c for c in COLUMNS if c != "rt"])
+    strat = write(tmp_path / "main_strat.csv", rows(0, [(0, 1, 1, 1)]))
+    assert main([str(free), str(strat), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "main_free.csv: key 'rt'" in err
+    assert not (tmp_path / "out").exists()
