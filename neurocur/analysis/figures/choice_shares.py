@@ -38,21 +38,18 @@ def fig_choice_shares(summaries: Mapping[str, pd.DataFrame], options: Sequence[s
 
 
 def fig_peak_bins(peaks: Mapping[str, np.ndarray], options: Sequence[str]) -> Figure:
-    """One panel per ``{group: peak_bins array (subjects, options)}``: for each option, how many
-    subjects' shares peak in each bin (a tie split across the bins it spans is drawn at its mean
-    position, rounded down to a half bin); subjects who never chose the option are left out."""
+    """One panel per ``{group: peak_bins array (subjects, options)}``: for each option, the
+    distribution of the subjects' peak bins as a box (quartiles, whiskers to 1.5 IQR) with its
+    mean as a diamond; subjects who never chose the option are left out (their count is printed)."""
     with style():
-        fig, axes = figure(1, len(peaks), figsize=(4.2 * len(peaks), 3.4), sharey=True)
+        fig, axes = figure(1, len(peaks), figsize=(4.2 * len(peaks), 3.0), sharex=True)
         for ax, (group, peak) in zip(axes[0], peaks.items()):
-            top = np.nanmax(peak) if np.isfinite(peak).any() else 1.0
-            edges = np.arange(0.75, top + 0.75, 0.5)
-            width = 0.5 / (len(options) + 1)
-            for k, option in enumerate(options):
-                values = peak[:, k][np.isfinite(peak[:, k])]
-                counts, _ = np.histogram(values, bins=edges)
-                ax.bar(edges[:-1] + 0.25 + (k - (len(options) - 1) / 2) * width, counts, width=width, label=option)
-            ax.set_title(f"{group} (n = {peak.shape[0]})", fontsize=10)
-            ax.set_xlabel("bin of the largest share")
-        axes[0, 0].set_ylabel("participants")
-        axes[0, 0].legend(fontsize=8)
+            values = [peak[:, k][np.isfinite(peak[:, k])] for k in range(len(options))]
+            y = np.arange(len(options))[::-1]
+            ax.boxplot(values, positions=y, orientation="horizontal", widths=0.5, showmeans=True,
+                       meanprops={"marker": "D", "markersize": 4})
+            labels = [f"{option}\n({len(v)} of {peak.shape[0]})" for option, v in zip(options, values)]
+            ax.set_yticks(y, labels, fontsize=8)
+            ax.set_title(group, fontsize=10)
+            ax.set_xlabel("bin of the largest share (ties: mean position)")
     return fig
