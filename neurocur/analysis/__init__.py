@@ -38,6 +38,8 @@ polars, read through the store's checks; ``narrow(order_tables(DIR))`` the order
   context switches, familiarity onset) with intervals across runs; tonic against phasic NE;
 - :mod:`~neurocur.analysis.stats.cycles` — the estimation error per learning cycle, aligned to module
   storage (Figure 4D), and the agent's behaviour in each cycle.
+- :mod:`~neurocur.analysis.stats.choice_shares` — each option's share of a subject's free choices
+  per bin of trials, the order in which the shares peak, tested against shuffles of the bins.
 
 :mod:`~neurocur.analysis.figures` — matplotlib Figures (paper Figures 4D–G, the neuromodulator
 and behaviour analyses, Goldilocks, iCub Figures 6–7, Figure 5), and the figure set of each
@@ -66,6 +68,7 @@ from neurocur.analysis.results import Results as Results
 from neurocur.analysis.results import source_specs as source_specs
 from neurocur.analysis.stats import (
     bootstrap,
+    choice_shares,
     comparison,
     cycles,
     degenerate,
@@ -79,6 +82,7 @@ from neurocur.analysis.stats import (
     sweeps,
 )
 from neurocur.analysis.stats.bootstrap import *  # noqa: F403
+from neurocur.analysis.stats.choice_shares import *  # noqa: F403
 from neurocur.analysis.stats.comparison import *  # noqa: F403
 from neurocur.analysis.stats.cycles import *  # noqa: F403
 from neurocur.analysis.stats.degenerate import *  # noqa: F403
@@ -96,7 +100,7 @@ from neurocur.contexts.synthetic import SYNTHETIC as SYNTHETIC
 _EAGER = ["dataset", "load", "narrow", "order_tables", "run_dirs", "source_specs", "throughput", "write_summary", "Results", "SourceSpec",
           "SYNTHETIC", *order.__all__, *learning_time.__all__, *comparison.__all__, *significance.__all__,
           *bootstrap.__all__, *sweeps.__all__, *report.__all__, *dwell.__all__, *efficiency.__all__,
-          *event_locked.__all__, *cycles.__all__, *degenerate.__all__]
+          *event_locked.__all__, *cycles.__all__, *degenerate.__all__, *choice_shares.__all__]
 
 #: Re-exported, but imported on first use (PEP 562): they import matplotlib, seaborn or
 #: statsmodels' full API (about 1.5 s), which loading results and writing a summary do not need.

@@ -7,6 +7,8 @@
 | maximum likelihood with several starts, profile-likelihood intervals | ``mle`` |
 | parametric bootstrap: percentile intervals from refits of data sets simulated at the estimate | ``bootstrap`` |
 | random-effects Bayesian model selection (Stephan et al. 2009, Rigoux et al. 2014) | ``bms`` |
+| Ten et al. 2021's posted trial files as trial tables, the paper's exclusion | ``ten2021`` |
+| the signals of Ten et al. 2021's choice models (PC, LP, plays) | ``ten2021_utilities`` |
 
 A layer above :mod:`neurocur.experiments`: it builds circuits and worlds from experiment files.
 """

@@ -5,6 +5,8 @@
 - :mod:`~neurocur.analysis.figures.neuro` — the neuromodulator and behaviour analyses (inverted
   U, occupancy, signals over time, event-locked traces, tonic/phasic NE, efficiency);
 - :mod:`~neurocur.analysis.figures.goldilocks` — engagement against learnability;
+- :mod:`~neurocur.analysis.figures.choice_shares` — each option's share of free choices over time
+  and where each subject's shares peak;
 - :mod:`~neurocur.analysis.figures.icub` — the iCub experiment (Figures 6–7);
 - :mod:`~neurocur.analysis.figures.invariance` — the invariance demonstration (Figure 5);
 - :mod:`~neurocur.analysis.figures.validation` — the canonical tasks of the neuromodulator models
@@ -18,7 +20,8 @@
 Importing the package imports every module, so each figure set registers its world type.
 """
 
-from . import goldilocks, icub, invariance, layout, learning, neuro, sets, style, sweeps, validation  # noqa: F401  (registration)
+from . import choice_shares, goldilocks, icub, invariance, layout, learning, neuro, sets, style, sweeps, validation  # noqa: F401  (registration)
+from .choice_shares import *  # noqa: F403
 from .goldilocks import *  # noqa: F403
 from .icub import *  # noqa: F403
 from .invariance import *  # noqa: F403
@@ -28,5 +31,5 @@ from .sets import *  # noqa: F403
 from .sweeps import *  # noqa: F403
 from .validation import *  # noqa: F403
 
-__all__ = [*goldilocks.__all__, *icub.__all__, *invariance.__all__, *learning.__all__, *neuro.__all__, *sets.__all__,
+__all__ = [*choice_shares.__all__, *goldilocks.__all__, *icub.__all__, *invariance.__all__, *learning.__all__, *neuro.__all__, *sets.__all__,
            *sweeps.__all__, *validation.__all__]
