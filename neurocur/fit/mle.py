@@ -17,12 +17,13 @@ chi2(1, level) / 2 of the maximum; an end that reaches its bound is reported at 
 
 Identifiability (``identify=True``, :func:`weak_keys`): the observed information, the Hessian of
 -log L at the estimate by central finite differences on the bounded scale (each parameter's
-bounds mapped to [0, 1]; one vectorised evaluation), has an eigenvalue below chi2(1, .95) = 1.96^2
-along a direction in which the data do not tell the parameters apart within their bounds: there
-a Wald 95 % interval, +-1.96 / sqrt(eigenvalue), is wider than the bounds (two parameters that act
-only as a product have a singular information matrix on their ridge). The keys that move along
-such a direction are :attr:`MLFit.unidentified`, and so is a key whose profile interval spans
-its whole bounds (a flat profile).
+bounds mapped to [0, 1]; one vectorised evaluation), inverted gives the Wald covariance. A key
+whose Wald 95 % interval, +-1.96 sqrt(variance), is wider than its bounds is not identified by the
+data within them, and neither is a key whose Wald correlation with such a key is at least
+:data:`TIED` (they trade off along one direction). Two parameters that act only as a product have
+a singular information matrix on their ridge (its null eigenvalue is taken as 1e-9 of the largest),
+so both are named wherever on the ridge the estimate lies. Those keys are :attr:`MLFit.unidentified`,
+and so is a key whose profile interval spans its whole bounds (a flat profile).
 """
 
 from __future__ import annotations
@@ -42,8 +43,10 @@ __all__ = ["MLFit", "fit_ml", "fit_table", "weak_keys"]
 IMPOSSIBLE = 1e12
 #: points of the scrambled Sobol design the starts are chosen from (a power of 2)
 DESIGN = 64
-#: the least curvature of -log L on the bounded scale along which the parameters count as identified
+#: chi2(1, .95) = 1.96^2: a key is identified when 1.96^2 times its Wald variance on the bounded scale is below 1
 IDENTIFIED = float(stats.chi2.ppf(0.95, 1))
+#: the Wald correlation with an unidentified key at which a key is not identified either (they trade off)
+TIED = 0.99
 #: the finite-difference step of the observed information, on the bounded scale
 STEP = 1e-3
 
@@ -132,10 +135,12 @@ def fit_ml(replays, bounds: Mapping[str, tuple[float, float]], *, starts: int = 
 
 
 def weak_keys(loglik_many, x: np.ndarray, b: np.ndarray, keys: Sequence[str]) -> list[str]:
-    """The keys moving along an eigenvector of the observed information at ``x`` whose eigenvalue, on the bounded
-    scale, is below :data:`IDENTIFIED` (module docstring); those with a component of at least 0.3 of the
-    eigenvector's largest. ``loglik_many(points)``: the log-likelihood of each point. Empty when a point of the
-    stencil is impossible (no curvature to read)."""
+    """The keys whose Wald 95 % interval at ``x`` is wider than their bounds, and those correlated with one by at
+    least :data:`TIED` (module docstring): on the bounded scale, a variance (the diagonal of the inverse
+    observed information) above 1 / :data:`IDENTIFIED`; an eigenvalue of the information that is not positive
+    (a flat direction) counts as 1e-9 of the largest.
+    ``loglik_many(points)``: the log-likelihood of each point. Empty when a point of the stencil is
+    impossible (no curvature to read)."""
     d, width = len(keys), b[:, 1] - b[:, 0]
     h = STEP
     centre = np.clip((x - b[:, 0]) / width, h, 1.0 - h)  # the stencil inside the bounds
@@ -153,11 +158,13 @@ def weak_keys(loglik_many, x: np.ndarray, b: np.ndarray, keys: Sequence[str]) ->
             hess[i, j] = hess[j, i] = (pp - pm - mp + mm) / (4 * h**2)
             k += 4
     eigenvalues, vectors = np.linalg.eigh(hess)
-    weak = set()
-    for value, v in zip(eigenvalues, vectors.T):
-        if value < IDENTIFIED:
-            weak |= {keys[i] for i in np.flatnonzero(np.abs(v) >= 0.3 * np.abs(v).max())}
-    return [key for key in keys if key in weak]
+    floor = 1e-9 * max(float(np.abs(eigenvalues).max()), 1.0)
+    covariance = (vectors / np.maximum(eigenvalues, floor)) @ vectors.T
+    variance = np.diag(covariance)
+    weak = IDENTIFIED * variance > 1.0
+    correlation = covariance / np.sqrt(np.outer(variance, variance))
+    tied = (np.abs(correlation[:, weak]) >= TIED).any(axis=1)
+    return [key for key, w, t in zip(keys, weak, tied) if w or t]
 
 
 def profile_interval(cost, x: np.ndarray, b: np.ndarray, i: int, best: float, level: float) -> tuple[float, float]:

@@ -62,3 +62,31 @@ def test_the_threshold_is_a_wald_interval_as_wide_as_the_bounds():
     # bounds of width 1: curvature n on the bounded scale
     assert fit_ml(One(3), {"m": (0.0, 1.0)}, starts=1, ci=None, identify=True).unidentified == ["m"]
     assert fit_ml(One(5), {"m": (0.0, 1.0)}, starts=1, ci=None, identify=True).unidentified == []
+
+
+def test_the_fit_command_warns_of_novelty_scale_and_gain_fitted_together(tmp_path, capsys):
+    """Count-based novelty, DA = scale / sqrt(N), enters the softmax only as gain * scale: fitted together, both are
+    named in a warning line and in summary.json; the gain alone is identified."""
+    import json
+
+    import pandas as pd
+
+    from neurocur.cli import main
+    from neurocur.fit.study import condition_of, simulate
+
+    experiment, condition = condition_of("fit_curiosity", "novelty")
+    _, episodes = simulate(condition, {}, experiment.run_seed(0), 60)
+    data = tmp_path / "choices.csv"
+    pd.DataFrame({"dataset": "s", "episode": episodes["episode"], "context": episodes["context"],
+                  "decision": episodes["action"]}).to_csv(data, index=False)
+    argv = ["fit", str(data), "--experiment", "fit_curiosity", "--condition", "novelty", "--fit", "LC.gain",
+            "--bounds", "LC.gain=0.1:10", "--starts", "2", "--out", str(tmp_path / "fit")]
+    assert main([*argv, "--fit", "VTA.scale", "--bounds", "VTA.scale=0.1:10"]) == 0
+    summary = json.loads((tmp_path / "fit" / "summary.json").read_text())
+    assert summary["not_identified"] == {"s": ["LC.gain", "VTA.scale"]}
+    assert summary["fits"][0]["not_identified"] == ["LC.gain", "VTA.scale"]
+    err = capsys.readouterr().err
+    assert "warning: data set 's': the data do not identify LC.gain, VTA.scale" in err
+    assert main(argv) == 0
+    summary = json.loads((tmp_path / "fit" / "summary.json").read_text())
+    assert summary["not_identified"] == {} and summary["warnings"] == []
