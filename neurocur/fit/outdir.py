@@ -1,7 +1,7 @@
 """The output folder of a fit command (``fit``, ``recover``, ``compare``, ``sbi``): checked, locked, replaced whole.
 
 - **Where.** ``--out`` is a real folder (not a symbolic link, not a file), neither a results
-  folder nor inside one (a folder holding ``config.toml`` or run folders ``runs/<condition>/run-<NNN>``,
+  folder nor inside one (a folder holding the store's ``config.toml`` or run folders ``runs/<condition>/run-<NNN>``,
   :mod:`neurocur.results.store`: ``neurocur run`` would resume into it), nor the input data folder or
   inside it; the input is not inside ``--out`` either (:func:`check_out`).
 - **One writer.** The folder is locked while the command runs (:func:`neurocur.results.lock.locked`):
@@ -27,6 +27,7 @@ import os
 import re
 import stat
 import sys
+import tomllib
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
@@ -67,9 +68,16 @@ def spreadsheet_safe(table: pd.DataFrame) -> pd.DataFrame:
 
 
 def _results_folder(path: Path) -> str | None:
-    """What makes ``path`` a results folder (its ``config.toml`` or a run folder), or None."""
-    if (path / _RESULTS_CONFIG).is_file():
-        return _RESULTS_CONFIG
+    """What makes ``path`` a results folder (the store's ``config.toml``, with its ``runs``, ``seeds`` and
+    ``conditions``, or a run folder), or None; another program's ``config.toml`` does not."""
+    config = path / _RESULTS_CONFIG
+    if config.is_file() and not config.is_symlink():
+        try:
+            keys = tomllib.loads(config.read_text(encoding="utf-8"))
+        except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, RecursionError):
+            keys = {}
+        if {"runs", "seeds", "conditions"} <= set(keys):
+            return _RESULTS_CONFIG
     runs = path / _RESULTS_RUNS
     if runs.is_dir() and not runs.is_symlink() and any(runs.glob("*/run-*")):
         return f"{_RESULTS_RUNS}/<condition>/run-<NNN>"

@@ -148,3 +148,11 @@ def test_ctrl_c_during_a_fit_says_what_the_fit_left(tmp_path, monkeypatch, capsy
     assert main(["fit", str(data), *FIT, "--signal", "HPC=error", "--out", str(tmp_path / "fit")]) == 130
     err = capsys.readouterr().err.strip()
     assert err.startswith("neurocur fit: interrupted; ") and message in err and "finished runs" not in err
+
+
+def test_another_programs_config_toml_does_not_make_a_results_folder(tmp_path):
+    project = tmp_path / "project"
+    project.mkdir()
+    (project / "config.toml").write_text('title = "my project"\n')
+    data = _table(tmp_path / "a.csv", 1)
+    assert main(["fit", str(data), *FIT, "--signal", "HPC=error", "--out", str(project / "fit")]) == 0
