@@ -156,3 +156,27 @@ def test_another_programs_config_toml_does_not_make_a_results_folder(tmp_path):
     (project / "config.toml").write_text('title = "my project"\n')
     data = _table(tmp_path / "a.csv", 1)
     assert main(["fit", str(data), *FIT, "--signal", "HPC=error", "--out", str(project / "fit")]) == 0
+
+
+def test_an_interrupted_compare_marks_its_partial_table(tmp_path, monkeypatch, capsys):
+    import neurocur.fit.compare as compare
+
+    score, calls = compare.score, []
+
+    def interrupted_at_the_second_model(*args, **kwargs):
+        calls.append(1)
+        if len(calls) == 2:  # one data set: the first model's table is written, then the second model is stopped
+            raise KeyboardInterrupt
+        return score(*args, **kwargs)
+
+    monkeypatch.setattr(compare, "score", interrupted_at_the_second_model)
+    data = _table(tmp_path / "a.csv", 1)
+    out = tmp_path / "compare"
+    assert main(["compare", str(data), "--experiment", "free_choice", "--models", "learning_progress", "random",
+                 "--fit", "learning_progress:LC.gain", "--bounds", "LC.gain=0:60", "--signal", "HPC=error",
+                 "--starts", "1", "--out", str(out)]) == 130
+    assert "neurocur compare: interrupted; compare.partial.csv written so far" in capsys.readouterr().err
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert manifest["complete"] is False and list(manifest["files"]) == ["compare.partial.csv"]
+    assert list(pd.read_csv(out / "compare.partial.csv")["model"]) == ["learning_progress"]
+    assert sorted(p.name for p in out.iterdir()) == ["compare.partial.csv", "manifest.json"]
