@@ -5,7 +5,8 @@ A thin layer: it parses arguments and calls :mod:`neurocur.experiments`,
 :mod:`neurocur.learn.omega`.
 Every user-facing error (arguments, configuration, a results folder that cannot be
 written or resumed, unreadable files) is printed as one line naming what was wrong and
-what was expected, with exit status 2. Ctrl-C exits with status 130.
+what was expected, with exit status 2. Ctrl-C exits with status 130 (a fit command says what its
+output folder holds).
 """
 
 from __future__ import annotations
@@ -316,8 +317,11 @@ def main(argv=None) -> int:
         if threading.current_thread() is threading.main_thread():
             signal.signal(signal.SIGINT, signal.SIG_IGN)  # a further Ctrl-C must not interrupt the exit
         from neurocur.experiments.runner import Interrupted
+        from neurocur.fit.cli import FitInterrupted
 
-        if not isinstance(exc, Interrupted):  # else the runner has said what happened
+        if isinstance(exc, FitInterrupted):  # a fit command: what its output folder holds
+            print(f"neurocur {args.command}: interrupted; {exc}", file=sys.stderr)
+        elif not isinstance(exc, Interrupted):  # else the runner has said what happened
             print("neurocur: interrupted; finished runs are kept (run again to resume)", file=sys.stderr)
         return 130
 

@@ -4,16 +4,26 @@
 [--bootstrap B] [--out DIR]`` writes ``DIR/fit.csv`` (``dataset, param, estimate, ci_low, ci_high``: each
 data set, then the pooled fit; with ``--ci bootstrap`` the data sets' intervals are parametric-bootstrap
 percentile intervals, :mod:`neurocur.fit.bootstrap`, their replicates in ``DIR/bootstrap.csv``, and the
-pooled fit has none) and ``DIR/summary.json`` (``loglik, n_params, n_obs, aic, bic`` of the per-data-set
-fits together, then each fit's). ``recover EXPERIMENT --fit KEY ...`` writes
-``recovery.csv``, ``recovery_summary.csv`` and ``recovery.png``; with ``--models C1 C2 ...``
-also ``model_recovery.csv``, ``confusion_{aic,bic,heldout}.csv`` and ``confusion.png``.
+pooled fit has none) and ``DIR/summary.json``: ``loglik, n_params, n_obs, aic, bic`` of the per-data-set
+fits together; ``warnings`` (every warning line printed); ``ignored_columns`` (numeric columns of the table
+the fit did not read: a signal given without ``--signal``); ``unseen_contexts`` (the world's contexts that
+no data set visits); ``not_identified`` (per fit with any, the keys the data do not identify within the
+bounds, :func:`neurocur.fit.mle.weak_keys`); then each fit's (``fits``, each with its ``not_identified``).
+``recover EXPERIMENT --fit KEY ...`` writes ``recovery.csv``, ``recovery_summary.csv`` and ``recovery.png``;
+with ``--models C1 C2 ...`` also ``model_recovery.csv``, ``confusion_{aic,bic,heldout}.csv`` and
+``confusion.png`` (while it runs, the tables so far are ``recovery.partial.csv`` and
+``model_recovery.partial.csv``; ``compare``'s is ``compare.partial.csv``).
 ``sbi EXPERIMENT --prior KEY=LOW:HIGH ... --simulations N`` runs the training simulations into
 ``DIR/sbi_training/`` and trains NPE; with ``--data`` writes ``DIR/sbi.csv``, with ``--test N``
 ``sbi_recovery.csv``, ``sbi_recovery_summary.csv`` and ``sbi_recovery.png``.
 
-Files are written whole (a temporary file renamed into place) inside the output folder only;
-an output path that is a symbolic link is refused.
+Every command's output folder (:mod:`neurocur.fit.outdir`) is locked while it runs, replaced whole, and
+has a ``manifest.json``: ``command``, ``arguments``, ``files`` (each file written, with its sha256),
+``folders`` (kept from one run to the next: sbi's training runs), ``warnings`` and ``complete`` (false
+until everything is written). Files are written whole (a temporary file renamed into place) inside the
+output folder only, CSV cells that a spreadsheet would run escaped. Input checks (:mod:`neurocur.fit.checks`,
+:mod:`neurocur.fit.data`, :func:`neurocur.fit.study.default_bounds`) refuse in one line what cannot be fitted
+honestly (docs/fitting.md, "What a fit refuses").
 """
 
 from __future__ import annotations
@@ -21,11 +31,12 @@ from __future__ import annotations
 import argparse
 import json
 import math
-from pathlib import Path
 
-from ..results.safeio import atomic_text
+import pandas as pd
 
-__all__ = ["COMMANDS", "add_parsers"]
+from .outdir import FitInterrupted, fit_output
+
+__all__ = ["COMMANDS", "FitInterrupted", "add_parsers"]
 
 
 def _bounds(text: str) -> tuple[str, tuple[float, float]]:
@@ -58,20 +69,27 @@ def _common(p: argparse.ArgumentParser, *, condition: bool = True, keys_required
     p.add_argument("--signal", type=_signal, metavar="REGION=COLUMN",
                    help="signal replay: REGION emits the data's per-episode COLUMN instead of computing it")
     p.add_argument("--decision", default="LC", metavar="REGION", help="the decision region (default LC)")
-    p.add_argument("--starts", type=int, default=5, metavar="N", help="optimiser starts per fit (default 5)")
-    p.add_argument("--seed", type=int, default=0, metavar="N", help="seed of the starts (default 0)")
+    p.add_argument("--starts", type=_count(1, "a number of optimiser starts of at least 1"), default=5, metavar="N",
+                   help="optimiser starts per fit (default 5)")
+    p.add_argument("--seed", type=_count(0, "an integer >= 0"), default=0, metavar="N",
+                   help="seed of the starts (default 0)")
     p.add_argument("--out", metavar="DIR", help="output folder")
 
 
-def _replicates(text: str) -> int:
-    """An argparse type: a number of bootstrap replicates (an integer >= 2), checked before any folder is made."""
-    try:
-        value = int(text)
-    except ValueError:
-        value = None
-    if value is None or value < 2:
-        raise argparse.ArgumentTypeError(f"expected a number of bootstrap replicates of at least 2, got {text!r}")
-    return value
+def _count(low: int, expected: str):
+    """An argparse type: an integer >= ``low``, checked before any folder is made; the error says ``expected``."""
+    def convert(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            value = None
+        if value is None or value < low:
+            raise argparse.ArgumentTypeError(f"expected {expected}, got {text!r}")
+        return value
+    return convert
+
+
+_replicates = _count(2, "a number of bootstrap replicates of at least 2")
 
 
 def _intervals(p: argparse.ArgumentParser) -> None:
@@ -119,8 +137,10 @@ def add_parsers(sub) -> None:
     recover.add_argument("experiment", metavar="EXPERIMENT", help="experiment TOML file or shipped name")
     _common(recover)
     _intervals(recover)
-    recover.add_argument("--datasets", type=int, default=20, metavar="N", help="data sets (default 20)")
-    recover.add_argument("--episodes", type=int, default=250, metavar="N", help="episodes per data set (default 250)")
+    recover.add_argument("--datasets", type=_count(3, "a number of data sets of at least 3 (Pearson r needs 3)"),
+                         default=20, metavar="N", help="data sets (default 20; at least 3)")
+    recover.add_argument("--episodes", type=_count(2, "a number of episodes of at least 2"), default=250, metavar="N",
+                         help="episodes per data set (default 250)")
     recover.add_argument("--models", nargs="+", metavar="CONDITION",
                          help="model recovery among these conditions (each fitted on the --fit keys it has)")
     compare = _parser(
@@ -169,55 +189,86 @@ def add_parsers(sub) -> None:
     sbi.add_argument("--out", metavar="DIR", help="output folder (default results/sbi-EXPERIMENT)")
 
 
-def _out(args, default: str) -> Path:
-    out = Path(args.out or default)
-    if out.is_symlink():
-        raise ValueError(f"--out: expected a folder, not a symbolic link, got {str(out)!r}")
-    out.mkdir(parents=True, exist_ok=True)
-    return out
+def _arguments(args) -> dict:
+    """The command's arguments as the manifest records them."""
+    return {key: value for key, value in vars(args).items() if key != "command"}
+
+
+def _partial(out, stem: str):
+    """A progress callback writing the table so far as ``OUT/STEM.partial.csv`` (whole) and saying how far it is."""
+    def write(table) -> None:
+        out.write_csv(f"{stem}.partial.csv", table)
+        print(f"{stem}.partial.csv: {table['dataset'].nunique()} data sets", flush=True)
+    return write
+
+
+def _finish(out, stem: str, table) -> None:
+    """Write ``OUT/STEM.csv`` whole and remove its partial table."""
+    out.write_csv(f"{stem}.csv", table)
+    out.remove(f"{stem}.partial.csv")
+
+
+def _checked_data(args, experiment, conditions, decision: str = "LC", signal=None):
+    """The data sets of ``args.data`` for the ``conditions``' world (the first's), the folder checked against the
+    experiment (:func:`~neurocur.fit.checks.check_folder`), and what the fit would ignore (``data_warnings``)."""
+    from .checks import check_folder, data_warnings
+    from .study import load_data
+
+    check_folder(args.data, experiment, conditions)
+    data = load_data(args.data, conditions[0], decision=decision, signal=signal)
+    return data, data_warnings(data, conditions[0].make_world().context_names, args.data)
 
 
 def _cmd_fit(args) -> int:
-    import pandas as pd
-
     from .bootstrap import parametric_bootstrap
     from .mle import fit_table
-    from .study import condition_of, default_bounds, fit_data, load_data, make_replays
+    from .study import check_bound_keys, condition_of, default_bounds, fit_data, make_replays
 
     experiment, condition = condition_of(args.experiment, args.condition)
+    check_bound_keys(dict(args.bounds), args.keys)
     bounds = default_bounds(condition, args.keys, dict(args.bounds))
-    data = load_data(args.data, condition, decision=args.decision, signal=args.signal)
-    replays = make_replays(experiment, condition, data, args.keys, decision=args.decision, signal=args.signal)
-    fits = fit_data(replays, bounds, starts=args.starts, seed=args.seed, ci=0.95 if args.ci == "profile" else None)
-    out = _out(args, f"results/fit-{experiment.name}")
-    if args.ci == "bootstrap":  # per data set (fits[i] is data[i]'s); the pooled fit keeps no interval
-        boots = [parametric_bootstrap(condition, fit.estimate, len(behaviour), bounds, replicates=args.bootstrap,
-                                      seed=[args.seed, i], starts=args.starts, decision=args.decision,
-                                      signal=args.signal, dataset=fit.dataset)
-                 for i, (fit, behaviour) in enumerate(zip(fits, data))]
-        for fit, boot in zip(fits, boots):
-            fit.ci = boot.ci
-        atomic_text(out / "bootstrap.csv", pd.concat([b.replicates for b in boots]).to_csv(index=False))
-    atomic_text(out / "fit.csv", fit_table(fits).to_csv(index=False))
-    each = [f for f in fits if f.dataset != "pooled" or len(fits) == 1]
-    loglik, k, n = sum(f.loglik for f in each), sum(f.n_params for f in each), sum(f.n_obs for f in each)
-    summary = {"experiment": experiment.name, "condition": condition.name, "fitted": list(args.keys),
-               "bounds": {key: list(v) for key, v in bounds.items()},
-               "intervals": args.ci if args.ci == "profile" else f"bootstrap ({args.bootstrap} replicates)",
-               "loglik": loglik, "n_params": k, "n_obs": n,
-               "aic": 2 * k - 2 * loglik, "bic": k * math.log(n) - 2 * loglik,
-               "fits": [f.summary() | {"estimate": f.estimate} for f in fits]}
-    atomic_text(out / "summary.json", json.dumps(summary, indent=2, allow_nan=True) + "\n")
+    data, found = _checked_data(args, experiment, [condition], args.decision, args.signal)
+    with fit_output(args.out or f"results/fit-{experiment.name}", "fit", _arguments(args),
+                    inputs=[args.data]) as out:
+        for line in found["lines"]:
+            out.warn(line)
+        replays = make_replays(experiment, condition, data, args.keys, decision=args.decision, signal=args.signal)
+        fits = fit_data(replays, bounds, starts=args.starts, seed=args.seed,
+                        ci=0.95 if args.ci == "profile" else None)
+        if args.ci == "bootstrap":  # per data set (fits[i] is data[i]'s); the pooled fit keeps no interval
+            boots = [parametric_bootstrap(condition, fit.estimate, len(behaviour), bounds, replicates=args.bootstrap,
+                                          seed=[args.seed, i], starts=args.starts, decision=args.decision,
+                                          signal=args.signal, dataset=fit.dataset)
+                     for i, (fit, behaviour) in enumerate(zip(fits, data))]
+            for fit, boot in zip(fits, boots):
+                fit.ci = boot.ci
+            out.write_csv("bootstrap.csv", pd.concat([b.replicates for b in boots]))
+        out.write_csv("fit.csv", fit_table(fits))
+        unidentified = {f.dataset: f.unidentified for f in fits if f.unidentified}
+        for dataset, keys in unidentified.items():
+            out.warn(f"data set {dataset!r}: the data do not identify {', '.join(keys)} within the bounds (a flat "
+                     "profile, or an information matrix that is (near) singular at the estimate, as for parameters "
+                     "that act only as a product); fix one of them or fit fewer")
+        each = [f for f in fits if f.dataset != "pooled" or len(fits) == 1]
+        loglik, k, n = sum(f.loglik for f in each), sum(f.n_params for f in each), sum(f.n_obs for f in each)
+        summary = {"experiment": experiment.name, "condition": condition.name, "fitted": list(args.keys),
+                   "bounds": {key: list(v) for key, v in bounds.items()},
+                   "intervals": args.ci if args.ci == "profile" else f"bootstrap ({args.bootstrap} replicates)",
+                   "loglik": loglik, "n_params": k, "n_obs": n,
+                   "aic": 2 * k - 2 * loglik, "bic": k * math.log(n) - 2 * loglik,
+                   "warnings": list(out.manifest["warnings"]), "ignored_columns": found["ignored_columns"],
+                   "unseen_contexts": found["unseen_contexts"], "not_identified": unidentified,
+                   "fits": [f.summary() | {"estimate": f.estimate, "not_identified": f.unidentified} for f in fits]}
+        out.write_text("summary.json", json.dumps(summary, indent=2, allow_nan=True) + "\n")
     for f in fits:
         print(f"{f.dataset}: " + ", ".join(f"{key} = {v:.4g}" + (f" [{f.ci[key][0]:.4g}, {f.ci[key][1]:.4g}]"
                                                                  if key in f.ci else "")
                                            for key, v in f.estimate.items()) + f"  (log L = {f.loglik:.2f})")
-    print(out / "fit.csv")
+    print(out.root / "fit.csv")
     return 0
 
 
 def _cmd_recover(args) -> int:
-    from ..analysis.figures.style import save_figure
     from .recovery import (
         confusion,
         confusion_figure,
@@ -226,30 +277,32 @@ def _cmd_recover(args) -> int:
         recovery_figure,
         recovery_summary,
     )
-    from .study import condition_of, default_bounds, model_bounds
+    from .study import check_bound_keys, condition_of, default_bounds, model_bounds
 
     experiment, condition = condition_of(args.experiment, args.condition)
+    check_bound_keys(dict(args.bounds), args.keys)
     bounds = default_bounds(condition, args.keys, dict(args.bounds))
-    out = _out(args, f"results/recover-{experiment.name}")
-    table = parameter_recovery(condition, bounds, n_datasets=args.datasets, n_episodes=args.episodes,
-                               seed=args.seed, starts=args.starts, decision=args.decision, signal=args.signal,
-                               progress=_partial(out / "recovery.csv"), intervals=args.ci, bootstrap=args.bootstrap)
-    summary = recovery_summary(table)
-    atomic_text(out / "recovery.csv", table.to_csv(index=False))
-    atomic_text(out / "recovery_summary.csv", summary.to_csv(index=False))
-    save_figure(recovery_figure(table), out / "recovery.png")
-    print(summary.to_string(index=False))
     if args.models:
         models, bounds_of = model_bounds(experiment, args.models, args.keys, dict(args.bounds))
-        mr = model_recovery(models, bounds_of, n_datasets=args.datasets, n_episodes=args.episodes,
-                            seed=args.seed, decision=args.decision, progress=_partial(out / "model_recovery.csv"))
-        atomic_text(out / "model_recovery.csv", mr.to_csv(index=False))
-        for by in ("aic", "bic", "heldout"):
-            m = confusion(mr, by)
-            atomic_text(out / f"confusion_{by}.csv", m.to_csv())
-            print(f"confusion by {by}:\n{m.round(2).to_string()}")
-        save_figure(confusion_figure(mr), out / "confusion.png")
-    print(out)
+    with fit_output(args.out or f"results/recover-{experiment.name}", "recover", _arguments(args)) as out:
+        table = parameter_recovery(condition, bounds, n_datasets=args.datasets, n_episodes=args.episodes,
+                                   seed=args.seed, starts=args.starts, decision=args.decision, signal=args.signal,
+                                   progress=_partial(out, "recovery"), intervals=args.ci, bootstrap=args.bootstrap)
+        summary = recovery_summary(table)
+        _finish(out, "recovery", table)
+        out.write_csv("recovery_summary.csv", summary)
+        out.write_figure("recovery.png", recovery_figure(table))
+        print(summary.to_string(index=False))
+        if args.models:
+            mr = model_recovery(models, bounds_of, n_datasets=args.datasets, n_episodes=args.episodes,
+                                seed=args.seed, decision=args.decision, progress=_partial(out, "model_recovery"))
+            _finish(out, "model_recovery", mr)
+            for by in ("aic", "bic", "heldout"):
+                m = confusion(mr, by)
+                out.write_csv(f"confusion_{by}.csv", m, index=True)
+                print(f"confusion by {by}:\n{m.round(2).to_string()}")
+            out.write_figure("confusion.png", confusion_figure(mr))
+    print(out.root)
     return 0
 
 
@@ -258,10 +311,9 @@ def _cmd_sbi(args) -> int:
 
     executor = executor_for(args.scheduler, args.jobs)
     executor.start()  # the workers' fork server imports the model, never torch
-    from ..analysis.figures.style import save_figure
     from .recovery import recovery_figure, recovery_summary
     from .sbi import SBIStudy
-    from .study import condition_of, load_data
+    from .study import condition_of
 
     try:
         prior = dict(map(_bounds, args.prior))
@@ -269,53 +321,63 @@ def _cmd_sbi(args) -> int:
         raise ValueError(f"--prior: {exc}") from None
     experiment, condition = condition_of(args.experiment, args.condition)
     n_contexts = len(condition.make_world().context_names)
-    data = load_data(args.data, condition) if args.data else []
-    out = _out(args, f"results/sbi-{experiment.name}")
-    study = SBIStudy(experiment, condition.name, prior, out, args.steps or experiment.steps, args.seed)
-    training, held_out = study.simulate(executor, simulations=args.simulations, runs=args.runs, tests=args.test)
-    sample = study.fit(training, n_contexts, epochs=args.epochs)
-    if data:
-        table = study.posterior(sample, data, n_contexts)
-        atomic_text(out / "sbi.csv", table.to_csv(index=False))
-        print(table.to_string(index=False))
-    if args.test:
-        table = study.recovery(sample, held_out, n_contexts)
-        atomic_text(out / "sbi_recovery.csv", table.to_csv(index=False))
-        atomic_text(out / "sbi_recovery_summary.csv", recovery_summary(table).to_csv(index=False))
-        save_figure(recovery_figure(table), out / "sbi_recovery.png")
-        print(recovery_summary(table).to_string(index=False))
-    print(out)
+    data, found = _checked_data(args, experiment, [condition]) if args.data else ([], {"lines": []})
+    with fit_output(args.out or f"results/sbi-{experiment.name}", "sbi", _arguments(args),
+                    inputs=[args.data] if args.data else [], folders=("sbi_training", "sbi_test")) as out:
+        for line in found["lines"]:
+            out.warn(line)
+        study = SBIStudy(experiment, condition.name, prior, out.root, args.steps or experiment.steps, args.seed)
+        training, held_out = study.simulate(executor, simulations=args.simulations, runs=args.runs, tests=args.test)
+        sample = study.fit(training, n_contexts, epochs=args.epochs)
+        if data:
+            table = study.posterior(sample, data, n_contexts)
+            out.write_csv("sbi.csv", table)
+            print(table.to_string(index=False))
+        if args.test:
+            table = study.recovery(sample, held_out, n_contexts)
+            out.write_csv("sbi_recovery.csv", table)
+            out.write_csv("sbi_recovery_summary.csv", recovery_summary(table))
+            out.write_figure("sbi_recovery.png", recovery_figure(table))
+            print(recovery_summary(table).to_string(index=False))
+    print(out.root)
     return 0
-
-
-def _partial(path: Path):
-    """A progress callback writing the table so far (``path``, whole) and saying how far it is."""
-    def write(table) -> None:
-        atomic_text(path, table.to_csv(index=False))
-        print(f"{path.name}: {table['dataset'].nunique()} data sets", flush=True)
-    return write
 
 
 def _cmd_compare(args) -> int:
-    from ..analysis.figures.style import save_figure
     from .compare import bms_table, compare_models, comparison_figure, totals
-    from .study import condition_of, load_data, model_bounds
+    from .study import condition_of, model_bounds
 
     experiment, _ = condition_of(args.experiment, None)
     models, bounds_of = model_bounds(experiment, args.models, args.keys, dict(args.bounds))
-    data = load_data(args.data, next(iter(models.values())), decision=args.decision, signal=args.signal)
-    out = _out(args, f"results/compare-{experiment.name}")
-    table = compare_models(experiment, data, models, bounds_of, decision=args.decision, signal=args.signal,
-                           starts=args.starts, seed=args.seed, loo=not args.no_loo,
-                           progress=_partial(out / "compare.csv"))
-    selection = bms_table(table)
-    atomic_text(out / "compare.csv", table.to_csv(index=False))
-    atomic_text(out / "bms.csv", selection.to_csv(index=False))
-    save_figure(comparison_figure(table, selection), out / "comparison.png")
+    data, found = _checked_data(args, experiment, list(models.values()), args.decision, args.signal)
+    with fit_output(args.out or f"results/compare-{experiment.name}", "compare", _arguments(args),
+                    inputs=[args.data]) as out:
+        for line in found["lines"]:
+            out.warn(line)
+        table = compare_models(experiment, data, models, bounds_of, decision=args.decision, signal=args.signal,
+                               starts=args.starts, seed=args.seed, loo=not args.no_loo,
+                               progress=_partial(out, "compare"))
+        selection = bms_table(table)
+        _finish(out, "compare", table)
+        out.write_csv("bms.csv", selection)
+        out.write_figure("comparison.png", comparison_figure(table, selection))
     print(totals(table, selection).round(3).to_string())
-    print(out)
+    print(out.root)
     return 0
 
 
+def _interruptible(command):
+    """``command``, a Ctrl-C before its output folder is open (nothing written) becoming :class:`FitInterrupted`."""
+    def run(args) -> int:
+        try:
+            return command(args)
+        except FitInterrupted:
+            raise
+        except KeyboardInterrupt:
+            raise FitInterrupted("nothing written") from None
+    return run
+
+
 #: the subcommands, by name
-COMMANDS = {"fit": _cmd_fit, "recover": _cmd_recover, "compare": _cmd_compare, "sbi": _cmd_sbi}
+COMMANDS = {name: _interruptible(command) for name, command in
+            {"fit": _cmd_fit, "recover": _cmd_recover, "compare": _cmd_compare, "sbi": _cmd_sbi}.items()}

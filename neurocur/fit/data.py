@@ -13,12 +13,18 @@ Columns (design section 7; Wilson & Collins 2019 for the workflow it serves):
   (an error or accuracy per episode, for signal replay, :mod:`neurocur.fit.replay`).
 
 Bad data is a :class:`~neurocur.config.ConfigError` naming the file, the column and what
-was expected (a missing column, an unknown context, episodes out of order, a missing value).
+was expected (a missing column, an unknown context, episodes out of order, a missing value,
+a signal that is not a finite number, a data set named as the outputs name the pooled fit).
+The path itself must be a regular file or a results folder: a symbolic link is never
+followed and a FIFO or device is refused before it is read (reading one would block or
+read something other than a table); a file that is not UTF-8 text, or is empty, is named.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import os
+import stat
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -30,10 +36,14 @@ from ..config import ConfigError
 from ..regions.pfc import ACTIONS
 from ..results import ResultsStore
 
-__all__ = ["Behaviour", "REQUIRED", "read_behaviour", "behaviour_from_episodes"]
+__all__ = ["Behaviour", "REQUIRED", "RESERVED", "read_behaviour", "behaviour_from_episodes"]
 
 #: The columns every behaviour table has.
 REQUIRED = ("dataset", "episode", "context", "decision")
+#: data set names the fit commands' outputs give rows of their own (the pooled fit's)
+RESERVED = ("pooled",)
+#: the largest magnitude of a recorded signal: its squares and products with a parameter stay finite in float64
+SIGNAL_LIMIT = 1e150
 
 
 @dataclass(frozen=True)
@@ -50,6 +60,8 @@ class Behaviour:
     free_choice: bool = False
     #: the seed of the run that produced it (a results folder's runs), or None
     seed: object = None
+    #: numeric columns of its table that the fit does not read (neither required nor a replayed signal)
+    ignored: tuple = ()
 
     def __len__(self) -> int:
         return len(self.contexts)
@@ -73,9 +85,8 @@ def read_behaviour(path, context_names: Sequence[str], *, free_choice: bool = Fa
     ``free_choice``: decisions are contexts rather than engage/disengage; ``signals``: the
     extra columns required (for signal replay)."""
     path = Path(path)
-    if not path.exists():
-        raise ConfigError(path, None, "an existing CSV or Parquet file or a results folder", "no such path")
-    if path.is_dir():
+    kind = _kind(path)
+    if kind == "folder":
         store = ResultsStore(path)
         episodes, _ = store.load()
         table = pd.DataFrame({"dataset": episodes["condition"].astype(str) + "/" + episodes["run"].astype(str),
@@ -85,14 +96,10 @@ def read_behaviour(path, context_names: Sequence[str], *, free_choice: bool = Fa
             if name not in episodes:
                 raise ConfigError(path, name, f"a recorded column '{name}' in the results folder", "none")
             table[name] = episodes[name]
-    elif path.suffix.lower() == ".csv":
-        table = pd.read_csv(path)
-    elif path.suffix.lower() in (".parquet", ".pq"):
-        table = pd.read_parquet(path)
     else:
-        raise ConfigError(path, None, "a .csv or .parquet file or a results folder", f"suffix '{path.suffix}'")
+        table = _read_table(path)
     found = behaviour_from_episodes(table, context_names, free_choice=free_choice, signals=signals, source=str(path))
-    if path.is_dir():  # each run's own seed: its replay sees the run's own world
+    if kind == "folder":  # each run's own seed: its replay sees the run's own world
         seeds = {}
         for run_dir in store.run_dirs():
             seed = store.run_info(run_dir)["seed"]
@@ -100,6 +107,57 @@ def read_behaviour(path, context_names: Sequence[str], *, free_choice: bool = Fa
                 seed["entropy"], spawn_key=tuple(seed["spawn_key"]))
         found = [dataclasses.replace(b, seed=seeds.get(b.name)) for b in found]
     return found
+
+
+def _kind(path: Path) -> str:
+    """``"folder"`` or ``"file"`` for a real folder or a regular file at ``path`` (never following a link);
+    anything else is a ConfigError."""
+    expected = "a regular CSV or Parquet file or a results folder"
+    try:
+        mode = os.lstat(path).st_mode
+    except FileNotFoundError:
+        raise ConfigError(path, None, "an existing CSV or Parquet file or a results folder", "no such path") from None
+    except OSError as exc:
+        raise ConfigError(path, None, expected, exc.strerror or str(exc)) from None
+    if stat.S_ISDIR(mode):
+        return "folder"
+    if stat.S_ISLNK(mode):
+        raise ConfigError(path, None, f"{expected} (a symbolic link is never followed)", "a symbolic link")
+    if not stat.S_ISREG(mode):
+        got = "a FIFO" if stat.S_ISFIFO(mode) else "a socket" if stat.S_ISSOCK(mode) else "a device or special file"
+        raise ConfigError(path, None, expected, got)
+    return "file"
+
+
+def _read_table(path: Path) -> pd.DataFrame:
+    """The CSV or Parquet table at ``path``, opened without following a link and refused unless it is a
+    regular file when opened; a file that cannot be parsed is a ConfigError naming it."""
+    suffix = path.suffix.lower()
+    if suffix not in (".csv", ".parquet", ".pq"):
+        raise ConfigError(path, None, "a .csv or .parquet file or a results folder", f"suffix '{path.suffix}'")
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC)
+    except OSError as exc:
+        raise ConfigError(path, None, "a regular file you can read (a symbolic link is never followed)",
+                          exc.strerror or str(exc)) from None
+    with os.fdopen(fd, "rb") as fh:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            raise ConfigError(path, None, "a regular CSV or Parquet file", "not a regular file")
+        os.set_blocking(fd, True)
+        try:
+            if suffix == ".csv":
+                return pd.read_csv(fh, encoding="utf-8")
+            return pd.read_parquet(fh)
+        except UnicodeDecodeError as exc:
+            raise ConfigError(path, None, "UTF-8 text", f"the byte 0x{exc.object[exc.start]:02x} at offset "
+                              f"{exc.start}") from None
+        except pd.errors.EmptyDataError:
+            raise ConfigError(path, None, f"a table with a header row ({', '.join(REQUIRED)}, ...)",
+                              "an empty file") from None
+        except (pd.errors.ParserError, ValueError, OSError) as exc:
+            kind = "CSV" if suffix == ".csv" else "Parquet"
+            raise ConfigError(path, None, f"a {kind} table", f"{type(exc).__name__}: "
+                              f"{(str(exc).splitlines() or [''])[0]}") from None
 
 
 def behaviour_from_episodes(table: pd.DataFrame, context_names: Sequence[str], *, free_choice: bool = False,
@@ -112,6 +170,15 @@ def behaviour_from_episodes(table: pd.DataFrame, context_names: Sequence[str], *
         if table[column].isna().any():
             row = int(np.flatnonzero(table[column].isna().to_numpy())[0])
             raise ConfigError(source, column, "a value in every row", f"a missing value in row {row}")
+    labels = table["dataset"].astype(str)
+    for name in RESERVED:
+        if (labels == name).any():
+            row = int(np.flatnonzero((labels == name).to_numpy())[0])
+            raise ConfigError(source, "dataset", f"data set names other than {', '.join(map(repr, RESERVED))} (the "
+                              "outputs' name for the pooled fit)", f"{name!r} in row {row}")
+    signal_values = {s: _finite(table[s], source, s) for s in signals}
+    ignored = tuple(str(c) for c in table.columns if c not in REQUIRED and c not in signals
+                    and pd.api.types.is_numeric_dtype(table[c].dtype) and not pd.api.types.is_bool_dtype(table[c].dtype))
     names = list(context_names)
     contexts = _codes(table["context"], names, source, "context", "a context index 0..{n} or name ({names})")
     if free_choice:
@@ -144,11 +211,25 @@ def behaviour_from_episodes(table: pd.DataFrame, context_names: Sequence[str], *
                 raise ConfigError(source, "decision", f"in data set '{name}', 'engage' to stay in the context and "
                                   "'disengage' to leave it", f"'{said}' at episode {episode[k]} followed by "
                                   f"context {c[k + 1]} (from context {c[k]})")
-        values = {s: table[s].to_numpy(dtype=np.float64)[rows] for s in signals}
-        out.append(Behaviour(str(name), c.astype(np.int64), d.astype(np.int64), values, source, free_choice))
+        values = {s: v[rows] for s, v in signal_values.items()}
+        out.append(Behaviour(str(name), c.astype(np.int64), d.astype(np.int64), values, source, free_choice,
+                             ignored=ignored))
     if not out:
         raise ConfigError(source, "dataset", "at least one episode", "an empty table")
     return out
+
+
+def _finite(column: pd.Series, source: str, key: str) -> np.ndarray:
+    """A signal column as float64, refused (naming the row) unless every value is a number of magnitude at
+    most :data:`SIGNAL_LIMIT` (an inf, or 1e308, makes the model's values inf - inf = NaN)."""
+    values = pd.to_numeric(column, errors="coerce").to_numpy(dtype=np.float64)
+    with np.errstate(invalid="ignore"):
+        bad = ~(np.abs(values) <= SIGNAL_LIMIT)
+    if bad.any():
+        row = int(np.flatnonzero(bad)[0])
+        raise ConfigError(source, key, f"finite numbers of magnitude at most {SIGNAL_LIMIT:g}",
+                          f"{column.iloc[row]!r} in row {row}")
+    return values
 
 
 def _codes(column: pd.Series, names: list[str], source: str, key: str, expected: str) -> np.ndarray:

@@ -14,6 +14,16 @@ Intervals are profile-likelihood intervals (Wilks' theorem): the values of param
 whose profile log-likelihood, maximised over the other parameters, lies within
 chi2(1, level) / 2 of the maximum; an end that reaches its bound is reported at the bound
 (the interval is censored there). Information criteria: AIC = 2k - 2 log L, BIC = k log n - 2 log L.
+
+Identifiability (``identify=True``, :func:`weak_keys`): the observed information, the Hessian of
+-log L at the estimate by central finite differences on the bounded scale (each parameter's
+bounds mapped to [0, 1]; one vectorised evaluation), inverted gives the Wald covariance. A key
+whose Wald 95 % interval, +-1.96 sqrt(variance), is wider than its bounds is not identified by the
+data within them, and neither is a key whose Wald correlation with such a key is at least
+:data:`TIED` (they trade off along one direction). Two parameters that act only as a product have
+a singular information matrix on their ridge (its null eigenvalue is taken as 1e-9 of the largest),
+so both are named wherever on the ridge the estimate lies. Those keys are :attr:`MLFit.unidentified`,
+and so is a key whose profile interval spans its whole bounds (a flat profile).
 """
 
 from __future__ import annotations
@@ -27,12 +37,18 @@ from scipy import optimize, stats
 
 from ..config import ConfigError
 
-__all__ = ["MLFit", "fit_ml", "fit_table"]
+__all__ = ["MLFit", "fit_ml", "fit_table", "weak_keys"]
 
 #: what an impossible theta costs instead of +inf
 IMPOSSIBLE = 1e12
 #: points of the scrambled Sobol design the starts are chosen from (a power of 2)
 DESIGN = 64
+#: chi2(1, .95) = 1.96^2: a key is identified when 1.96^2 times its Wald variance on the bounded scale is below 1
+IDENTIFIED = float(stats.chi2.ppf(0.95, 1))
+#: the Wald correlation with an unidentified key at which a key is not identified either (they trade off)
+TIED = 0.99
+#: the finite-difference step of the observed information, on the bounded scale
+STEP = 1e-3
 
 
 @dataclass
@@ -44,6 +60,8 @@ class MLFit:
     loglik: float
     n_obs: int
     ci: dict = field(default_factory=dict)
+    #: the keys the data do not identify within the bounds (module docstring); empty unless asked for
+    unidentified: list = field(default_factory=list)
 
     @property
     def n_params(self) -> int:
@@ -74,10 +92,10 @@ def _check_bounds(bounds: Mapping[str, tuple[float, float]]) -> tuple[list[str],
 
 
 def fit_ml(replays, bounds: Mapping[str, tuple[float, float]], *, starts: int = 5, seed: int = 0,
-           ci: float | None = 0.95, dataset: str = "pooled", mask=None) -> MLFit:
+           ci: float | None = 0.95, dataset: str = "pooled", mask=None, identify: bool = False) -> MLFit:
     """One theta maximising the summed log-likelihood of ``replays`` (one Replay or several, pooled);
     ``mask``: only the episodes it selects (one replay). Without bounds, the model has no free
-    parameter: its log-likelihood is evaluated."""
+    parameter: its log-likelihood is evaluated. ``identify``: set :attr:`MLFit.unidentified`."""
     replays = [replays] if not isinstance(replays, Sequence) else list(replays)
     n_obs = int(sum(r.n_obs for r in replays)) if mask is None else int(np.sum(mask))
 
@@ -109,7 +127,44 @@ def fit_ml(replays, bounds: Mapping[str, tuple[float, float]], *, starts: int = 
     fit = MLFit(dataset, dict(zip(keys, map(float, x))), loglik(x), n_obs)
     if ci is not None:
         fit.ci = {k: profile_interval(cost, x, b, i, -fit.loglik, ci) for i, k in enumerate(keys)}
+    if identify:
+        flat = [k for k, (lo, hi) in fit.ci.items() if (lo, hi) == tuple(bounds[k])]
+        weak = weak_keys(loglik_many, x, b, keys)
+        fit.unidentified = [k for k in keys if k in flat or k in weak]
     return fit
+
+
+def weak_keys(loglik_many, x: np.ndarray, b: np.ndarray, keys: Sequence[str]) -> list[str]:
+    """The keys whose Wald 95 % interval at ``x`` is wider than their bounds, and those correlated with one by at
+    least :data:`TIED` (module docstring): on the bounded scale, a variance (the diagonal of the inverse
+    observed information) above 1 / :data:`IDENTIFIED`; an eigenvalue of the information that is not positive
+    (a flat direction) counts as 1e-9 of the largest.
+    ``loglik_many(points)``: the log-likelihood of each point. Empty when a point of the stencil is
+    impossible (no curvature to read)."""
+    d, width = len(keys), b[:, 1] - b[:, 0]
+    h = STEP
+    centre = np.clip((x - b[:, 0]) / width, h, 1.0 - h)  # the stencil inside the bounds
+    eye = np.eye(d) * h
+    offsets = [np.zeros(d)] + [s * eye[i] for i in range(d) for s in (1, -1)]
+    offsets += [si * eye[i] + sj * eye[j] for i in range(d) for j in range(i + 1, d) for si in (1, -1) for sj in (1, -1)]
+    values = -np.asarray(loglik_many(b[:, 0] + (centre + np.array(offsets)) * width), dtype=np.float64)
+    if not np.isfinite(values).all():
+        return []
+    f0, hess, k = values[0], np.empty((d, d)), 1 + 2 * d
+    for i in range(d):
+        hess[i, i] = (values[1 + 2 * i] - 2 * f0 + values[2 + 2 * i]) / h**2
+        for j in range(i + 1, d):
+            pp, pm, mp, mm = values[k:k + 4]
+            hess[i, j] = hess[j, i] = (pp - pm - mp + mm) / (4 * h**2)
+            k += 4
+    eigenvalues, vectors = np.linalg.eigh(hess)
+    floor = 1e-9 * max(float(np.abs(eigenvalues).max()), 1.0)
+    covariance = (vectors / np.maximum(eigenvalues, floor)) @ vectors.T
+    variance = np.diag(covariance)
+    weak = IDENTIFIED * variance > 1.0
+    correlation = covariance / np.sqrt(np.outer(variance, variance))
+    tied = (np.abs(correlation[:, weak]) >= TIED).any(axis=1)
+    return [key for key, w, t in zip(keys, weak, tied) if w or t]
 
 
 def profile_interval(cost, x: np.ndarray, b: np.ndarray, i: int, best: float, level: float) -> tuple[float, float]:

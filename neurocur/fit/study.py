@@ -22,7 +22,7 @@ from .data import Behaviour, behaviour_from_episodes, read_behaviour
 from .mle import MLFit, fit_ml
 from .replay import Replay, signal_circuit
 
-__all__ = ["condition_of", "default_bounds", "fit_data", "load_data", "make_replays", "model_bounds", "replay_of",
+__all__ = ["check_bound_keys", "condition_of", "default_bounds", "fit_data", "load_data", "make_replays", "model_bounds", "replay_of",
            "simulate"]
 
 
@@ -85,9 +85,11 @@ def make_replays(experiment, condition, datasets: Sequence[Behaviour], fitted: S
 
 
 def fit_data(replays: Sequence[Replay], bounds: Mapping[str, tuple[float, float]], *, pooled: bool = True,
-             starts: int = 5, seed: int = 0, ci: float | None = 0.95) -> list[MLFit]:
-    """A fit per data set, then (with ``pooled`` and more than one data set) one pooled fit."""
-    fits = [fit_ml(r, bounds, starts=starts, seed=seed, ci=ci, dataset=r.behaviour.name) for r in replays]
+             starts: int = 5, seed: int = 0, ci: float | None = 0.95, identify: bool = True) -> list[MLFit]:
+    """A fit per data set, then (with ``pooled`` and more than one data set) one pooled fit; ``identify``: each
+    fit's keys that the data do not identify (:func:`~neurocur.fit.mle.fit_ml`)."""
+    fits = [fit_ml(r, bounds, starts=starts, seed=seed, ci=ci, dataset=r.behaviour.name, identify=identify)
+            for r in replays]
     for fit, replay in zip(fits, replays):
         if fit.loglik == -np.inf:  # no theta in the bounds gives every observed decision a chance
             where = replay.first_impossible(replay.episode_logp(fit.estimate))
@@ -95,17 +97,17 @@ def fit_data(replays: Sequence[Replay], bounds: Mapping[str, tuple[float, float]
                               "decisions the model gives a nonzero probability somewhere in the bounds",
                               f"log-likelihood -inf: {where}")
     if pooled and len(replays) > 1:
-        fits.append(fit_ml(list(replays), bounds, starts=starts, seed=seed, ci=ci, dataset="pooled"))
+        fits.append(fit_ml(list(replays), bounds, starts=starts, seed=seed, ci=ci, dataset="pooled",
+                           identify=identify))
     return fits
 
 
 def default_bounds(condition, keys: Sequence[str], given: Mapping[str, tuple[float, float]]) -> dict:
-    """Bounds for ``keys``: the given ones, else the parameter's declared range where it is finite."""
+    """Bounds for ``keys``: the given ones, else the parameter's declared range where it is finite. Each key is
+    a parameter of the circuit, and both ends of given bounds lie in its declared domain (checked as ``--set``
+    checks a value, :meth:`~neurocur.config.params.ParamSpec.coerce`)."""
     out = {}
     for key in keys:
-        if key in given:
-            out[key] = given[key]
-            continue
         region, _, name = key.partition(".")
         spec = condition.circuit.specs.get(region)
         fields = {f.name: f for f in dataclasses.fields(spec.params)} if spec is not None else {}
@@ -114,12 +116,27 @@ def default_bounds(condition, keys: Sequence[str], given: Mapping[str, tuple[flo
                               "no such region" if spec is None else f"no parameter '{name}' of region '{region}' "
                               f"({', '.join(fields)})")
         ps = fields[name].metadata.get("spec")
+        if key in given:
+            if ps is not None:
+                for end in given[key]:
+                    ps.coerce(float(end), source="--bounds", key=key)
+            out[key] = given[key]
+            continue
         low, high = (getattr(ps, "low", None), getattr(ps, "high", None)) if ps is not None else (None, None)
         if low is None or high is None or not np.isfinite([low, high]).all():
             raise ConfigError("--bounds", key, f"--bounds {key}=LOW:HIGH (the parameter has no finite declared range)",
                               "none")
         out[key] = (float(low), float(high))
     return out
+
+
+def check_bound_keys(given: Mapping[str, tuple[float, float]], keys: Sequence[str]) -> None:
+    """ConfigError for a ``--bounds`` key that is not fitted (``keys``: the ``--fit`` keys, ``MODEL:`` stripped)."""
+    fitted = [key.rpartition(":")[2] for key in keys]
+    for key in given:
+        if key not in fitted:
+            raise ConfigError("--bounds", key, f"bounds of a fitted key ({', '.join(fitted) or 'none fitted'})",
+                              "a key no --fit names")
 
 
 def model_bounds(experiment, names: Sequence[str], keys: Sequence[str],
@@ -129,6 +146,7 @@ def model_bounds(experiment, names: Sequence[str], keys: Sequence[str],
     model that has the parameter: not one whose region the condition lacks or lesions (a random LC,
     epsilon fixed at 1, is a model without its decision parameters)."""
     models = {name: condition_of(experiment, name)[1] for name in names}
+    check_bound_keys(given, keys)
     for key in keys:
         model = key.rpartition(":")[0]
         if model and model not in models:

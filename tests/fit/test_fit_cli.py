@@ -140,7 +140,7 @@ def test_fit_and_recover_with_bootstrap_intervals(tmp_path, capsys):
     assert not (tmp_path / "bad").exists()  # refused before any folder is made
     rec = tmp_path / "rec"
     assert main(["recover", "free_choice", "--condition", "learning_progress", "--fit", "LC.gain", "--bounds",
-                 "LC.gain=2:40", "--signal", "HPC=error", "--datasets", "2", "--episodes", "50", "--starts", "1",
+                 "LC.gain=2:40", "--signal", "HPC=error", "--datasets", "3", "--episodes", "50", "--starts", "1",
                  "--ci", "bootstrap", "--bootstrap", "4", "--out", str(rec)]) == 0
     table = pd.read_csv(rec / "recovery.csv")
-    assert (table["ci_low"] < table["ci_high"]).all() and len(table) == 2
+    assert (table["ci_low"] < table["ci_high"]).all() and len(table) == 3
