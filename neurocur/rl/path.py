@@ -96,18 +96,22 @@ def model_circuit(model: str, *, params: Mapping | None = None, circuit=None, in
                   source: str = "IntrinsicReward") -> Circuit:
     """The circuit whose VTA is ``model`` (a registered VTA type or an entry point of the
     ``neurocur.regions`` group) with ``params``: ``circuit`` (a Circuit, a shipped circuit's name or
-    a file) with its VTA replaced; by default the first shipped circuit, by name, whose VTA is
-    ``model`` (so a shipped variant keeps its wiring, e.g. ``vta_state_progress``'s
-    ``HPC.progress -> VTA.progress``), else ``cd_misfa`` with its VTA replaced. ``inputs`` feeds
-    inputs the circuit does not (``{"progress": "HPC.progress"}``, as
+    a file) with its VTA replaced; by default the shipped variant named after ``model``
+    (``vta_state_progress`` for ``vta.state_progress``, so it keeps its wiring,
+    ``HPC.progress -> VTA.progress``; not ``ne_plasticity``, which extends it with the LC's NE),
+    else the first shipped circuit, by name, whose VTA is ``model``, else ``cd_misfa`` with its VTA
+    replaced. ``inputs`` feeds inputs the circuit does not (``{"progress": "HPC.progress"}``, as
     :meth:`~neurocur.circuit.Circuit.replace`)."""
     if not isinstance(model, str) or model not in REGIONS:
         raise ConfigError(source, "model", f"a registered region type ({', '.join(REGIONS.names())})", repr(model))
     if not any(s.name == "da" for s in REGIONS.get(model).outputs):
         raise ConfigError(source, "model", "a VTA model (a region type with a 'da' output)", repr(model))
     if circuit is None:
-        circuit = next((path for path in shipped_files("circuit").values()
-                        if getattr(Circuit.from_toml(path).specs.get("VTA"), "type_name", None) == model), "cd_misfa")
+        shipped = shipped_files("circuit")
+        variant = model.replace(".", "_")  # the circuit of a VTA variant bears its name: vta_state_progress
+        circuit = shipped[variant] if variant in shipped else next(
+            (path for path in shipped.values()
+             if getattr(Circuit.from_toml(path).specs.get("VTA"), "type_name", None) == model), "cd_misfa")
     base = circuit if isinstance(circuit, Circuit) else Circuit.from_toml(circuit)
     if "VTA" not in base.specs:
         raise ConfigError(base.source, "regions", "a region named 'VTA'", f"regions {', '.join(base.specs)}")

@@ -6,7 +6,9 @@
 novelty) and adds ``scale * decay**t * DA`` to the reward of step ``t``; the two parts are in
 ``info["intrinsic_reward"]`` and ``info["extrinsic_reward"]``. The model is any registered VTA
 type, a third-party one from the ``neurocur.regions`` entry-point group included
-(docs/rl.md). The spaces are the environment's.
+(docs/rl.md). The spaces are the environment's. The slow-feature regions' ``n_pca`` and
+``n_components`` fit an observation's size unless ``overrides`` sets them, as IncSFA's own
+``n_pca=None`` does.
 
 The curiosity memory (the circuit's learned modules, the VTA's counts or previous errors) spans
 the environment's episodes: it is built at the first reset and rebuilt, from the seed, at every
@@ -50,12 +52,9 @@ class _Curiosity:
         self.path = path if path is not None else "counts" if model in COUNT_MODELS else "slow_features"
         self.frames = frames if frames is not None else DEFAULT_FRAMES.get(self.path, 1)
         self.coding = {"contexts": contexts, "bins": bins, "hash_bits": hash_bits, "image_size": image_size}
+        n_values = ObservationCoder(space, rng=np.random.default_rng(0), source=source, **self.coding).n_pixels
+        self.circuit = _fitted(self.circuit, n_values, dict(overrides or {}), source)
         self.build(np.random.SeedSequence(0))  # every argument is checked here, not at the first reset
-        ec = self.sensory.circuit.specs.get("EC")
-        n_pca = (getattr(ec.params, "n_pca", 0) or 0) if ec is not None else 0  # None: min(3, the frame's values)
-        if n_pca > self.sensory.coder.n_pixels:
-            raise ConfigError(f"{source} overrides", "EC.n_pca", f"at most the {self.sensory.coder.n_pixels} values "
-                              "of an observation's frame (overrides={'EC.n_pca': ...})", repr(n_pca))
         self.sensory = None
 
     def build(self, seed: np.random.SeedSequence) -> None:
@@ -77,6 +76,29 @@ class _Curiosity:
         self.weight *= self.decay
 
 
+def _fitted(circuit, n_values: int, overrides: dict, source: str):
+    """``circuit`` with the slow-feature regions' sizes fitted to a frame of ``n_values`` values, as
+    IncSFA's own default does (``n_pca=None``: min(3, the input's values)): a region's ``n_pca``
+    above ``n_values`` becomes None and its ``n_components`` at most ``n_values``, unless ``overrides``
+    sets them, where a larger value is a ConfigError."""
+    fitted = {}
+    for name, spec in circuit.specs.items():
+        if not (hasattr(spec.params, "n_pca") and hasattr(spec.params, "n_components")):
+            continue
+        n_pca, n_components = spec.params.n_pca, spec.params.n_components
+        if n_pca is not None and n_pca > n_values:
+            if f"{name}.n_pca" in overrides:
+                raise ConfigError(f"{source} overrides", f"{name}.n_pca", f"at most the {n_values} values of an "
+                                  f"observation's frame (or None: min(3, {n_values}))", repr(n_pca))
+            fitted[f"{name}.n_pca"] = None
+        if n_components > n_values:
+            if f"{name}.n_components" in overrides:
+                raise ConfigError(f"{source} overrides", f"{name}.n_components", f"at most the {n_values} values of "
+                                  "an observation's frame", repr(n_components))
+            fitted[f"{name}.n_components"] = n_values
+    return circuit.with_params(fitted, source=source) if fitted else circuit
+
+
 def _number(x) -> float:
     return float(x) if isinstance(x, (int, float)) and not isinstance(x, bool) else float("nan")
 
@@ -92,7 +114,10 @@ class IntrinsicReward(gym.Wrapper, gym.utils.RecordConstructorArgs):
     - ``circuit``: the circuit whose sensory path is used (a Circuit, a shipped circuit's name or a
       file; by default the shipped circuit of the model, else ``cd_misfa``), ``inputs`` edges into
       the model's extra inputs (``{"progress": "HPC.progress"}``), ``overrides`` the circuit's
-      parameters (``{"EC.n_pca": 2}``; EC's ``n_pca`` may not exceed an observation's values).
+      parameters (``{"HPC.threshold": 0.5}``). EC's ``n_pca`` and ``n_components`` fit the values of
+      an observation's frame (``n_pca`` 3 becomes None, min(3, values), as IncSFA's own default,
+      and ``n_components`` at most the values) unless ``overrides`` sets them; an ``n_pca`` set
+      above the values is an error.
     - ``path``: ``"slow_features"`` (EC and HPC) or ``"counts"`` (the VTA alone; the default for
       ``vta.novelty``); ``frames``: steps per pass (:data:`DEFAULT_FRAMES`).
     - ``contexts``, ``bins``, ``hash_bits``, ``image_size``: how observations become frames and

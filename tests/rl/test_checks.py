@@ -1,4 +1,5 @@
-"""neurocur.rl's statistics against closed forms on hand-made environments: the pass reward
+"""neurocur.rl checks what it is given: defaults that fit the observation's size for every shipped
+VTA model; and two statistics against closed forms on hand-made environments: the pass reward
 summed over the block and the vector wrapper's decay per step."""
 
 from __future__ import annotations
@@ -7,9 +8,13 @@ import gymnasium as gym
 import numpy as np
 import pytest
 
+from neurocur.config import ConfigError
+from neurocur.regions import REGIONS
 from neurocur.rl import IntrinsicReward, IntrinsicRewardVector
 
 pytestmark = [pytest.mark.filterwarnings("ignore::UserWarning"), pytest.mark.filterwarnings("error::RuntimeWarning")]
+
+VTA_MODELS = [name for name in REGIONS.names() if name.startswith("vta.")]
 
 
 class Scripted(gym.Env):
@@ -38,6 +43,40 @@ def uniform(space):
 def run(env, steps, seed=0):
     env.reset(seed=seed)
     return [env.step(env.action_space.sample())[4] for _ in range(steps)]
+
+
+@pytest.mark.parametrize("env_id", ["MountainCar-v0", "CartPole-v1", "Pendulum-v1"])
+@pytest.mark.parametrize("model", VTA_MODELS)
+def test_every_shipped_vta_model_wraps_the_classic_controls_with_its_defaults(model, env_id):
+    """Each ``vta.*`` model with the wrapper's defaults: EC's n_pca and n_components fit the
+    observation's values (MountainCar has 2, as the learners' n_pca=None does), two passes run."""
+    env = gym.make(env_id)
+    wrapped = IntrinsicReward(env, model)
+    wrapped.reset(seed=0)
+    frames = wrapped.curiosity.frames
+    bonus = [wrapped.step(wrapped.action_space.sample())[4]["intrinsic_reward"] for _ in range(2 * frames + 1)]
+    assert np.all(np.isfinite(bonus))
+    assert len(wrapped.sensory.simulator.episodes()) == (2 if frames > 1 else 3)
+    ec = wrapped.sensory.circuit.specs.get("EC")
+    if ec is not None:
+        n = env.observation_space.shape[0]
+        assert (ec.params.n_pca or min(3, n)) <= n and ec.params.n_components <= n
+
+
+def test_a_single_value_observation_fits_one_slow_feature():
+    space = gym.spaces.Box(0.0, 1.0, (1,), np.float64)
+    env = IntrinsicReward(Scripted(space, uniform(space)), "vta.surprise", frames=4)
+    bonus = [info["intrinsic_reward"] for info in run(env, 200)]
+    ec = env.sensory.circuit.specs["EC"].params
+    assert (ec.n_pca, ec.n_components) == (None, 1)
+    assert len(env.sensory.simulator.episodes()) == 50 and np.count_nonzero(bonus) > 10
+
+
+def test_explicit_sizes_above_the_observations_values_are_still_refused():
+    with pytest.raises(ConfigError, match=r"^IntrinsicReward overrides: key 'EC.n_pca': expected at most the 2 values"):
+        IntrinsicReward(gym.make("MountainCar-v0"), "vta.surprise", overrides={"EC.n_pca": 3})
+    with pytest.raises(ConfigError, match=r"'EC.n_components': expected at most the 2 values.*got 3$"):
+        IntrinsicReward(gym.make("MountainCar-v0"), "vta.surprise", overrides={"EC.n_components": 3, "EC.n_pca": None})
 
 
 def test_the_pass_reward_is_the_blocks_summed_extrinsic_reward():
