@@ -176,32 +176,59 @@ class SensoryPath:
         self._counts = path == "counts"
         self._blocks: list[list] = [[] for _ in range(streams)]
         self._rewards = [0.0] * streams
+        self._steps = [0] * streams  # steps of each stream's episode, for errors
+        self._source = source
 
-    def start(self, observation, stream: int = 0) -> None:
-        """An episode of environment ``stream`` starts on ``observation`` (the reset's): a frame of its block."""
+    def start(self, observation, stream: int = 0) -> int:
+        """An episode of environment ``stream`` starts on ``observation`` (the reset's): a frame of its
+        block. Returns the number of its values outside the space's bounds (:meth:`step`)."""
+        self._steps[stream] = 0
+        try:
+            x, outside = self.coder.check(observation)
+        except ConfigError as error:
+            raise self._located(error, stream) from None
         if not self._counts:
-            self._blocks[stream].append(np.array(observation))
+            self._blocks[stream].append(np.array(x))
+        return outside
 
-    def step(self, observation, reward: float, stream: int = 0) -> float | None:
-        """Add one step of ``stream``; when it closes a block, run the pass and return its DA, else None."""
+    def step(self, observation, reward: float, stream: int = 0) -> tuple[float | None, int]:
+        """Add one step of ``stream``; returns the DA of the pass when the step closes a block (else
+        None) and the number of the observation's values outside the space's bounds (clipped in its
+        frame). An observation the coder refuses (:meth:`ObservationCoder.check
+        <neurocur.rl.observations.ObservationCoder.check>`) is a ConfigError naming the step."""
+        self._steps[stream] += 1
         feed = self._feed
         if self._counts:  # a pass per step, on the observation's context alone
-            feed.context = self.coder.context_of(observation)
+            try:
+                feed.context, outside = self.coder.checked_context(observation)
+            except ConfigError as error:
+                raise self._located(error, stream) from None
             feed.reward = float(reward)
             self._run(1)
-            return self._bonus.da
+            return self._bonus.da, outside
+        try:
+            x, outside = self.coder.check(observation)
+        except ConfigError as error:
+            raise self._located(error, stream) from None
         block = self._blocks[stream]
-        block.append(np.array(observation))
+        block.append(np.array(x))
         self._rewards[stream] += reward
         if len(block) <= self.frames:
-            return None
+            return None, outside
         frames = self.coder.frames(np.stack(block))
         if not (frames != frames[0]).any():  # a block that does not vary waits for a further step
-            return None
+            return None, outside
         feed.context = int(self.coder.contexts_of(frames[-1:])[0])
         feed.reward, feed.n_frames = self._rewards[stream], len(frames)
         feed.episode = Episode(frames, np.minimum(np.arange(len(frames)), self.frames), feed.context,
                                _ONE_SEGMENT, feed.reward)
         self._blocks[stream], self._rewards[stream] = [block[-1]], 0.0
         self._run(1)
-        return self._bonus.da
+        return self._bonus.da, outside
+
+    def _located(self, error: ConfigError, stream: int) -> ConfigError:
+        """The coder's ``error`` naming the step of the episode (``reset`` for the reset's observation)
+        and, with several streams, the sub-environment."""
+        step = self._steps[stream]
+        where = f"{self._source} {'reset' if step == 0 else f'step {step}'}"
+        return error.relocated(f"{where} of sub-environment {stream}" if len(self._steps) > 1 else where)

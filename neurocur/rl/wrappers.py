@@ -6,9 +6,14 @@
 novelty) and adds ``scale * decay**t * DA`` to the reward of step ``t``; the two parts are in
 ``info["intrinsic_reward"]`` and ``info["extrinsic_reward"]``. The model is any registered VTA
 type, a third-party one from the ``neurocur.regions`` entry-point group included
-(docs/rl.md). The spaces are the environment's. The slow-feature regions' ``n_pca`` and
-``n_components`` fit an observation's size unless ``overrides`` sets them, as IncSFA's own
-``n_pca=None`` does.
+(docs/rl.md). The spaces are the environment's.
+
+Every observation is checked against the observation space
+(:meth:`~neurocur.rl.observations.ObservationCoder.check`): a wrong shape or dtype or a value that
+is not finite is a one-line ConfigError (a ValueError) naming the step of the episode and the
+index; finite values outside the bounds are clipped in the frame and counted in
+``info["observation_out_of_bounds"]``. The slow-feature regions' ``n_pca`` and ``n_components``
+fit an observation's size unless ``overrides`` sets them, as IncSFA's own ``n_pca=None`` does.
 
 The curiosity memory (the circuit's learned modules, the VTA's counts or previous errors) spans
 the environment's episodes: it is built at the first reset and rebuilt, from the seed, at every
@@ -125,7 +130,11 @@ class IntrinsicReward(gym.Wrapper, gym.utils.RecordConstructorArgs):
       a vector Box or an image Box.
 
     ``info`` of every step holds ``"intrinsic_reward"`` (the bonus) and ``"extrinsic_reward"`` (the
-    environment's reward); the returned reward is their sum.
+    environment's reward); the returned reward is their sum. ``"observation_out_of_bounds"`` (of
+    every step and of the reset) is the number of the observation's values outside the observation
+    space's bounds, clipped to them in its frame. An observation of another shape, of values that
+    are not real numbers, or with a value that is not finite is a one-line ConfigError (a
+    ValueError) naming the step of the episode (``reset`` for the reset's) and the index.
     """
 
     def __init__(self, env: gym.Env, model: str = "vta.learning_progress", *, scale: float = 1.0,
@@ -145,17 +154,18 @@ class IntrinsicReward(gym.Wrapper, gym.utils.RecordConstructorArgs):
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         obs, info = self.env.reset(seed=seed, options=options)
         self.curiosity.reset(seed)
-        self.curiosity.sensory.start(obs)
-        return obs, info
+        outside = self.curiosity.sensory.start(obs)
+        return obs, {**info, "observation_out_of_bounds": outside}
 
     def step(self, action):
         if self.curiosity.sensory is None:
             raise ResetNeeded("IntrinsicReward: call reset() before step()")
         obs, reward, terminated, truncated, info = self.env.step(action)
-        bonus = self.curiosity.bonus(self.curiosity.sensory.step(obs, reward))
+        da, outside = self.curiosity.sensory.step(obs, reward)
+        bonus = self.curiosity.bonus(da)
         self.curiosity.tick()
-        return obs, float(reward) + bonus, terminated, truncated, {**info, "intrinsic_reward": bonus,
-                                                                    "extrinsic_reward": float(reward)}
+        return obs, float(reward) + bonus, terminated, truncated, {
+            **info, "intrinsic_reward": bonus, "extrinsic_reward": float(reward), "observation_out_of_bounds": outside}
 
 
 class IntrinsicRewardVector(VectorWrapper):
@@ -165,8 +175,10 @@ class IntrinsicRewardVector(VectorWrapper):
     own block of steps; at every step they run through it in index order. Autoreset modes
     ``NEXT_STEP`` (gymnasium's default: the step after an episode's end only resets, and gets no
     bonus) and ``SAME_STEP`` (the last observation is ``info["final_obs"]``) are handled.
-    ``info`` holds ``"intrinsic_reward"`` and ``"extrinsic_reward"`` as arrays, one entry per
-    sub-environment; ``decay`` applies once per step of the vector environment."""
+    ``info`` holds ``"intrinsic_reward"``, ``"extrinsic_reward"`` and
+    ``"observation_out_of_bounds"`` as arrays, one entry per sub-environment (with ``SAME_STEP``, the
+    last observation's count plus the reset's); ``decay`` applies once per step of the vector
+    environment. An error names the sub-environment."""
 
     def __init__(self, env: gym.vector.VectorEnv, model: str = "vta.learning_progress", *, scale: float = 1.0,
                  decay: float = 1.0, params: Mapping | None = None, circuit=None, inputs: Mapping | None = None,
@@ -189,27 +201,27 @@ class IntrinsicRewardVector(VectorWrapper):
     def reset(self, *, seed=None, options: dict | None = None):
         obs, info = self.env.reset(seed=seed, options=options)
         self.curiosity.reset(seed[0] if isinstance(seed, (list, tuple)) else seed)
-        for i in range(self.num_envs):
-            self.curiosity.sensory.start(obs[i], i)
+        outside = np.array([self.curiosity.sensory.start(obs[i], i) for i in range(self.num_envs)])
         self._restart[:] = False
-        return obs, info
+        return obs, {**info, "observation_out_of_bounds": outside}
 
     def step(self, actions):
         if self.curiosity.sensory is None:
             raise ResetNeeded("IntrinsicRewardVector: call reset() before step()")
         obs, reward, terminated, truncated, info = self.env.step(actions)
         sensory, done = self.curiosity.sensory, terminated | truncated
-        bonus = np.zeros(self.num_envs)
+        bonus, outside = np.zeros(self.num_envs), np.zeros(self.num_envs, dtype=np.int64)
         for i in range(self.num_envs):
             if self._restart[i]:  # NEXT_STEP: this step only reset sub-environment i
-                sensory.start(obs[i], i)
+                outside[i] = sensory.start(obs[i], i)
                 continue
             last = info["final_obs"][i] if self.mode == AutoresetMode.SAME_STEP and done[i] else obs[i]
-            bonus[i] = self.curiosity.bonus(sensory.step(last, float(reward[i]), i))
+            da, outside[i] = sensory.step(last, float(reward[i]), i)
+            bonus[i] = self.curiosity.bonus(da)
             if self.mode == AutoresetMode.SAME_STEP and done[i]:
-                sensory.start(obs[i], i)
+                outside[i] += sensory.start(obs[i], i)
         self._restart = done if self.mode == AutoresetMode.NEXT_STEP else self._restart
         self.curiosity.tick()
         extrinsic = np.asarray(reward, dtype=np.float64)
-        return obs, extrinsic + bonus, terminated, truncated, {**info, "intrinsic_reward": bonus,
-                                                                "extrinsic_reward": extrinsic}
+        return obs, extrinsic + bonus, terminated, truncated, {
+            **info, "intrinsic_reward": bonus, "extrinsic_reward": extrinsic, "observation_out_of_bounds": outside}
