@@ -195,8 +195,11 @@ class SensoryPath:
         """Add one step of ``stream``; returns the DA of the pass when the step closes a block (else
         None) and the number of the observation's values outside the space's bounds (clipped in its
         frame). An observation the coder refuses (:meth:`ObservationCoder.check
-        <neurocur.rl.observations.ObservationCoder.check>`) is a ConfigError naming the step."""
+        <neurocur.rl.observations.ObservationCoder.check>`) or a reward that is not finite is a
+        ConfigError naming the step."""
         self._steps[stream] += 1
+        if not math.isfinite(reward):  # vta.td would keep it in its values
+            raise self._located(ConfigError(self._source, "reward", "a finite number", str(float(reward))), stream)
         feed = self._feed
         if self._counts:  # a pass per step, on the observation's context alone
             try:

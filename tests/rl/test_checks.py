@@ -103,6 +103,13 @@ def test_an_observation_that_is_not_real_numbers_is_refused(bad, shown):
         run(env, 10)
 
 
+@pytest.mark.parametrize("model, options", PATHS)
+def test_a_reward_that_is_not_finite_is_refused(model, options):
+    env = IntrinsicReward(Scripted(BOX4, uniform(BOX4), lambda t: np.nan if t == 6 else 1.0), model, **options)
+    with pytest.raises(ValueError, match=r"^IntrinsicReward step 6: key 'reward': expected a finite number, got nan$"):
+        run(env, 10)
+
+
 def test_an_image_observation_is_checked_with_its_pixel_named():
     space = gym.spaces.Box(0, 255, (6, 5, 3), np.uint8)
     image = uniform(space)
