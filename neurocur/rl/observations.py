@@ -12,7 +12,14 @@ context, as they do per context of a world (docs/regions.md, "VTA").
 - An image ``Box`` (rank 3 with 1, 3 or 4 channels, or rank 2; ``uint8`` 0-255, as ``rgb_array``
   renders): the frame is the grey level of every ``stride``-th pixel in each direction, so that at
   most ``image_size`` pixels a side remain, divided by 255. Its context is a SimHash code.
-- Any other space is a :class:`~neurocur.config.ConfigError` naming the space.
+- Any other space is a :class:`~neurocur.config.ConfigError` naming the space, and so is a vector
+  Box whose finite bounds are so far apart that ``high - low`` overflows a float64.
+
+Each observation is checked against the space as it is coded (:meth:`ObservationCoder.check`,
+:meth:`ObservationCoder.checked_context`): its shape, real numbers (bool, integer or float), every
+value finite (else a ConfigError naming the index), in one compiled pass that also counts the
+values outside the bounds; those are clipped to the bounds in the frame (environments emit them:
+a Box's bounds are often a guide, not a guarantee), and the count is returned.
 
 SimHash (Charikar 2002; as a count-based exploration bonus, Tang et al. 2017, "#Exploration",
 *NeurIPS* 30): the signs of ``k`` random projections ``A (x - 1/2)`` of the frame, ``A`` with
@@ -21,6 +28,8 @@ frames close in the frame space share their code.
 """
 
 from __future__ import annotations
+
+from typing import NoReturn
 
 import numpy as np
 from gymnasium import spaces
@@ -52,7 +61,18 @@ class ObservationCoder:
             raise ConfigError(source, "observation_space",
                               "a Box of rank 1 (a vector) or an image Box (H, W) or (H, W, C) with C in 1, 3, 4",
                               _describe(space))
-        self.image = _is_image(space)
+        self.image, self.shape, self.source = _is_image(space), space.shape, source
+        self.space_text = f"(observation space {space})"
+        with np.errstate(over="ignore"):
+            too_wide = np.isfinite(space.low) & np.isfinite(space.high) & ~np.isfinite(
+                space.high.astype(np.float64) - space.low.astype(np.float64))
+        if too_wide.any():
+            raise ConfigError(source, "observation_space", "bounds whose width high - low is a finite float64 in every "
+                              f"dimension (it overflows in dimension {int(np.flatnonzero(too_wide)[0])})",
+                              _describe(space))
+        self.bounds = np.stack([space.low.astype(np.float64).ravel(), space.high.astype(np.float64).ravel()])
+        # an image of uint8 in a Box of 0-255 holds only finite values within its bounds: nothing to scan
+        self.full_range = bool(self.image and (self.bounds[0] == 0).all() and (self.bounds[1] == 255).all())
         finite = not self.image and bool(np.all(np.isfinite(space.low)) and np.all(np.isfinite(space.high)))
         if contexts is None:
             contexts = "grid" if finite else "simhash"
@@ -78,6 +98,7 @@ class ObservationCoder:
             self.low = np.where(bounded, low, 0.0)
             self.span = np.where(bounded & (high > low), high - low, 1.0)
             self.n_pixels = space.shape[0]
+            self.table = np.stack([*self.bounds, self.low, self.span, bounded])  # what the compiled pass reads
         if contexts == "grid":
             self.bins = int(bins)
             if self.bins ** self.n_pixels > MAX_CONTEXTS:
@@ -88,6 +109,7 @@ class ObservationCoder:
         else:
             self.projection = rng.standard_normal((self.n_pixels, int(hash_bits)))
             self.half_sums = 0.5 * self.projection.sum(axis=0)  # (x - 1/2) A > 0  <=>  x A > A's column sums / 2
+            self.hashing = np.vstack([self.projection, self.half_sums])
             self.n_contexts = 2 ** int(hash_bits)
             self.radix = 2 ** np.arange(int(hash_bits), dtype=np.int64)
 
@@ -104,17 +126,61 @@ class ObservationCoder:
             z = np.where(self.bounded, z, expit(z))
         return np.minimum(np.maximum(z, 0.0, out=z), 1.0, out=z)
 
-    def context_of(self, observation) -> int:
-        """The context of one observation, :meth:`contexts_of` of its :meth:`frames` in one compiled
-        pass for a vector Box (a step of the count path pays no array temporaries). A grid cell is
+    def check(self, observation) -> tuple[np.ndarray, int]:
+        """``observation`` as an array, checked against the space, and the number of its values
+        outside the bounds. A shape other than the space's, values that are not real numbers (bool,
+        integer or float) or a value that is not finite is a one-line
+        :class:`~neurocur.config.ConfigError` naming the index and the space."""
+        x = self._array(observation)
+        if x.dtype == np.uint8:  # an image's
+            if self.full_range:
+                return x, 0
+            status = _scan(x.reshape(-1).astype(np.float64), self.bounds)
+        else:
+            status = _scan(x.reshape(-1), self.bounds)
+        return x, status if status >= 0 else self._not_finite(x, status)
+
+    def checked_context(self, observation) -> tuple[int, int]:
+        """The context of one observation and the number of its values outside the bounds, checked as
+        :meth:`check` does: for a vector Box, the check and :meth:`contexts_of` of its :meth:`frames`
+        in one compiled pass (a step of the count path pays no array temporaries). A grid cell is
         the same exactly; a SimHash code the same but where a projection of the frame lies within
         rounding of its threshold (the logistic and the dot product are summed in another order)."""
         if self.image:
-            return int(self.contexts_of(self.frames(np.asarray(observation)[None]))[0])
-        x = np.asarray(observation, dtype=np.float64)
+            x, outside = self.check(observation)
+            return int(self.contexts_of(self.frames(x[None]))[0]), outside
+        x = self._array(observation)
         if self.contexts == "grid":
-            return _grid_context(x, self.low, self.span, self.bounded, self.bins, self.radix)
-        return _hash_context(x, self.low, self.span, self.bounded, self.projection, self.half_sums, self.radix)
+            key, status = _grid_context(x, self.table, self.bins)
+        else:
+            key, status = _hash_context(x, self.table, self.hashing)
+        return key, status if status >= 0 else self._not_finite(x, status)
+
+    def context_of(self, observation) -> int:
+        """The context of one observation (:meth:`checked_context`'s first part)."""
+        return self.checked_context(observation)[0]
+
+    def _array(self, observation) -> np.ndarray:
+        """The observation as an array of the space's shape holding real numbers (float32 or float64,
+        as the compiled passes read them), or a ConfigError."""
+        x = observation if type(observation) is np.ndarray else np.asarray(observation)
+        if x.shape != self.shape:
+            raise ConfigError(self.source, "observation", f"an array of shape {self.shape} {self.space_text}",
+                              f"an array of shape {x.shape}")
+        if x.dtype != np.float64 and x.dtype != np.float32:
+            if x.dtype.kind not in "biuf":
+                raise ConfigError(self.source, "observation", f"real numbers (bool, integer or float) "
+                                  f"{self.space_text}", f"dtype {x.dtype}")
+            if not (self.image and x.dtype == np.uint8):
+                x = x.astype(np.float64)
+        return x
+
+    def _not_finite(self, x: np.ndarray, status: int) -> NoReturn:
+        """The ConfigError naming the value of ``x`` that is not finite, from a compiled pass's
+        ``status`` (:func:`_scan`)."""
+        index = ", ".join(str(int(i)) for i in np.unravel_index(-1 - status, self.shape))
+        raise ConfigError(self.source, f"observation[{index}]", f"a finite number {self.space_text}",
+                          str(float(x.reshape(-1)[-1 - status])))
 
     def contexts_of(self, frames: np.ndarray) -> np.ndarray:
         """The context of each frame (rows): its grid cell, or its SimHash code."""
@@ -124,35 +190,63 @@ class ObservationCoder:
 
 
 @njit(cache=True)
-def _frame_value(x, low, span, bounded, i):
-    """Dimension ``i`` of an observation's frame (:meth:`ObservationCoder.frames`)."""
-    z = (x[i] - low[i]) / span[i]
-    if not bounded[i]:
+def _scan(x, bounds):
+    """The check of an observation's values ``x`` (flat; ``bounds`` its rows low and high), in one
+    pass: ``-1 - i`` for the first value ``i`` that is not finite, else the number of values
+    outside the bounds."""
+    outside = 0
+    for i in range(x.shape[0]):
+        v = x[i]
+        if not np.isfinite(v):
+            return -1 - i
+        if v < bounds[0, i] or v > bounds[1, i]:
+            outside += 1
+    return outside
+
+
+@njit(cache=True)
+def _frame_value(x, table, i):
+    """Dimension ``i`` of an observation's frame (:meth:`ObservationCoder.frames`; ``table``'s rows
+    2-4 are its ``low``, ``span`` and ``bounded``)."""
+    z = (x[i] - table[2, i]) / table[3, i]
+    if table[4, i] == 0.0:
         z = 1.0 / (1.0 + np.exp(-z))
     return min(max(z, 0.0), 1.0)
 
 
 @njit(cache=True)
-def _grid_context(x, low, span, bounded, bins, radix):
+def _grid_context(x, table, bins):
+    """(the grid cell of an observation, :func:`_scan`'s status of it); the cell is 0 where the status is < 0."""
+    status = _scan(x, table)
     key = 0
+    if status < 0:
+        return key, status
+    radix = 1
     for i in range(x.shape[0]):
-        key += min(int(_frame_value(x, low, span, bounded, i) * bins), bins - 1) * radix[i]
-    return key
+        key += min(int(_frame_value(x, table, i) * bins), bins - 1) * radix
+        radix *= bins
+    return key, status
 
 
 @njit(cache=True)
-def _hash_context(x, low, span, bounded, projection, half_sums, radix):
-    z = np.empty(x.shape[0])
-    for i in range(x.shape[0]):
-        z[i] = _frame_value(x, low, span, bounded, i)
+def _hash_context(x, table, hashing):
+    """(the SimHash code of an observation, :func:`_scan`'s status of it); ``hashing`` is the
+    projection with the half sums of its columns as a last row; the code is 0 where the status is < 0."""
+    status = _scan(x, table)
     key = 0
-    for j in range(projection.shape[1]):
+    if status < 0:
+        return key, status
+    n = x.shape[0]
+    z = np.empty(n)
+    for i in range(n):
+        z[i] = _frame_value(x, table, i)
+    for j in range(hashing.shape[1]):
         s = 0.0
-        for i in range(x.shape[0]):
-            s += z[i] * projection[i, j]
-        if s > half_sums[j]:
-            key += radix[j]
-    return key
+        for i in range(n):
+            s += z[i] * hashing[i, j]
+        if s > hashing[n, j]:
+            key += 1 << j
+    return key, status
 
 
 def _is_vector(space) -> bool:

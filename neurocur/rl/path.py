@@ -96,18 +96,22 @@ def model_circuit(model: str, *, params: Mapping | None = None, circuit=None, in
                   source: str = "IntrinsicReward") -> Circuit:
     """The circuit whose VTA is ``model`` (a registered VTA type or an entry point of the
     ``neurocur.regions`` group) with ``params``: ``circuit`` (a Circuit, a shipped circuit's name or
-    a file) with its VTA replaced; by default the first shipped circuit, by name, whose VTA is
-    ``model`` (so a shipped variant keeps its wiring, e.g. ``vta_state_progress``'s
-    ``HPC.progress -> VTA.progress``), else ``cd_misfa`` with its VTA replaced. ``inputs`` feeds
-    inputs the circuit does not (``{"progress": "HPC.progress"}``, as
+    a file) with its VTA replaced; by default the shipped variant named after ``model``
+    (``vta_state_progress`` for ``vta.state_progress``, so it keeps its wiring,
+    ``HPC.progress -> VTA.progress``; not ``ne_plasticity``, which extends it with the LC's NE),
+    else the first shipped circuit, by name, whose VTA is ``model``, else ``cd_misfa`` with its VTA
+    replaced. ``inputs`` feeds inputs the circuit does not (``{"progress": "HPC.progress"}``, as
     :meth:`~neurocur.circuit.Circuit.replace`)."""
     if not isinstance(model, str) or model not in REGIONS:
         raise ConfigError(source, "model", f"a registered region type ({', '.join(REGIONS.names())})", repr(model))
     if not any(s.name == "da" for s in REGIONS.get(model).outputs):
         raise ConfigError(source, "model", "a VTA model (a region type with a 'da' output)", repr(model))
     if circuit is None:
-        circuit = next((path for path in shipped_files("circuit").values()
-                        if getattr(Circuit.from_toml(path).specs.get("VTA"), "type_name", None) == model), "cd_misfa")
+        shipped = shipped_files("circuit")
+        variant = model.replace(".", "_")  # the circuit of a VTA variant bears its name: vta_state_progress
+        circuit = shipped[variant] if variant in shipped else next(
+            (path for path in shipped.values()
+             if getattr(Circuit.from_toml(path).specs.get("VTA"), "type_name", None) == model), "cd_misfa")
     base = circuit if isinstance(circuit, Circuit) else Circuit.from_toml(circuit)
     if "VTA" not in base.specs:
         raise ConfigError(base.source, "regions", "a region named 'VTA'", f"regions {', '.join(base.specs)}")
@@ -172,32 +176,62 @@ class SensoryPath:
         self._counts = path == "counts"
         self._blocks: list[list] = [[] for _ in range(streams)]
         self._rewards = [0.0] * streams
+        self._steps = [0] * streams  # steps of each stream's episode, for errors
+        self._source = source
 
-    def start(self, observation, stream: int = 0) -> None:
-        """An episode of environment ``stream`` starts on ``observation`` (the reset's): a frame of its block."""
+    def start(self, observation, stream: int = 0) -> int:
+        """An episode of environment ``stream`` starts on ``observation`` (the reset's): a frame of its
+        block. Returns the number of its values outside the space's bounds (:meth:`step`)."""
+        self._steps[stream] = 0
+        try:
+            x, outside = self.coder.check(observation)
+        except ConfigError as error:
+            raise self._located(error, stream) from None
         if not self._counts:
-            self._blocks[stream].append(np.array(observation))
+            self._blocks[stream].append(np.array(x))
+        return outside
 
-    def step(self, observation, reward: float, stream: int = 0) -> float | None:
-        """Add one step of ``stream``; when it closes a block, run the pass and return its DA, else None."""
+    def step(self, observation, reward: float, stream: int = 0) -> tuple[float | None, int]:
+        """Add one step of ``stream``; returns the DA of the pass when the step closes a block (else
+        None) and the number of the observation's values outside the space's bounds (clipped in its
+        frame). An observation the coder refuses (:meth:`ObservationCoder.check
+        <neurocur.rl.observations.ObservationCoder.check>`) or a reward that is not finite is a
+        ConfigError naming the step."""
+        self._steps[stream] += 1
+        if not math.isfinite(reward):  # vta.td would keep it in its values
+            raise self._located(ConfigError(self._source, "reward", "a finite number", str(float(reward))), stream)
         feed = self._feed
         if self._counts:  # a pass per step, on the observation's context alone
-            feed.context = self.coder.context_of(observation)
+            try:
+                feed.context, outside = self.coder.checked_context(observation)
+            except ConfigError as error:
+                raise self._located(error, stream) from None
             feed.reward = float(reward)
             self._run(1)
-            return self._bonus.da
+            return self._bonus.da, outside
+        try:
+            x, outside = self.coder.check(observation)
+        except ConfigError as error:
+            raise self._located(error, stream) from None
         block = self._blocks[stream]
-        block.append(np.array(observation))
+        block.append(np.array(x))
         self._rewards[stream] += reward
         if len(block) <= self.frames:
-            return None
+            return None, outside
         frames = self.coder.frames(np.stack(block))
         if not (frames != frames[0]).any():  # a block that does not vary waits for a further step
-            return None
+            return None, outside
         feed.context = int(self.coder.contexts_of(frames[-1:])[0])
         feed.reward, feed.n_frames = self._rewards[stream], len(frames)
         feed.episode = Episode(frames, np.minimum(np.arange(len(frames)), self.frames), feed.context,
                                _ONE_SEGMENT, feed.reward)
         self._blocks[stream], self._rewards[stream] = [block[-1]], 0.0
         self._run(1)
-        return self._bonus.da
+        return self._bonus.da, outside
+
+    def _located(self, error: ConfigError, stream: int) -> ConfigError:
+        """The coder's ``error`` naming the step of the episode (``reset`` for the reset's observation)
+        and, with several streams, the sub-environment."""
+        step = self._steps[stream]
+        where = f"{self._source} {'reset' if step == 0 else f'step {step}'}"
+        return error.relocated(f"{where} of sub-environment {stream}" if len(self._steps) > 1 else where)

@@ -8,6 +8,13 @@ novelty) and adds ``scale * decay**t * DA`` to the reward of step ``t``; the two
 type, a third-party one from the ``neurocur.regions`` entry-point group included
 (docs/rl.md). The spaces are the environment's.
 
+Every observation is checked against the observation space
+(:meth:`~neurocur.rl.observations.ObservationCoder.check`): a wrong shape or dtype or a value that
+is not finite is a one-line ConfigError (a ValueError) naming the step of the episode and the
+index; finite values outside the bounds are clipped in the frame and counted in
+``info["observation_out_of_bounds"]``. The slow-feature regions' ``n_pca`` and ``n_components``
+fit an observation's size unless ``overrides`` sets them, as IncSFA's own ``n_pca=None`` does.
+
 The curiosity memory (the circuit's learned modules, the VTA's counts or previous errors) spans
 the environment's episodes: it is built at the first reset and rebuilt, from the seed, at every
 reset with a seed, so a run is reproduced by its seed (``reset(seed=s)``; ``SeedSequence(s)`` is
@@ -50,12 +57,9 @@ class _Curiosity:
         self.path = path if path is not None else "counts" if model in COUNT_MODELS else "slow_features"
         self.frames = frames if frames is not None else DEFAULT_FRAMES.get(self.path, 1)
         self.coding = {"contexts": contexts, "bins": bins, "hash_bits": hash_bits, "image_size": image_size}
+        n_values = ObservationCoder(space, rng=np.random.default_rng(0), source=source, **self.coding).n_pixels
+        self.circuit = _fitted(self.circuit, n_values, dict(overrides or {}), source)
         self.build(np.random.SeedSequence(0))  # every argument is checked here, not at the first reset
-        ec = self.sensory.circuit.specs.get("EC")
-        n_pca = (getattr(ec.params, "n_pca", 0) or 0) if ec is not None else 0  # None: min(3, the frame's values)
-        if n_pca > self.sensory.coder.n_pixels:
-            raise ConfigError(f"{source} overrides", "EC.n_pca", f"at most the {self.sensory.coder.n_pixels} values "
-                              "of an observation's frame (overrides={'EC.n_pca': ...})", repr(n_pca))
         self.sensory = None
 
     def build(self, seed: np.random.SeedSequence) -> None:
@@ -77,6 +81,29 @@ class _Curiosity:
         self.weight *= self.decay
 
 
+def _fitted(circuit, n_values: int, overrides: dict, source: str):
+    """``circuit`` with the slow-feature regions' sizes fitted to a frame of ``n_values`` values, as
+    IncSFA's own default does (``n_pca=None``: min(3, the input's values)): a region's ``n_pca``
+    above ``n_values`` becomes None and its ``n_components`` at most ``n_values``, unless ``overrides``
+    sets them, where a larger value is a ConfigError."""
+    fitted = {}
+    for name, spec in circuit.specs.items():
+        if not (hasattr(spec.params, "n_pca") and hasattr(spec.params, "n_components")):
+            continue
+        n_pca, n_components = spec.params.n_pca, spec.params.n_components
+        if n_pca is not None and n_pca > n_values:
+            if f"{name}.n_pca" in overrides:
+                raise ConfigError(f"{source} overrides", f"{name}.n_pca", f"at most the {n_values} values of an "
+                                  f"observation's frame (or None: min(3, {n_values}))", repr(n_pca))
+            fitted[f"{name}.n_pca"] = None
+        if n_components > n_values:
+            if f"{name}.n_components" in overrides:
+                raise ConfigError(f"{source} overrides", f"{name}.n_components", f"at most the {n_values} values of "
+                                  "an observation's frame", repr(n_components))
+            fitted[f"{name}.n_components"] = n_values
+    return circuit.with_params(fitted, source=source) if fitted else circuit
+
+
 def _number(x) -> float:
     return float(x) if isinstance(x, (int, float)) and not isinstance(x, bool) else float("nan")
 
@@ -92,7 +119,10 @@ class IntrinsicReward(gym.Wrapper, gym.utils.RecordConstructorArgs):
     - ``circuit``: the circuit whose sensory path is used (a Circuit, a shipped circuit's name or a
       file; by default the shipped circuit of the model, else ``cd_misfa``), ``inputs`` edges into
       the model's extra inputs (``{"progress": "HPC.progress"}``), ``overrides`` the circuit's
-      parameters (``{"EC.n_pca": 2}``; EC's ``n_pca`` may not exceed an observation's values).
+      parameters (``{"HPC.threshold": 0.5}``). EC's ``n_pca`` and ``n_components`` fit the values of
+      an observation's frame (``n_pca`` 3 becomes None, min(3, values), as IncSFA's own default,
+      and ``n_components`` at most the values) unless ``overrides`` sets them; an ``n_pca`` set
+      above the values is an error.
     - ``path``: ``"slow_features"`` (EC and HPC) or ``"counts"`` (the VTA alone; the default for
       ``vta.novelty``); ``frames``: steps per pass (:data:`DEFAULT_FRAMES`).
     - ``contexts``, ``bins``, ``hash_bits``, ``image_size``: how observations become frames and
@@ -100,7 +130,11 @@ class IntrinsicReward(gym.Wrapper, gym.utils.RecordConstructorArgs):
       a vector Box or an image Box.
 
     ``info`` of every step holds ``"intrinsic_reward"`` (the bonus) and ``"extrinsic_reward"`` (the
-    environment's reward); the returned reward is their sum.
+    environment's reward); the returned reward is their sum. ``"observation_out_of_bounds"`` (of
+    every step and of the reset) is the number of the observation's values outside the observation
+    space's bounds, clipped to them in its frame. An observation of another shape, of values that
+    are not real numbers, or with a value that is not finite is a one-line ConfigError (a
+    ValueError) naming the step of the episode (``reset`` for the reset's) and the index.
     """
 
     def __init__(self, env: gym.Env, model: str = "vta.learning_progress", *, scale: float = 1.0,
@@ -120,17 +154,18 @@ class IntrinsicReward(gym.Wrapper, gym.utils.RecordConstructorArgs):
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         obs, info = self.env.reset(seed=seed, options=options)
         self.curiosity.reset(seed)
-        self.curiosity.sensory.start(obs)
-        return obs, info
+        outside = self.curiosity.sensory.start(obs)
+        return obs, {**info, "observation_out_of_bounds": outside}
 
     def step(self, action):
         if self.curiosity.sensory is None:
             raise ResetNeeded("IntrinsicReward: call reset() before step()")
         obs, reward, terminated, truncated, info = self.env.step(action)
-        bonus = self.curiosity.bonus(self.curiosity.sensory.step(obs, reward))
+        da, outside = self.curiosity.sensory.step(obs, reward)
+        bonus = self.curiosity.bonus(da)
         self.curiosity.tick()
-        return obs, float(reward) + bonus, terminated, truncated, {**info, "intrinsic_reward": bonus,
-                                                                    "extrinsic_reward": float(reward)}
+        return obs, float(reward) + bonus, terminated, truncated, {
+            **info, "intrinsic_reward": bonus, "extrinsic_reward": float(reward), "observation_out_of_bounds": outside}
 
 
 class IntrinsicRewardVector(VectorWrapper):
@@ -140,8 +175,10 @@ class IntrinsicRewardVector(VectorWrapper):
     own block of steps; at every step they run through it in index order. Autoreset modes
     ``NEXT_STEP`` (gymnasium's default: the step after an episode's end only resets, and gets no
     bonus) and ``SAME_STEP`` (the last observation is ``info["final_obs"]``) are handled.
-    ``info`` holds ``"intrinsic_reward"`` and ``"extrinsic_reward"`` as arrays, one entry per
-    sub-environment; ``decay`` applies once per step of the vector environment."""
+    ``info`` holds ``"intrinsic_reward"``, ``"extrinsic_reward"`` and
+    ``"observation_out_of_bounds"`` as arrays, one entry per sub-environment (with ``SAME_STEP``, the
+    last observation's count plus the reset's); ``decay`` applies once per step of the vector
+    environment. An error names the sub-environment."""
 
     def __init__(self, env: gym.vector.VectorEnv, model: str = "vta.learning_progress", *, scale: float = 1.0,
                  decay: float = 1.0, params: Mapping | None = None, circuit=None, inputs: Mapping | None = None,
@@ -164,27 +201,27 @@ class IntrinsicRewardVector(VectorWrapper):
     def reset(self, *, seed=None, options: dict | None = None):
         obs, info = self.env.reset(seed=seed, options=options)
         self.curiosity.reset(seed[0] if isinstance(seed, (list, tuple)) else seed)
-        for i in range(self.num_envs):
-            self.curiosity.sensory.start(obs[i], i)
+        outside = np.array([self.curiosity.sensory.start(obs[i], i) for i in range(self.num_envs)])
         self._restart[:] = False
-        return obs, info
+        return obs, {**info, "observation_out_of_bounds": outside}
 
     def step(self, actions):
         if self.curiosity.sensory is None:
             raise ResetNeeded("IntrinsicRewardVector: call reset() before step()")
         obs, reward, terminated, truncated, info = self.env.step(actions)
         sensory, done = self.curiosity.sensory, terminated | truncated
-        bonus = np.zeros(self.num_envs)
+        bonus, outside = np.zeros(self.num_envs), np.zeros(self.num_envs, dtype=np.int64)
         for i in range(self.num_envs):
             if self._restart[i]:  # NEXT_STEP: this step only reset sub-environment i
-                sensory.start(obs[i], i)
+                outside[i] = sensory.start(obs[i], i)
                 continue
             last = info["final_obs"][i] if self.mode == AutoresetMode.SAME_STEP and done[i] else obs[i]
-            bonus[i] = self.curiosity.bonus(sensory.step(last, float(reward[i]), i))
+            da, outside[i] = sensory.step(last, float(reward[i]), i)
+            bonus[i] = self.curiosity.bonus(da)
             if self.mode == AutoresetMode.SAME_STEP and done[i]:
-                sensory.start(obs[i], i)
+                outside[i] += sensory.start(obs[i], i)
         self._restart = done if self.mode == AutoresetMode.NEXT_STEP else self._restart
         self.curiosity.tick()
         extrinsic = np.asarray(reward, dtype=np.float64)
-        return obs, extrinsic + bonus, terminated, truncated, {**info, "intrinsic_reward": bonus,
-                                                                "extrinsic_reward": extrinsic}
+        return obs, extrinsic + bonus, terminated, truncated, {
+            **info, "intrinsic_reward": bonus, "extrinsic_reward": extrinsic, "observation_out_of_bounds": outside}

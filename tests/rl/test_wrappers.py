@@ -224,7 +224,7 @@ def test_bad_input_is_a_one_line_error_naming_what_was_expected():
     with pytest.raises(ConfigError, match=r"'model'.*a VTA model"):
         IntrinsicReward(gym.make("CartPole-v1"), "ec.incsfa")
     with pytest.raises(ConfigError, match=r"'EC.n_pca'.*at most the 2 values"):
-        IntrinsicReward(gym.make("MountainCar-v0"), "vta.surprise")
+        IntrinsicReward(gym.make("MountainCar-v0"), "vta.surprise", overrides={"EC.n_pca": 3})
     fitted = IntrinsicReward(gym.make("MountainCar-v0"), "vta.surprise", overrides={"EC.n_pca": None})  # min(3, 2)
     fitted.reset(seed=0)
     for _ in range(3):
