@@ -15,7 +15,7 @@ from neurocur.experiments.checkpointed import compute_and_write
 from neurocur.experiments.run import run_one
 from neurocur.results import ResultsError, ResultsStore, load
 from neurocur.results import agents as agents_module
-from neurocur.results.statefile import StateError, load_state, save_state
+from neurocur.results.statefile import VERSION, StateError, load_state, save_state
 
 ROOT = Path(__file__).resolve().parents[2]
 SYNTHETIC = ROOT / "neurocur" / "experiments_data" / "synthetic.toml"
@@ -179,7 +179,7 @@ def test_a_state_of_another_version_is_refused(tmp_path):
     save_state(tmp_path / "state", {"h": holder})
     body = json.loads((tmp_path / "state" / "state.json").read_text())
     (tmp_path / "state" / "state.json").write_text(json.dumps({**body, "version": 99}))
-    with pytest.raises(StateError, match=r"key 'version': expected 1 .*got 99"):
+    with pytest.raises(StateError, match=rf"key 'version': expected {VERSION} .*got 99"):
         load_state(tmp_path / "state", {"h": Holder()})
 
 
