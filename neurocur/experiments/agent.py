@@ -50,6 +50,9 @@ def load_agent(results_dir, condition: str, run: int, *, experiment: Experiment 
         raise ResultsError(str(exc)) from None
     if not saved:
         raise ResultsError(f"{folder} holds no saved agent (run it with --save-agent)")
+    if store.run_info(folder).get("agent") is None:
+        raise ResultsError(f"{folder / 'run.json'}: key 'agent': expected the sha256 of the saved agent's files, got "
+                           "nothing (an agent saved before run.json recorded it, or added since); run it again")
     config = store.config()
     if experiment is None:
         experiment = load_experiment(local_path(config["experiment"]), runs=config["runs"], steps=config["steps"],

@@ -7,7 +7,8 @@ link). Its ``run.json`` names its condition and run (an integer), and, as writte
 of its tables (``tables``) and of its saved agent's files (``agent``, when it kept one).
 :func:`check_run_info` compares them with the folder's path and ``config.toml``: a run computed
 for another experiment (other steps, another seed) or whose tables or agent were changed
-afterwards (or an agent added, or made a link) is refused, naming the folder and the key.
+afterwards (or its agent removed or made a link) is refused, naming the folder and the key; an
+agent that ``run.json`` does not record is never loaded (:func:`neurocur.load_agent`).
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ from pathlib import Path
 
 from .agents import AGENT
 from .errors import ResultsError
-from .safeio import UnsafePath, read_own, real_dir
+from .safeio import UnsafePath, open_real_dir, read_own
 
 __all__ = ["RUN_INFO", "agent_digests", "check_run_info", "digests", "file_digests", "read_run_info", "run_folder_name", "run_number", "run_spawn_key", "scan_runs", "seed_json",
            "seeds_record"]
@@ -117,9 +118,14 @@ def agent_digests(folder: Path) -> dict[str, str]:
     ResultsError for a link in the agent's place or in it (never followed)."""
     agent = Path(folder) / AGENT
     try:
-        if not real_dir(agent):
+        fd = open_real_dir(agent)
+        if fd is None:
             return {}
-        return {name: hashlib.sha256(read_own(agent / name)).hexdigest() for name in sorted(os.listdir(agent))}
+        try:
+            return {name: hashlib.sha256(read_own(agent / name, dir_fd=fd)).hexdigest()
+                    for name in sorted(os.listdir(fd))}
+        finally:
+            os.close(fd)
     except UnsafePath as exc:
         raise ResultsError(f"{exc}; remove this run folder") from None
 
@@ -159,10 +165,10 @@ def check_run_info(folder: Path, info: Mapping, condition: str, run: int, config
         if info.get(key) != value:
             raise ResultsError(f"{where}: key '{key}': expected {value!r} as this folder's config.toml says, got "
                                f"{_describe(info.get(key))} (a run of another experiment?); remove this run folder")
-    if (info.get("agent") or {}) != agent_digests(folder):
+    if info.get("agent") is not None and info["agent"] != agent_digests(folder):
         raise ResultsError(f"{where}: key 'agent': expected the sha256 of the saved agent's files as written, got "
-                           f"{'nothing' if info.get('agent') is None else 'other digests'} (its agent/ was changed or "
-                           "added since the run was written?); remove this run folder")
+                           "other digests (its agent/ was changed or removed since the run was written?); remove this "
+                           "run folder")
     recorded, actual = info.get("tables"), digests(folder)
     if recorded is None and not _digests_recorded(config):
         return None  # a folder written before run.json recorded its tables' digest

@@ -6,8 +6,8 @@ a real directory: :func:`own_dir` creates it or checks it (a symbolic link, a fi
 FIFO in its place is refused), and :func:`open_new` opens a file with ``O_NOFOLLOW`` (and
 ``O_EXCL`` for a temporary file), so a link planted at any of these names is never
 written through. What the store reads back as state it trusts (a checkpoint, a saved agent)
-is read the same way: :func:`real_dir` checks a folder, :func:`read_own` reads a file with
-``O_NOFOLLOW``. ``OUT`` itself is the user's choice and may be a link.
+is read the same way: :func:`real_dir` checks a folder and :func:`open_real_dir` opens one,
+:func:`read_own` reads a file with ``O_NOFOLLOW`` (relative to its opened folder). ``OUT`` itself is the user's choice and may be a link.
 """
 
 from __future__ import annotations
@@ -18,7 +18,8 @@ import shutil
 import stat
 from pathlib import Path
 
-__all__ = ["UnsafePath", "atomic_bytes", "atomic_text", "open_new", "own_dir", "read_own", "real_dir", "remove_own"]
+__all__ = ["UnsafePath", "atomic_bytes", "atomic_text", "open_new", "open_real_dir", "own_dir", "read_own", "real_dir",
+           "remove_own"]
 
 
 class UnsafePath(ValueError):
@@ -83,13 +84,31 @@ def real_dir(path: Path) -> bool:
     return True
 
 
-def read_own(path: Path) -> bytes:
-    """The content of the regular file ``path``, opened with ``O_NOFOLLOW`` (UnsafePath for a link or
-    anything but a regular file; OSError when it cannot be read)."""
+def open_real_dir(path: Path) -> int | None:
+    """A file descriptor of the real directory ``path``, opened with ``O_NOFOLLOW`` (None when it does not
+    exist; UnsafePath for a link or anything else in its place): the files in it are then opened
+    relative to it (:func:`read_own`'s ``dir_fd``), so the folder cannot be swapped for a link meanwhile."""
     try:
-        fd = os.open(path, os.O_RDONLY | os.O_NOFOLLOW | os.O_CLOEXEC | os.O_NONBLOCK)
+        return os.open(path, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW | os.O_CLOEXEC)
+    except FileNotFoundError:
+        return None
     except OSError:
-        if os.path.islink(path):
+        real_dir(path)  # names a link or a file
+        raise
+
+
+def read_own(path: Path, *, dir_fd: int | None = None) -> bytes:
+    """The content of the regular file ``path`` (with ``dir_fd``: its name in that directory), opened with
+    ``O_NOFOLLOW`` (UnsafePath for a link or anything but a regular file; OSError when it cannot be read)."""
+    try:
+        fd = os.open(Path(path).name if dir_fd is not None else path,
+                     os.O_RDONLY | os.O_NOFOLLOW | os.O_CLOEXEC | os.O_NONBLOCK, dir_fd=dir_fd)
+    except OSError:
+        try:
+            mode = os.lstat(Path(path).name if dir_fd is not None else path, dir_fd=dir_fd).st_mode
+        except OSError:
+            mode = 0
+        if stat.S_ISLNK(mode):
             raise UnsafePath(f"{path} is a symbolic link; the store never follows a link it did not make") from None
         raise
     with os.fdopen(fd, "rb") as fh:

@@ -32,7 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .safeio import UnsafePath, open_new, read_own, real_dir, remove_own
+from .safeio import UnsafePath, open_new, open_real_dir, read_own, remove_own
 
 __all__ = ["ARRAYS", "FORMAT", "STATE", "VERSION", "StateError", "debris", "read_state", "write_state"]
 
@@ -91,9 +91,20 @@ def read_state(folder) -> tuple[dict, dict[str, np.ndarray]]:
     (``body`` without its ``sha256``)."""
     folder = Path(folder)
     try:
-        if not real_dir(folder):
-            raise StateError(f"{folder}: expected a state folder written by neurocur, got nothing")
-        text = read_own(folder / STATE)
+        fd = open_real_dir(folder)
+    except (UnsafePath, OSError) as exc:
+        raise StateError(str(exc) if isinstance(exc, UnsafePath) else f"{folder}: {_reason(exc)}") from None
+    if fd is None:
+        raise StateError(f"{folder}: expected a state folder written by neurocur, got nothing")
+    try:
+        return _read(folder, fd)
+    finally:
+        os.close(fd)
+
+
+def _read(folder: Path, fd: int) -> tuple[dict, dict[str, np.ndarray]]:
+    try:
+        text = read_own(folder / STATE, dir_fd=fd)
     except UnsafePath as exc:
         raise StateError(str(exc)) from None
     except OSError as exc:
@@ -104,7 +115,7 @@ def read_state(folder) -> tuple[dict, dict[str, np.ndarray]]:
         raise StateError(f"{folder / STATE}: key 'sha256.state': expected the sha256 of the state as written, got "
                          "another (the file was changed after it was written)")
     try:
-        data = read_own(folder / ARRAYS)
+        data = read_own(folder / ARRAYS, dir_fd=fd)
     except UnsafePath as exc:
         raise StateError(str(exc)) from None
     except OSError as exc:

@@ -268,6 +268,17 @@ def test_run_json_records_the_digest_of_the_saved_agent_and_loading_checks_it(ag
         load(agent_folder)
 
 
+def test_an_agent_that_run_json_does_not_record_is_never_loaded_but_the_tables_are(agent_folder, reference):
+    run_json = agent_dir(agent_folder).parent / "run.json"
+    info = json.loads(run_json.read_text())
+    del info["agent"]
+    run_json.write_text(json.dumps(info))
+    assert_same_tables(reference, agent_folder)
+    with pytest.raises(ResultsError, match=r"run.json: key 'agent': expected the sha256 of the saved agent's files, "
+                                           r"got nothing"):
+        neurocur.load_agent(agent_folder, "curious", 0)
+
+
 def test_a_saved_agent_must_record_its_parameters_and_code(agent_folder):
     body = json.loads((agent_dir(agent_folder) / "state.json").read_text())
     config = ResultsStore(agent_folder).config()
