@@ -99,6 +99,10 @@ def restore_simulator(sim, folder, expected: Mapping | None = None) -> dict:
         if staged["recorder"].get("n") != counters["n_episodes"]:
             raise StateError(f"{where}: key 'roots.recorder.n': expected {counters['n_episodes']} recorded episodes "
                              f"as the simulator's counter says, got {staged['recorder'].get('n')!r}")
+        frames = _recorded_frames(sim, staged, counters["n_episodes"])
+        if frames != counters["n_frames"]:
+            raise StateError(f"{where}: key 'roots.simulator.n_frames': expected {frames}, the frames its recorder "
+                             f"and clock say were seen, got {counters['n_frames']}")
         values = counters.get("values")
         if not isinstance(values, list) or len(values) != len(sim._values):
             raise StateError(f"{where}: key 'roots.simulator.values': expected the {len(sim._values)} signal values "
@@ -112,6 +116,21 @@ def restore_simulator(sim, folder, expected: Mapping | None = None) -> dict:
     counters = roots["simulator"]
     sim.n_frames, sim.n_episodes, sim._values = counters.n_frames, counters.n_episodes, counters.values
     return meta
+
+
+def _recorded_frames(sim, staged: dict, n: int) -> int | None:
+    """The frames seen in ``n`` episodes as the staged state says: the recorder's frame at the start of
+    the last episode plus the clock region's frames in it (one frame per episode without a clock);
+    None when the recorder's frames do not start at 0 and grow episode by episode."""
+    if n == 0:
+        return 0
+    starts = staged["recorder"].get("_steps")
+    if not isinstance(starts, np.ndarray) or starts.ndim != 1 or len(starts) < n or starts[0] != 0 \
+            or (np.diff(starts[:n]) <= 0).any():
+        return None
+    clock = next((name for name, region in sim.regions.items() if region is sim._clock), None)
+    last = staged[f"region.{clock}"].get("n_frames") if clock is not None else 1
+    return int(starts[n - 1]) + last if isinstance(last, (int, np.integer)) else None
 
 
 def _matches(key: str, got, want) -> bool:

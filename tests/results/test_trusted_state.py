@@ -142,6 +142,18 @@ def test_a_resealed_checkpoint_with_a_negative_or_fractional_counter_is_discarde
     assert_same_tables(reference, out)
 
 
+def test_a_resealed_checkpoint_whose_frame_counter_disagrees_with_its_recorder_is_discarded(reference, tmp_path,
+                                                                                            monkeypatch, capsys):
+    """A plausible counter (an integer, 1000 frames on) that the recorded episodes do not add up to."""
+    out = tmp_path / "out"
+    folder = stopped_run(out, experiment(), reference)
+    saved = json.loads((folder / "state.json").read_text())["meta"]["n_frames"]
+    edit_state(folder, set_frames(saved + 1000))
+    assert not resume(out, monkeypatch)
+    discarded_line(capsys, f"key 'roots.simulator.n_frames': expected {saved}, the frames its recorder")
+    assert_same_tables(reference, out)
+
+
 def test_a_checkpoint_copied_from_a_run_with_other_parameters_is_discarded(reference, tmp_path, monkeypatch, capsys):
     other = tmp_path / "other"
     stopped_run(other, experiment(["HPC.threshold=0.5"]))
