@@ -7,6 +7,13 @@ folder's ``config.toml`` names (or the one given) with the run's seed, and puts 
 state into it: the result can be probed (``sim.regions["EC"]``'s module library, HPC's
 clusterers, PFC's values, LC's state) or continued (``sim.run(frames)``), and a continued
 run gives the tables of a run that was computed that long from the start.
+
+Nothing of a saved agent is trusted until it proves itself: its run folder passes the store's
+checks (``run.json`` records the sha256 of the agent's files), its own digests match, no link
+is followed, its counters are non-negative integers, and the condition, run, seed, steps,
+parameters (as ``config.toml`` records them) and code it was saved with are this run's
+(:func:`~neurocur.results.agents.restore_simulator`); otherwise a ResultsError of one line
+names the file and what did not match.
 """
 
 from __future__ import annotations
@@ -14,10 +21,11 @@ from __future__ import annotations
 import tomllib
 
 from neurocur.results import ResultsError, ResultsStore, dumps_toml, first_difference
-from neurocur.results.agents import AGENT, restore_simulator
+from neurocur.results.agents import AGENT, params_digest, restore_simulator
 from neurocur.results.fingerprint import local_path, portable
 from neurocur.results.runinfo import seed_json
-from neurocur.results.statefile import read_meta
+from neurocur.results.safeio import UnsafePath, real_dir
+from neurocur.results.statefile import StateError
 
 from .spec import Experiment, load_experiment
 
@@ -36,8 +44,15 @@ def load_agent(results_dir, condition: str, run: int, *, experiment: Experiment 
     folder = store.run_dir(condition, int(run))
     if folder not in store.run_dirs():
         raise ResultsError(f"{results_dir} holds no run {run} of condition {condition!r}")
-    if not (folder / AGENT).is_dir():
+    try:
+        saved = real_dir(folder / AGENT)
+    except UnsafePath as exc:
+        raise ResultsError(str(exc)) from None
+    if not saved:
         raise ResultsError(f"{folder} holds no saved agent (run it with --save-agent)")
+    if store.run_info(folder).get("agent") is None:
+        raise ResultsError(f"{folder / 'run.json'}: key 'agent': expected the sha256 of the saved agent's files, got "
+                           "nothing (an agent saved before run.json recorded it, or added since); run it again")
     config = store.config()
     if experiment is None:
         experiment = load_experiment(local_path(config["experiment"]), runs=config["runs"], steps=config["steps"],
@@ -54,9 +69,11 @@ def load_agent(results_dir, condition: str, run: int, *, experiment: Experiment 
                            f"{experiment.name!r} gives another value than the run's; pass the experiment it was run "
                            "from (with its --set settings) as experiment=")
     seed = experiment.run_seed(int(run))
-    saved = read_meta(folder / AGENT).get("seed")
-    if saved != seed_json(seed):
-        raise ResultsError(f"{folder / AGENT}: key 'seed': expected the run's seed {seed.entropy}, got {saved}")
+    expected = {"condition": condition, "run": int(run), "steps": config["steps"], "seed": seed_json(seed),
+                "params": params_digest(config, condition), "code": config.get("code", [])}
     sim = chosen.circuit.build(chosen.make_world(), seed=seed)
-    restore_simulator(sim, folder / AGENT)
+    try:
+        restore_simulator(sim, folder / AGENT, expected)
+    except StateError as exc:
+        raise ResultsError(str(exc)) from None
     return sim

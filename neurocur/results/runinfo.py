@@ -4,22 +4,27 @@ A run folder is ``runs/<condition>/run-<NNN>``, spelled exactly as :func:`run_fo
 spells its number (``run-001``, never ``run-1`` or ``run-0_01``) and a real directory (not a
 link). Its ``run.json`` names its condition and run (an integer), and, as written by
 :meth:`~neurocur.results.ResultsStore.write_run`, its seed, its steps and the sha256 of each
-of its tables (``tables``). :func:`check_run_info` compares them with the folder's path and
-``config.toml``: a run computed for another experiment (other steps, another seed) or whose
-tables were changed afterwards is refused, naming the folder and the key.
+of its tables (``tables``) and of its saved agent's files (``agent``, when it kept one).
+:func:`check_run_info` compares them with the folder's path and ``config.toml``: a run computed
+for another experiment (other steps, another seed) or whose tables or agent were changed
+afterwards (or its agent removed or made a link) is refused, naming the folder and the key; an
+agent that ``run.json`` does not record is never loaded (:func:`neurocur.load_agent`).
 """
 
 from __future__ import annotations
 
 import hashlib
 import json
+import os
 import re
 from collections.abc import Mapping
 from pathlib import Path
 
+from .agents import AGENT
 from .errors import ResultsError
+from .safeio import UnsafePath, open_real_dir, read_own
 
-__all__ = ["RUN_INFO", "check_run_info", "digests", "read_run_info", "run_folder_name", "run_number", "run_spawn_key", "scan_runs", "seed_json",
+__all__ = ["RUN_INFO", "agent_digests", "check_run_info", "digests", "file_digests", "read_run_info", "run_folder_name", "run_number", "run_spawn_key", "scan_runs", "seed_json",
            "seeds_record"]
 
 _RUN = re.compile(r"run-(\d{3,})")
@@ -108,6 +113,30 @@ def digests(folder: Path) -> dict[str, str]:
     return found
 
 
+def agent_digests(folder: Path) -> dict[str, str]:
+    """The sha256 of each file of a run folder's saved agent (``agent/``), by name; empty without one.
+    ResultsError for a link in the agent's place or in it (never followed)."""
+    agent = Path(folder) / AGENT
+    try:
+        fd = open_real_dir(agent)
+        if fd is None:
+            return {}
+        try:
+            return {name: hashlib.sha256(read_own(agent / name, dir_fd=fd)).hexdigest()
+                    for name in sorted(os.listdir(fd))}
+        finally:
+            os.close(fd)
+    except UnsafePath as exc:
+        raise ResultsError(f"{exc}; remove this run folder") from None
+
+
+def file_digests(folder: Path) -> dict:
+    """What ``run.json`` records of a run folder's files: ``tables`` (:func:`digests`) and, when it
+    keeps a saved agent, ``agent`` (:func:`agent_digests`)."""
+    agent = agent_digests(folder)
+    return {"tables": digests(folder), **({"agent": agent} if agent else {})}
+
+
 def check_run_info(folder: Path, info: Mapping, condition: str, run: int, config: Mapping | None) -> tuple | None:
     """Check the ``run.json`` (``info``) of ``folder``, run ``run`` of ``condition`` by its path.
 
@@ -136,6 +165,10 @@ def check_run_info(folder: Path, info: Mapping, condition: str, run: int, config
         if info.get(key) != value:
             raise ResultsError(f"{where}: key '{key}': expected {value!r} as this folder's config.toml says, got "
                                f"{_describe(info.get(key))} (a run of another experiment?); remove this run folder")
+    if info.get("agent") is not None and info["agent"] != agent_digests(folder):
+        raise ResultsError(f"{where}: key 'agent': expected the sha256 of the saved agent's files as written, got "
+                           "other digests (its agent/ was changed or removed since the run was written?); remove this "
+                           "run folder")
     recorded, actual = info.get("tables"), digests(folder)
     if recorded is None and not _digests_recorded(config):
         return None  # a folder written before run.json recorded its tables' digest

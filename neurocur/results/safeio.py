@@ -5,16 +5,21 @@ lies inside the results folder ``OUT``, and every folder on the way from ``OUT``
 a real directory: :func:`own_dir` creates it or checks it (a symbolic link, a file or a
 FIFO in its place is refused), and :func:`open_new` opens a file with ``O_NOFOLLOW`` (and
 ``O_EXCL`` for a temporary file), so a link planted at any of these names is never
-written through. ``OUT`` itself is the user's choice and may be a link.
+written through. What the store reads back as state it trusts (a checkpoint, a saved agent)
+is read the same way: :func:`real_dir` checks a folder and :func:`open_real_dir` opens one,
+:func:`read_own` reads a file with ``O_NOFOLLOW`` (relative to its opened folder). ``OUT`` itself is the user's choice and may be a link.
 """
 
 from __future__ import annotations
 
+import contextlib
 import os
+import shutil
 import stat
 from pathlib import Path
 
-__all__ = ["UnsafePath", "atomic_bytes", "atomic_text", "open_new", "own_dir"]
+__all__ = ["UnsafePath", "atomic_bytes", "atomic_text", "open_new", "open_real_dir", "own_dir", "read_own", "real_dir",
+           "remove_own"]
 
 
 class UnsafePath(ValueError):
@@ -63,6 +68,68 @@ def open_new(path: Path, *, exclusive: bool = True) -> int:
         raise UnsafePath(f"{path} {why}; the store writes only files it made (remove it)")
     os.set_blocking(fd, True)
     return fd
+
+
+def real_dir(path: Path) -> bool:
+    """Whether ``path`` is a real directory (False when it does not exist); UnsafePath for a link or
+    anything else in its place."""
+    try:
+        mode = os.lstat(path).st_mode
+    except FileNotFoundError:
+        return False
+    if not stat.S_ISDIR(mode):
+        kind = "a symbolic link" if stat.S_ISLNK(mode) else "not a directory"
+        raise UnsafePath(f"{path}: expected a folder written by neurocur, got {kind}; the store never follows "
+                         "a link it did not make")
+    return True
+
+
+def open_real_dir(path: Path) -> int | None:
+    """A file descriptor of the real directory ``path``, opened with ``O_NOFOLLOW`` (None when it does not
+    exist; UnsafePath for a link or anything else in its place): the files in it are then opened
+    relative to it (:func:`read_own`'s ``dir_fd``), so the folder cannot be swapped for a link meanwhile."""
+    try:
+        return os.open(path, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW | os.O_CLOEXEC)
+    except FileNotFoundError:
+        return None
+    except OSError:
+        real_dir(path)  # names a link or a file
+        raise
+
+
+def read_own(path: Path, *, dir_fd: int | None = None) -> bytes:
+    """The content of the regular file ``path`` (with ``dir_fd``: its name in that directory), opened with
+    ``O_NOFOLLOW`` (UnsafePath for a link or anything but a regular file; OSError when it cannot be read)."""
+    try:
+        fd = os.open(Path(path).name if dir_fd is not None else path,
+                     os.O_RDONLY | os.O_NOFOLLOW | os.O_CLOEXEC | os.O_NONBLOCK, dir_fd=dir_fd)
+    except OSError:
+        try:
+            mode = os.lstat(Path(path).name if dir_fd is not None else path, dir_fd=dir_fd).st_mode
+        except OSError:
+            mode = 0
+        if stat.S_ISLNK(mode):
+            raise UnsafePath(f"{path} is a symbolic link; the store never follows a link it did not make") from None
+        raise
+    with os.fdopen(fd, "rb") as fh:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            raise UnsafePath(f"{path} is not a regular file; the store reads only files it wrote")
+        os.set_blocking(fd, True)
+        return fh.read()
+
+
+def remove_own(path: Path) -> None:
+    """Remove ``path`` if it exists: a real folder with its content, anything else (a link: the link
+    itself, never what it points to) by unlinking it."""
+    try:
+        mode = os.lstat(path).st_mode
+    except FileNotFoundError:
+        return
+    if stat.S_ISDIR(mode):
+        shutil.rmtree(path, ignore_errors=True)
+    else:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(path)
 
 
 def atomic_text(path: Path, text: str) -> None:

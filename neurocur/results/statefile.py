@@ -4,10 +4,12 @@
 when the state is loaded: a simulator's regions, world and recorder) and writes into a
 folder:
 
-* ``state.json``: ``{"format": FORMAT, "version": VERSION, "roots": {...}}``, each root's
-  attributes encoded by :func:`encode`;
-* ``arrays.npz``: every numpy array of a non-object dtype, by key (read with
-  ``allow_pickle=False``).
+* ``state.json``: ``{"format": FORMAT, "version": VERSION, "meta": {...}, "roots": {...}}``, each
+  root's attributes encoded by the walker;
+* ``arrays.npz``: every numpy array of a non-object dtype, by key.
+
+Both are written and read by :mod:`.stateio`, which adds and checks their digests and the
+arrays' declared dtypes and shapes, never follows a link and never unpickles.
 
 What the walker takes, and nothing else (anything else is refused by its path and type):
 
@@ -23,7 +25,10 @@ An object, array or container reached twice is written once and referred to (``$
 shared state stays shared and cycles are fine; a root reached from another is referred to by
 name (``$root``). :func:`load_state` restores each root's attributes in place, creating the
 nested objects without calling their constructors; a class is looked up by module and name
-only among the modules above (a state file never names code to run elsewhere).
+only among the modules above (a state file never names code to run elsewhere). Every root's
+attributes are decoded and checked first (a number where the freshly built root holds an
+integer must be an integer, an array must keep the fresh one's dtype and dimensions, and the
+caller's own checks), and only then set: a state that fails leaves the roots as they were.
 """
 
 from __future__ import annotations
@@ -31,37 +36,28 @@ from __future__ import annotations
 import enum
 import importlib
 import json
-import os
 import pathlib
-import shutil
 import sys
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from importlib.metadata import entry_points
 from pathlib import Path, PurePath
 
 import numpy as np
 
 from .fingerprint import PLUGIN_GROUPS
+from .stateio import FORMAT, STATE, VERSION, StateError, read_state, write_state
 
-__all__ = ["FORMAT", "VERSION", "StateError", "encode_state", "load_state", "read_meta", "save_state", "write_state"]
-
-FORMAT = "neurocur-state"
-VERSION = 1
-STATE, ARRAYS = "state.json", "arrays.npz"
-
-
-class StateError(ValueError):
-    """State that cannot be saved (an object the walker does not take) or a state folder that cannot be loaded."""
+__all__ = ["FORMAT", "VERSION", "StateError", "encode_state", "load_state", "save_state"]
 
 
 def save_state(folder, roots: Mapping[str, object], meta: Mapping | None = None) -> Path:
     """Write the attributes of each root of ``roots`` (and ``meta``, plain JSON) into ``folder``,
-    atomically (a temporary folder beside it, then one rename); returns ``folder``."""
+    atomically (:func:`~.stateio.write_state`); returns ``folder``."""
     return write_state(folder, *encode_state(roots, meta))
 
 
 def encode_state(roots: Mapping[str, object], meta: Mapping | None = None) -> tuple[dict, dict[str, np.ndarray]]:
-    """``(body, arrays)``: the state of ``roots`` as :func:`write_state` writes it (``state.json``'s
+    """``(body, arrays)``: the state of ``roots`` as :func:`~.stateio.write_state` writes it (``state.json``'s
     content and the arrays by key), copied out of the live objects."""
     encoder = _Encoder(roots)
     body = {"format": FORMAT, "version": VERSION, "meta": dict(meta or {}),
@@ -69,62 +65,63 @@ def encode_state(roots: Mapping[str, object], meta: Mapping | None = None) -> tu
     return json.loads(json.dumps(body)), {k: np.array(v) for k, v in encoder.arrays.items()}
 
 
-def write_state(folder, body: Mapping, arrays: Mapping[str, np.ndarray]) -> Path:
-    """Write a state (:func:`encode_state`) into ``folder`` atomically; returns ``folder``."""
-    folder = Path(folder)
-    tmp = folder.with_name(f".{folder.name}.{os.getpid()}.tmp")
-    shutil.rmtree(tmp, ignore_errors=True)
-    tmp.mkdir()
-    try:
-        with open(tmp / ARRAYS, "wb") as fh:
-            np.savez(fh, **arrays)
-        (tmp / STATE).write_text(json.dumps(body) + "\n", encoding="utf-8")
-        if folder.is_dir() and not folder.is_symlink():
-            old = folder.with_name(f".{folder.name}.{os.getpid()}.old")
-            os.replace(folder, old)
-            os.replace(tmp, folder)
-            shutil.rmtree(old, ignore_errors=True)
-        else:
-            os.replace(tmp, folder)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
-    return folder
+#: ``check(meta, staged)``: the caller's checks of a state before it is set (``staged``: each root's
+#: decoded attributes by name); raises StateError
+Check = Callable[[dict, dict[str, dict]], None]
 
 
-def read_meta(folder) -> dict:
-    """The ``meta`` a state folder was saved with (its format and version checked)."""
-    return _read_body(Path(folder))["meta"]
-
-
-def load_state(folder, roots: Mapping[str, object]) -> dict:
+def load_state(folder, roots: Mapping[str, object], check: Check | None = None) -> dict:
     """Restore, in place, the attributes of each root of ``roots`` from ``folder`` (written by
-    :func:`save_state` for roots of the same names); returns the saved ``meta``."""
+    :func:`save_state` for roots of the same names) once the state has passed every check
+    (:func:`~.stateio.read_state`'s, the roots' kinds, ``check``); returns the saved ``meta``."""
     folder = Path(folder)
-    body = _read_body(folder)
+    body, arrays = read_state(folder)
     missing = set(body["roots"]) ^ set(roots)
     if missing:
         raise StateError(f"{folder / STATE}: key 'roots': expected the parts {sorted(roots)}, got "
                          f"{sorted(body['roots'])}")
-    with np.load(folder / ARRAYS, allow_pickle=False) as arrays:
-        decoder = _Decoder(roots, {k: arrays[k] for k in arrays.files}, folder)
-        for name, obj in roots.items():
-            decoder.fill(obj, body["roots"][name])
+    decoder = _Decoder(roots, arrays, folder)
+    try:
+        staged = {name: decoder.attributes(body["roots"][name]) for name in roots}
+    except StateError:
+        raise
+    except (KeyError, TypeError, ValueError, IndexError, AttributeError) as exc:
+        raise decoder.error(f"an entry it cannot decode ({type(exc).__name__}: {exc})") from None
+    for name, attributes in staged.items():
+        _check_kinds(folder, name, roots[name], attributes)
+    if check is not None:
+        check(body["meta"], staged)
+    for name, obj in roots.items():
+        decoder.fill(obj, staged[name])
     return body["meta"]
 
 
-def _read_body(folder: Path) -> dict:
-    try:
-        body = json.loads((folder / STATE).read_text(encoding="utf-8"))
-    except (OSError, ValueError) as exc:
-        raise StateError(f"{folder / STATE}: expected a state file written by neurocur, got {exc}") from None
-    if not isinstance(body, dict) or body.get("format") != FORMAT:
-        raise StateError(f"{folder / STATE}: key 'format': expected {FORMAT!r}, got {body.get('format')!r}"
-                         if isinstance(body, dict) else f"{folder / STATE}: expected a JSON object")
-    if body.get("version") != VERSION:
-        raise StateError(f"{folder / STATE}: key 'version': expected {VERSION} (this neurocur's state format), "
-                         f"got {body.get('version')!r}")
-    return body
+def _check_kinds(folder: Path, name: str, fresh, attributes: Mapping) -> None:
+    """StateError when an attribute is not of the kind the freshly built root holds: an integer stays
+    an integer, a number a number, an array an array of the same dtype and dimensions."""
+    current = {**{s: getattr(fresh, s) for s in _slots(type(fresh)) if hasattr(fresh, s)},
+               **getattr(fresh, "__dict__", {})}
+    for key, value in attributes.items():
+        if key not in current:
+            continue
+        now, expected = current[key], None
+        if isinstance(now, np.ndarray):
+            if not (isinstance(value, np.ndarray) and value.dtype == now.dtype and value.ndim == now.ndim):
+                expected = f"an array of dtype {now.dtype} with {now.ndim} dimensions"
+        elif isinstance(now, (bool, np.bool_)):
+            if not isinstance(value, (bool, np.bool_)):
+                expected = "a boolean"
+        elif isinstance(now, (int, np.integer)):
+            if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+                expected = "an integer"
+        elif isinstance(now, (float, np.floating)):
+            if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)):
+                expected = "a number"
+        if expected is not None:
+            got = (f"an array of dtype {value.dtype} with {value.ndim} dimensions" if isinstance(value, np.ndarray)
+                   else f"{value!r:.40} ({type(value).__name__})")
+            raise StateError(f"{folder / STATE}: key 'roots.{name}.{key}': expected {expected}, as a freshly built "
+                             f"{name} holds, got {got}")
 
 
 def _allowed_modules() -> set[str]:
@@ -226,9 +223,15 @@ class _Decoder:
         self.made: dict[int, object] = {}
         self.plugins = _allowed_modules()
 
+    def attributes(self, encoded: Mapping) -> dict:
+        """An object's attributes, decoded (not yet set)."""
+        if not isinstance(encoded, Mapping):
+            raise self.error(f"attributes that are not a JSON object ({str(encoded)[:40]})")
+        return {key: self.decode(value) for key, value in encoded.items()}
+
     def fill(self, obj, attributes: Mapping) -> None:
-        for key, value in attributes.items():
-            decoded = self.decode(value)
+        """Set ``obj``'s decoded ``attributes``."""
+        for key, decoded in attributes.items():
             if hasattr(obj, "__dict__") and key not in _slots(type(obj)):
                 obj.__dict__[key] = decoded
             else:
@@ -238,14 +241,16 @@ class _Decoder:
         if not isinstance(node, (dict, list)):
             return node
         if isinstance(node, list):
-            raise self._error(f"a plain JSON array {str(node)[:40]}")
+            raise self.error(f"a plain JSON array {str(node)[:40]}")
         if "$root" in node:
             return self.roots[node["$root"]]
         if "$ref" in node:
             return self.made[node["$ref"]]
         if "$scalar" in node:
-            value = node["value"]
-            return np.dtype(node["$scalar"]).type(complex(*value) if isinstance(value, list) else value)
+            value, dtype = node["value"], np.dtype(node["$scalar"])
+            if dtype.kind not in "biufcUS":
+                raise self.error(f"a numpy scalar of dtype {dtype}")
+            return dtype.type(complex(*value) if isinstance(value, list) else value)
         if "$enum" in node:
             return self._class(node["$enum"])[node["name"]]
         if "$class" in node:
@@ -264,7 +269,7 @@ class _Decoder:
         if "$generator" in node:
             bits = getattr(np.random, node["$generator"], None)
             if not (isinstance(bits, type) and issubclass(bits, np.random.BitGenerator)):
-                raise self._error(f"an unknown bit generator {node['$generator']!r}")
+                raise self.error(f"an unknown bit generator {node['$generator']!r}")
             bit_generator = bits()
             bit_generator.state = self.decode(node["state"])
             return self._keep(ref, np.random.Generator(bit_generator))
@@ -285,9 +290,9 @@ class _Decoder:
         if "$object" in node:
             cls = self._class(node["$object"])
             obj = self._keep(ref, cls.__new__(cls))
-            self.fill(obj, node["state"])
+            self.fill(obj, self.attributes(node["state"]))
             return obj
-        raise self._error(f"an entry it does not know ({sorted(node)[:3]})")
+        raise self.error(f"an entry it does not know ({sorted(node)[:3]})")
 
     def _keep(self, ref, value):
         self.made[ref] = value
@@ -296,18 +301,18 @@ class _Decoder:
     def _class(self, name: str) -> type:
         module, _, qualname = name.partition(":")
         if not _own(module, self.plugins):
-            raise self._error(f"the class {name}, which is not neurocur's or a loaded plug-in's")
+            raise self.error(f"the class {name}, which is not neurocur's or a loaded plug-in's")
         try:
             obj = importlib.import_module(module)
             for part in qualname.split("."):
                 obj = getattr(obj, part)
         except (ImportError, AttributeError):
-            raise self._error(f"the class {name}, which this neurocur does not have") from None
+            raise self.error(f"the class {name}, which this neurocur does not have") from None
         if not isinstance(obj, type):
-            raise self._error(f"{name}, which is not a class")
+            raise self.error(f"{name}, which is not a class")
         return obj
 
-    def _error(self, what: str) -> StateError:
+    def error(self, what: str) -> StateError:
         return StateError(f"{self.folder / STATE}: expected a state written by this neurocur, got {what}")
 
 

@@ -55,15 +55,14 @@ import pandas as pd
 
 from neurocur.config import ConfigError
 
-from .agents import AGENT, Checkpoints, remove_empty
+from .agents import AGENT, Checkpoints, discard, provenance, remove_empty, write_agent
 from .configfile import comparable, lookup, read_config
 from .errors import ResultsError
 from .fingerprint import changed_input, code_changed, code_fingerprint, file_hashes, portable
 from .lock import FolderLock, locked
 from .names import check_folder_name
-from .runinfo import RUN_INFO, check_run_info, digests, read_run_info, run_folder_name, run_number, scan_runs
+from .runinfo import RUN_INFO, check_run_info, file_digests, read_run_info, run_folder_name, run_number, scan_runs
 from .safeio import atomic_text, own_dir
-from .statefile import write_state
 from .tomlio import difference_path, dotted, dumps_toml
 
 __all__ = ["ResultsError", "ResultsStore", "RunResult", "load", "run_dirs"]
@@ -128,9 +127,11 @@ class ResultsStore:
 
     def checkpoints(self, condition: str, run: int, every: int, meta: Mapping, *, required: bool = False) -> Checkpoints:
         """The checkpoints of run ``run`` of ``condition`` (:class:`~neurocur.results.agents.Checkpoints`),
-        in ``OUT/checkpoints/<condition>/run-<NNN>/``; removed when the run is written."""
+        in ``OUT/checkpoints/<condition>/run-<NNN>/``; removed when the run is written. ``meta`` gets the
+        run's :func:`~neurocur.results.agents.provenance` (parameters as ``config.toml`` records them, code)."""
         final = self.run_dir(condition, run)
-        return Checkpoints(own_dir(self.root, CHECKPOINTS, condition) / final.name, every, meta, required=required)
+        return Checkpoints(own_dir(self.root, CHECKPOINTS, condition) / final.name, every,
+                           {**meta, **provenance(self.config(), condition)}, required=required)
 
     def writing(self) -> AbstractContextManager[FolderLock]:
         """The folder's exclusive lock for a ``with`` block (see :mod:`neurocur.results.lock`):
@@ -218,7 +219,7 @@ class ResultsStore:
         When the run folder exists already (written meanwhile by another process, or left
         without its ``run.json``), a complete one is kept and this result dropped (a run is
         determined by its seed), and an incomplete one is replaced. ``run.json`` records the
-        sha256 of each table (``tables``). Nothing is written when the results folder no longer
+        sha256 of each table (``tables``) and of the saved agent's files (``agent``). Nothing is written when the results folder no longer
         exists (moved or removed while it ran: it is never re-created behind the move), and
         no link on the way is followed (:mod:`.safeio`).
         """
@@ -233,9 +234,9 @@ class ResultsStore:
         for table_name, table in result.tables.items():
             check_folder_name(table_name, tmp, "tables")
             table.to_parquet(tmp / f"{table_name}.parquet", index=False)
-        summary = {**result.summary, "tables": digests(tmp)}
         if result.agent is not None:
-            write_state(tmp / AGENT, *result.agent)
+            write_agent(tmp / AGENT, result.agent, self.config(), result.condition)
+        summary = {**result.summary, **file_digests(tmp)}
         (tmp / RUN_INFO).write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
         own_dir(self.root, "runs", result.condition)
         for _ in range(100):  # each pass moves an incomplete folder aside; another writer may race us
@@ -262,12 +263,12 @@ class ResultsStore:
                            "again by another process); remove it")
 
     def _drop_checkpoint(self, condition: str, name: str) -> None:
-        """Remove a written run's checkpoint. Its condition's folder stays: another run of the condition
-        may be in flight and not have saved its first checkpoint into it yet (:meth:`tidy_checkpoints`)."""
-        shutil.rmtree(self.root / CHECKPOINTS / condition / name, ignore_errors=True)
+        """Remove a written run's checkpoint (:func:`~neurocur.results.agents.discard`). Its condition's folder stays:
+        another run of the condition may be in flight and not have saved into it yet (:meth:`tidy_checkpoints`)."""
+        discard(self.root / CHECKPOINTS / condition / name)
 
     def tidy_checkpoints(self) -> None:
-        """Remove the checkpoint folders left empty (:func:`~neurocur.results.agents.remove_empty`); only while no
+        """Remove the checkpoint folders left empty and the debris of killed saves (:func:`~.agents.remove_empty`); only while no
         run is in flight (the runner calls it once its executor has finished every run)."""
         remove_empty(self.root / CHECKPOINTS)
 

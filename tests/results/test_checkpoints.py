@@ -15,7 +15,7 @@ from neurocur.experiments.checkpointed import compute_and_write
 from neurocur.experiments.run import run_one
 from neurocur.results import ResultsError, ResultsStore, load
 from neurocur.results import agents as agents_module
-from neurocur.results.statefile import StateError, load_state, save_state
+from neurocur.results.statefile import VERSION, StateError, load_state, save_state
 
 ROOT = Path(__file__).resolve().parents[2]
 SYNTHETIC = ROOT / "neurocur" / "experiments_data" / "synthetic.toml"
@@ -23,6 +23,14 @@ STEPS = 24_000  # long enough for the curious condition to store a module
 #: a seed whose curious run 0 stores its module late (frame 22000), after the checkpoint the first
 #: test continues from and after the 20000 frames the saved agent has seen: the continued part stores it
 SEED = 4
+
+
+NOISY_TV = ROOT / "neurocur" / "experiments_data" / "noisy_tv.toml"
+#: the continuation cases: (file, condition, frames, seed). The synthetic world draws everything at its
+#: reset; the noisy TV's world draws a new noise from its own generator (``world.np_random``, which only
+#: the simulator seeds and the world holds) at every epoch of the TV, so a checkpoint that forgot the
+#: world's generator would continue with other noise
+CONTINUED = {"synthetic": (SYNTHETIC, "curious", STEPS, SEED), "noisy_tv": (NOISY_TV, "random_switching", 24_000, 1)}
 
 
 def experiment(steps=STEPS):
@@ -40,36 +48,42 @@ class Killed(Exception):
     pass
 
 
-def test_a_run_killed_at_90_percent_resumes_from_its_checkpoint_to_identical_tables(uninterrupted, tmp_path,
+@pytest.mark.parametrize("case", list(CONTINUED))
+def test_a_run_killed_at_90_percent_resumes_from_its_checkpoint_to_identical_tables(case, uninterrupted, tmp_path,
                                                                                    monkeypatch):
-    exp, out = experiment(), tmp_path / "out"
+    path, name, steps, seed_entropy = CONTINUED[case]
+    exp, out = load_experiment(path, runs=1, steps=steps, seed=seed_entropy), tmp_path / "out"
+    reference = uninterrupted
+    if case != "synthetic":
+        reference = tmp_path / "reference"
+        run_experiment(exp, reference, jobs=1, conditions=[name], progress=False, checkpoint_every=0)
     out.mkdir()
-    shutil.copy(uninterrupted / "config.toml", out / "config.toml")
-    condition, seed = exp.conditions["curious"], exp.run_seed(0)
-    meta = {"condition": "curious", "run": 0, "steps": STEPS, "seed": {"entropy": seed.entropy, "spawn_key": [0]}}
-    checkpoints = ResultsStore(out).checkpoints("curious", 0, 10, meta)
+    shutil.copy(reference / "config.toml", out / "config.toml")
+    condition, seed = exp.conditions[name], exp.run_seed(0)
+    meta = {"condition": name, "run": 0, "steps": steps, "seed": {"entropy": seed.entropy, "spawn_key": [0]}}
+    checkpoints = ResultsStore(out).checkpoints(name, 0, 10, meta)
 
     def kill(frames):
-        if frames >= 0.9 * STEPS:
+        if frames >= 0.9 * steps:
             raise Killed()
 
     with pytest.raises(Killed):
-        run_one(condition, 0, STEPS, seed, progress=kill, checkpoints=checkpoints)
+        run_one(condition, 0, steps, seed, progress=kill, checkpoints=checkpoints)
     saved = json.loads((checkpoints.folder / "state.json").read_text())["meta"]
-    assert 0.5 * STEPS < saved["n_frames"] < 0.9 * STEPS and saved["n_episodes"] % 10 == 0
+    assert 0.5 * steps < saved["n_frames"] < 0.9 * steps and saved["n_episodes"] % 10 == 0
 
     resumed = []
     original = agents_module.Checkpoints.resume
     monkeypatch.setattr(agents_module.Checkpoints, "resume", lambda self, sim: resumed.append(original(self, sim))
                         or resumed[-1])
-    compute_and_write(condition, 0, STEPS, seed, str(out), every=10)
+    compute_and_write(condition, 0, steps, seed, str(out), every=10)
     assert resumed == [True]  # continued from the checkpoint, not from the first frame
     assert not checkpoints.folder.exists()  # the written run's checkpoint is removed
-    for a, b in zip(load(uninterrupted), load(out)):
+    for a, b in zip(load(reference), load(out)):
         pd.testing.assert_frame_equal(a, b, check_exact=True)
-    info = [json.loads((d / "runs" / "curious" / "run-000" / "run.json").read_text()) for d in (uninterrupted, out)]
+    info = [json.loads((d / "runs" / name / "run-000" / "run.json").read_text()) for d in (reference, out)]
     assert info[0]["tables"] == info[1]["tables"]  # the Parquet files are the same bytes
-    assert len(load(out)[1]) >= 1
+    assert len(load(out)[1]) >= (1 if case == "synthetic" else 0)
 
 
 def test_a_checkpoint_of_another_run_is_never_continued(tmp_path):
@@ -179,7 +193,7 @@ def test_a_state_of_another_version_is_refused(tmp_path):
     save_state(tmp_path / "state", {"h": holder})
     body = json.loads((tmp_path / "state" / "state.json").read_text())
     (tmp_path / "state" / "state.json").write_text(json.dumps({**body, "version": 99}))
-    with pytest.raises(StateError, match=r"key 'version': expected 1 .*got 99"):
+    with pytest.raises(StateError, match=rf"key 'version': expected {VERSION} .*got 99"):
         load_state(tmp_path / "state", {"h": Holder()})
 
 
