@@ -82,6 +82,15 @@ def _intervals(p: argparse.ArgumentParser) -> None:
                    help="bootstrap replicates per data set with --ci bootstrap (default 200; cost: B fits)")
 
 
+def _trial_table(p: argparse.ArgumentParser) -> None:
+    """A trial table's options (:mod:`neurocur.fit.trials`, :mod:`neurocur.fit.models`)."""
+    p.add_argument("--columns", action="append", default=[], metavar="KEY=NAME,...",
+                   help="a trial table's column names: KEY one of subject, trial, choice, outcome, rt "
+                   "(e.g. subject=subjID,outcome=correct)")
+    p.add_argument("--one-based", action="store_true",
+                   help="a trial table's integer choice codes start at 1 (never guessed)")
+
+
 def _parser(sub, name: str, help: str, description: str, example: str) -> argparse.ArgumentParser:
     """A subcommand's parser: its one-line ``help``, its ``description`` and one example after it."""
     return sub.add_parser(name, help=help, description=description, epilog=f"example:\n  {example}\n",
@@ -106,8 +115,9 @@ def add_parsers(sub) -> None:
         "neurocur fit results/free_choice --experiment free_choice --condition learning_progress --fit LC.gain "
         "--bounds LC.gain=0:60 --signal HPC=error --out results/fit")
     _data(fit)
-    _common(fit)
+    _common(fit, keys_required=False)
     _intervals(fit)
+    _trial_table(fit)
     recover = _parser(
         sub, "recover",
         "parameter (and model) recovery of an experiment's circuit (docs/fitting.md)",
@@ -182,11 +192,14 @@ def _cmd_fit(args) -> int:
 
     from .bootstrap import parametric_bootstrap
     from .mle import fit_table
-    from .study import condition_of, default_bounds, fit_data, load_data, make_replays
+    from .models import data_summary, fit_keys, load_fit_data
+    from .study import condition_of, default_bounds, fit_data, make_replays
 
     experiment, condition = condition_of(args.experiment, args.condition)
+    args.keys = fit_keys(condition, args.keys)
     bounds = default_bounds(condition, args.keys, dict(args.bounds))
-    data = load_data(args.data, condition, decision=args.decision, signal=args.signal)
+    data = load_fit_data(args.data, condition, columns=args.columns, one_based=args.one_based,
+                         decision=args.decision, signal=args.signal)
     replays = make_replays(experiment, condition, data, args.keys, decision=args.decision, signal=args.signal)
     fits = fit_data(replays, bounds, starts=args.starts, seed=args.seed, ci=0.95 if args.ci == "profile" else None)
     out = _out(args, f"results/fit-{experiment.name}")
@@ -206,7 +219,8 @@ def _cmd_fit(args) -> int:
                "intervals": args.ci if args.ci == "profile" else f"bootstrap ({args.bootstrap} replicates)",
                "loglik": loglik, "n_params": k, "n_obs": n,
                "aic": 2 * k - 2 * loglik, "bic": k * math.log(n) - 2 * loglik,
-               "fits": [f.summary() | {"estimate": f.estimate} for f in fits]}
+               "fits": [f.summary() | {"estimate": f.estimate} for f in fits],
+               **data_summary(data, columns=args.columns, one_based=args.one_based)}
     atomic_text(out / "summary.json", json.dumps(summary, indent=2, allow_nan=True) + "\n")
     for f in fits:
         print(f"{f.dataset}: " + ", ".join(f"{key} = {v:.4g}" + (f" [{f.ci[key][0]:.4g}, {f.ci[key][1]:.4g}]"
