@@ -131,7 +131,7 @@ def trials_from_table(table: pd.DataFrame, option_names: Sequence[str], *, one_b
     if bad.any():
         row = int(np.flatnonzero(bad)[0])
         raise ConfigError(source, col("outcome"), "a number on every trial with a choice",
-                          f"{table['outcome'].to_numpy()[row]!r} in row {row}")
+                          f"{_value(table['outcome'].to_numpy()[row])} in row {row}")
     trial = table["trial"].to_numpy()
     if not pd.api.types.is_integer_dtype(table["trial"].dtype):
         raise ConfigError(source, col("trial"), "integer trial numbers", f"{table['trial'].dtype}")
@@ -168,7 +168,7 @@ def _choices(column: pd.Series, missed: np.ndarray, names: list[str], one_based:
         ints = values.astype(np.int64)
         if np.any(ints != values):
             row = int(np.flatnonzero(~missed)[np.flatnonzero(ints != values)[0]])
-            raise ConfigError(source, key, "integer option codes or option names", f"{column.to_numpy()[row]!r} in row {row}")
+            raise ConfigError(source, key, "integer option codes or option names", f"{_value(column.to_numpy()[row])} in row {row}")
         if one_based:
             ints = ints - 1
         elif len(ints) and ints.min() >= 1 and ints.max() == n:
@@ -186,6 +186,11 @@ def _choices(column: pd.Series, missed: np.ndarray, names: list[str], one_based:
         expected = f"an option name ({', '.join(names)}) or code"
     if bad.any():
         row = int(np.flatnonzero(~missed)[np.flatnonzero(bad)[0]])
-        raise ConfigError(source, key, expected, f"{column.to_numpy()[row]!r} in row {row}")
+        raise ConfigError(source, key, expected, f"{_value(column.to_numpy()[row])} in row {row}")
     codes[~missed] = found
     return codes
+
+
+def _value(v) -> str:
+    """A cell as a message shows it: its Python value's repr (``3``, ``1.5``, ``'C'``)."""
+    return repr(v.item() if isinstance(v, np.generic) else v)
