@@ -150,6 +150,7 @@ def add_parsers(sub) -> None:
     _common(compare, condition=False, keys_required=False)
     compare.add_argument("--no-loo", action="store_true",
                          help="skip the leave-one-data-set-out cross-validation (one pooled fit per data set)")
+    _trial_table(compare)
     sbi = _parser(
         sub, "sbi",
         "simulation-based inference (neural posterior estimation) of parameters without a likelihood "
@@ -199,7 +200,7 @@ def _cmd_fit(args) -> int:
     args.keys = fit_keys(condition, args.keys)
     bounds = default_bounds(condition, args.keys, dict(args.bounds))
     data = load_fit_data(args.data, condition, columns=args.columns, one_based=args.one_based,
-                         decision=args.decision, signal=args.signal)
+                         decision=args.decision, signal=args.signal, bootstrap=args.ci == "bootstrap")
     replays = make_replays(experiment, condition, data, args.keys, decision=args.decision, signal=args.signal)
     fits = fit_data(replays, bounds, starts=args.starts, seed=args.seed, ci=0.95 if args.ci == "profile" else None)
     out = _out(args, f"results/fit-{experiment.name}")
@@ -313,11 +314,14 @@ def _partial(path: Path):
 def _cmd_compare(args) -> int:
     from ..analysis.figures.style import save_figure
     from .compare import bms_table, compare_models, comparison_figure, totals
-    from .study import condition_of, load_data, model_bounds
+    from .models import load_fit_data, model_keys
+    from .study import condition_of, model_bounds
 
     experiment, _ = condition_of(args.experiment, None)
-    models, bounds_of = model_bounds(experiment, args.models, args.keys, dict(args.bounds))
-    data = load_data(args.data, next(iter(models.values())), decision=args.decision, signal=args.signal)
+    models, bounds_of = model_bounds(experiment, args.models, model_keys(experiment, args.models, args.keys),
+                                     dict(args.bounds))
+    data = load_fit_data(args.data, next(iter(models.values())), columns=args.columns, one_based=args.one_based,
+                         decision=args.decision, signal=args.signal)
     out = _out(args, f"results/compare-{experiment.name}")
     table = compare_models(experiment, data, models, bounds_of, decision=args.decision, signal=args.signal,
                            starts=args.starts, seed=args.seed, loo=not args.no_loo,

@@ -2,8 +2,8 @@
 
 - **Free parameters.** A condition of an experiment file may declare the keys it fits
   (``fit = ["PFC.alpha", "LC.beta"]`` in ``[conditions.NAME]``); :func:`fit_keys` gives them when
-  the command line names none (``--fit``), and their declared domains are the default bounds
-  (:func:`neurocur.fit.study.default_bounds`).
+  the command line names none (``--fit``), :func:`model_keys` each compared model's own, and their
+  declared domains are the default bounds (:func:`neurocur.fit.study.default_bounds`).
 - **Which data.** The experiment decides: an experiment whose world replays recorded trials
   (the world of options, :class:`~neurocur.contexts.options.OptionsWorld`: the bandit) reads trial
   tables and its own results folders as trials (:mod:`neurocur.fit.trials`); every other
@@ -18,7 +18,7 @@ from collections.abc import Sequence
 from ..config import ConfigError
 from .trials import OPTIONAL_COLUMNS, TRIAL_COLUMNS, Trials, read_trials
 
-__all__ = ["data_summary", "fit_keys", "load_fit_data", "parse_columns", "reads_trials"]
+__all__ = ["data_summary", "fit_keys", "load_fit_data", "model_keys", "parse_columns", "reads_trials"]
 
 
 def parse_columns(items: Sequence[str]) -> dict[str, str]:
@@ -44,17 +44,30 @@ def fit_keys(condition, given: Sequence[str]) -> list[str]:
     return keys
 
 
+def model_keys(experiment, names: Sequence[str], given: Sequence[str]) -> list[str]:
+    """The ``--fit`` keys of a model comparison, else each model's declared free parameters as
+    ``MODEL:REGION.param`` (each fitted in its own model only, :func:`neurocur.fit.study.model_bounds`)."""
+    if given:
+        return list(given)
+    return [f"{name}:{key}" for name in names if name in experiment.conditions
+            for key in experiment.conditions[name].fit]
+
+
 def reads_trials(condition) -> bool:
     """True when the condition's world replays recorded trials (module docstring)."""
     return hasattr(condition.world_class, "recorded")
 
 
 def load_fit_data(data, condition, *, columns: Sequence[str] = (), one_based: bool = False, decision: str = "LC",
-                  signal: tuple[str, str] | None = None) -> list:
+                  signal: tuple[str, str] | None = None, bootstrap: bool = False) -> list:
     """The data sets of ``data`` for the condition's model: :class:`~neurocur.fit.trials.Trials` per subject
-    for an experiment on trials, else the episode data sets of :func:`neurocur.fit.study.load_data`."""
+    for an experiment on trials, else the episode data sets of :func:`neurocur.fit.study.load_data`.
+    ``bootstrap``: the fit asks for bootstrap intervals, which trials do not have yet (refused)."""
     mapping = parse_columns(columns)
     if reads_trials(condition):
+        if bootstrap:
+            raise ConfigError("--ci", "bootstrap", "profile intervals for a fit to trials (the parametric bootstrap "
+                              "simulates episode data sets)", "bootstrap")
         return read_trials(data, condition.make_world().context_names, columns=mapping, one_based=one_based)
     if mapping or one_based:
         flag = "--columns" if mapping else "--one-based"

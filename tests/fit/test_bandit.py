@@ -165,3 +165,18 @@ def test_a_simulated_agent_replays_exactly(tmp_path):
         np.testing.assert_allclose(own["reward"], data[i].outcomes)
         theta = {"PFC.alpha": 0.3, "LC.beta": 3.0, "LC.kappa": 0.5, "LC.lapse": 0.05}  # the condition's own
         assert abs(replay.loglik(theta) - acted.sum()) < 1e-9
+
+
+def test_compare_the_declared_models_on_a_trial_table(tmp_path, subjects):
+    c, r = subjects["s2"]
+    data = tmp_path / "choices.csv"
+    _table(c, r, "s2").to_csv(data, index=False)
+    out = tmp_path / "compare"
+    assert main(["compare", str(data), "--experiment", "bandit", "--models", "delta", "delta_posneg", "--no-loo",
+                 "--out", str(out), "--starts", "3"]) == 0
+    table = pd.read_csv(out / "compare.csv").set_index("model")
+    assert table.loc["delta", "n_params"] == 2 and table.loc["delta_posneg", "n_params"] == 3  # each its own keys
+    assert table.loc["delta", "n_obs"] == 100
+    _, loglik = numpy_mle(c, r, [(0.0, 1.0), (0.0, 50.0)])
+    assert abs(table.loc["delta", "loglik"] - loglik) < 1e-6
+    assert table.loc["delta_posneg", "loglik"] >= loglik - 1e-6  # a model that nests it fits at least as well
