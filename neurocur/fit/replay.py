@@ -244,27 +244,35 @@ class Replay:
         if upstream in memo:
             return memo[upstream]
         specs = self.circuit.with_params(dict(upstream), source="theta").specs if upstream else self.circuit.specs
-        names = [n for n in self.part if n != self.decision]
-        regions = {n: self._fresh(specs[n]) for n in names}
-        outputs = {n: tuple(s.initial for s in specs[n].cls.outputs) for n in names}
-        previous = dict(outputs)
-        tape = []
-        for t in range(self.n_obs):
-            for name in (*names, self.decision):
-                args = self.tapes[name][t]
-                if self._plan[name]:
-                    args = list(args)
-                    for i, src, j, delayed in self._plan[name]:
-                        args[i] = (previous if delayed else outputs)[src][j]
-                if name == self.decision:
-                    tape.append(tuple(args))
-                else:
-                    outputs[name] = regions[name].step(*args)
-            previous = dict(outputs)
+        tape = [args for args, _ in self._passes(specs, step_decision=False)]
         if len(memo) >= 64:
             memo.pop(next(iter(memo)))
         memo[upstream] = tape
         return tape
+
+    def _passes(self, specs, *, step_decision: bool):
+        """The decision part stepped through the cached inputs, fresh regions of ``specs``: yields, pass by
+        pass, the decision region's inputs and the decision region (stepped with them when
+        ``step_decision``; else None, and its outputs keep their initial values, which only a separable
+        part may do)."""
+        names = self.part if step_decision else self.part[:-1]
+        regions = {n: self._fresh(specs[n]) for n in names}
+        outputs = {n: tuple(s.initial for s in specs[n].cls.outputs) for n in self.part}
+        previous = dict(outputs)
+        plan, tapes = self._plan, self.tapes
+        for t in range(self.n_obs):
+            for name in self.part:
+                args = tapes[name][t]
+                if plan[name]:
+                    args = list(args)
+                    for i, src, j, delayed in plan[name]:
+                        args[i] = (previous if delayed else outputs)[src][j]
+                if name == self.decision:
+                    inputs = tuple(args)
+                if name in regions:
+                    outputs[name] = regions[name].step(*args)
+            previous = dict(outputs)
+            yield inputs, regions.get(self.decision)
 
     def _fresh(self, spec):
         """A new region of ``spec``, bound to the world and reset with the generator it had in the run
@@ -280,22 +288,9 @@ class Replay:
         """Per episode, log P(observed decision | state, theta): the decision part stepped through the
         cached inputs with fresh regions built with ``theta``."""
         specs = self.circuit.with_params(dict(theta), source="theta").specs if theta else self.circuit.specs
-        regions = {name: self._fresh(specs[name]) for name in self.part}
-        outputs = {n: tuple(s.initial for s in specs[n].cls.outputs) for n in self.part}
-        previous = dict(outputs)
-        out = np.empty(self.n_obs)
-        decision, observed, plan, tapes = self.decision, self.observed, self._plan, self.tapes
-        for t in range(self.n_obs):
-            for name in self.part:
-                args = tapes[name][t]
-                if plan[name]:
-                    args = list(args)
-                    for i, src, j, delayed in plan[name]:
-                        args[i] = (previous if delayed else outputs)[src][j]
-                outputs[name] = regions[name].step(*args)
-            previous = dict(outputs)
-            out[t] = regions[decision].log_probability(observed[t])
-        return out
+        observed = self.observed
+        return np.array([region.log_probability(observed[t])
+                         for t, (_, region) in enumerate(self._passes(specs, step_decision=True))], dtype=np.float64)
 
     def first_impossible(self, logp: np.ndarray) -> str | None:
         """The first episode whose observed decision had probability 0, named, or None."""
