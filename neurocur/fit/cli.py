@@ -52,7 +52,8 @@ def _common(p: argparse.ArgumentParser, *, condition: bool = True, keys_required
         p.add_argument("--condition", metavar="NAME", help="the experiment's condition whose circuit to fit "
                        "(default: the first)")
     p.add_argument("--fit", dest="keys", action="append", required=keys_required, default=[], metavar="KEY",
-                   help="a parameter to fit, REGION.param (repeatable), e.g. LC.gain, PFC.alpha")
+                   help="a parameter to fit, REGION.param (repeatable), e.g. LC.gain, PFC.alpha (fit and compare: "
+                   "default the condition's declared free parameters)")
     p.add_argument("--bounds", action="append", type=_bounds, default=[], metavar="KEY=LOW:HIGH",
                    help="search range of a fitted parameter (default: its declared range, when finite)")
     p.add_argument("--signal", type=_signal, metavar="REGION=COLUMN",

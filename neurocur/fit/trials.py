@@ -164,6 +164,10 @@ def _choices(column: pd.Series, missed: np.ndarray, names: list[str], one_based:
     codes = np.full(len(column), -1, dtype=np.int64)
     values = column.to_numpy()[~missed]
     numeric = pd.api.types.is_numeric_dtype(column.dtype) and not pd.api.types.is_bool_dtype(column.dtype)
+    if not numeric and len(values) and not pd.api.types.is_bool_dtype(column.dtype):  # codes read as text
+        as_numbers = pd.to_numeric(pd.Series(values), errors="coerce")
+        if as_numbers.notna().all():
+            values, numeric = as_numbers.to_numpy(), True
     if numeric:
         ints = values.astype(np.int64)
         if np.any(ints != values):
@@ -180,10 +184,9 @@ def _choices(column: pd.Series, missed: np.ndarray, names: list[str], one_based:
         expected = f"option codes {first} ({'1' if one_based else '0'}-based) or names ({', '.join(names)})"
     else:
         lookup = {name: i for i, name in enumerate(names)}
-        lookup.update({str(i + one_based): i for i in range(n)})
         found = np.array([lookup.get(str(v).strip(), -1) for v in values], dtype=np.int64)
         bad = found < 0
-        expected = f"an option name ({', '.join(names)}) or code"
+        expected = f"an option name ({', '.join(names)}) or an integer code"
     if bad.any():
         row = int(np.flatnonzero(~missed)[np.flatnonzero(bad)[0]])
         raise ConfigError(source, key, expected, f"{_value(column.to_numpy()[row])} in row {row}")

@@ -48,6 +48,11 @@ def test_the_column_mapping_names_and_one_based_codes(tmp_path):
     np.testing.assert_array_equal(found.signals["rt"], [0.5, 0.7, 0.6])
     named = trials_from_table(_table(choice=["A", "B", "B", "B", "A"]), OPTIONS)
     np.testing.assert_array_equal(named[0].choices, [0, 1, 1])
+    # codes stored as text are codes: 1-based ones are refused without the flag, read with it
+    text = _table(choice=["1", "2", "2", "2", "1"])
+    with pytest.raises(ConfigError, match="--one-based"):
+        trials_from_table(text, OPTIONS)
+    np.testing.assert_array_equal(trials_from_table(text, OPTIONS, one_based=True)[0].choices, [0, 1, 1])
 
 
 def test_a_missed_trial_is_left_out_and_counted():
