@@ -128,7 +128,7 @@ def add_parsers(sub) -> None:
         "neurocur recover free_choice --condition learning_progress --fit LC.gain --bounds LC.gain=1:60 "
         "--signal HPC=error --datasets 20 --episodes 250")
     recover.add_argument("experiment", metavar="EXPERIMENT", help="experiment TOML file or shipped name")
-    _common(recover)
+    _common(recover, keys_required=False)
     _intervals(recover)
     recover.add_argument("--datasets", type=int, default=20, metavar="N", help="data sets (default 20)")
     recover.add_argument("--episodes", type=int, default=250, metavar="N", help="episodes per data set (default 250)")
@@ -201,7 +201,7 @@ def _cmd_fit(args) -> int:
     args.keys = fit_keys(condition, args.keys)
     bounds = default_bounds(condition, args.keys, dict(args.bounds))
     data = load_fit_data(args.data, condition, columns=args.columns, one_based=args.one_based,
-                         decision=args.decision, signal=args.signal, bootstrap=args.ci == "bootstrap")
+                         decision=args.decision, signal=args.signal)
     replays = make_replays(experiment, condition, data, args.keys, decision=args.decision, signal=args.signal)
     fits = fit_data(replays, bounds, starts=args.starts, seed=args.seed, ci=0.95 if args.ci == "profile" else None)
     out = _out(args, f"results/fit-{experiment.name}")
@@ -234,6 +234,7 @@ def _cmd_fit(args) -> int:
 
 def _cmd_recover(args) -> int:
     from ..analysis.figures.style import save_figure
+    from .models import fit_keys, model_keys
     from .recovery import (
         confusion,
         confusion_figure,
@@ -245,7 +246,7 @@ def _cmd_recover(args) -> int:
     from .study import condition_of, default_bounds, model_bounds
 
     experiment, condition = condition_of(args.experiment, args.condition)
-    bounds = default_bounds(condition, args.keys, dict(args.bounds))
+    bounds = default_bounds(condition, fit_keys(condition, args.keys), dict(args.bounds))
     out = _out(args, f"results/recover-{experiment.name}")
     table = parameter_recovery(condition, bounds, n_datasets=args.datasets, n_episodes=args.episodes,
                                seed=args.seed, starts=args.starts, decision=args.decision, signal=args.signal,
@@ -256,7 +257,8 @@ def _cmd_recover(args) -> int:
     save_figure(recovery_figure(table), out / "recovery.png")
     print(summary.to_string(index=False))
     if args.models:
-        models, bounds_of = model_bounds(experiment, args.models, args.keys, dict(args.bounds))
+        models, bounds_of = model_bounds(experiment, args.models, model_keys(experiment, args.models, args.keys),
+                                         dict(args.bounds))
         mr = model_recovery(models, bounds_of, n_datasets=args.datasets, n_episodes=args.episodes,
                             seed=args.seed, decision=args.decision, progress=_partial(out / "model_recovery.csv"))
         atomic_text(out / "model_recovery.csv", mr.to_csv(index=False))

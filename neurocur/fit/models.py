@@ -59,15 +59,11 @@ def reads_trials(condition) -> bool:
 
 
 def load_fit_data(data, condition, *, columns: Sequence[str] = (), one_based: bool = False, decision: str = "LC",
-                  signal: tuple[str, str] | None = None, bootstrap: bool = False) -> list:
+                  signal: tuple[str, str] | None = None) -> list:
     """The data sets of ``data`` for the condition's model: :class:`~neurocur.fit.trials.Trials` per subject
-    for an experiment on trials, else the episode data sets of :func:`neurocur.fit.study.load_data`.
-    ``bootstrap``: the fit asks for bootstrap intervals, which trials do not have yet (refused)."""
+    for an experiment on trials, else the episode data sets of :func:`neurocur.fit.study.load_data`."""
     mapping = parse_columns(columns)
     if reads_trials(condition):
-        if bootstrap:
-            raise ConfigError("--ci", "bootstrap", "profile intervals for a fit to trials (the parametric bootstrap "
-                              "simulates episode data sets)", "bootstrap")
         return read_trials(data, condition.make_world().context_names, columns=mapping, one_based=one_based)
     if mapping or one_based:
         flag = "--columns" if mapping else "--one-based"

@@ -35,7 +35,7 @@ import pandas as pd
 from ..config import ConfigError
 from ..results import ResultsStore
 
-__all__ = ["OPTIONAL_COLUMNS", "TRIAL_COLUMNS", "Trials", "read_trials", "trials_from_table"]
+__all__ = ["OPTIONAL_COLUMNS", "TRIAL_COLUMNS", "Trials", "read_trials", "trials_from_episodes", "trials_from_table"]
 
 #: The columns every trial table has (after the column mapping).
 TRIAL_COLUMNS = ("subject", "trial", "choice", "outcome")
@@ -77,13 +77,19 @@ def read_trials(path, option_names: Sequence[str], *, columns: Mapping[str, str]
                           "no such path")
     if path.is_dir():
         episodes, _ = ResultsStore(path).load()
-        table = pd.DataFrame({"subject": episodes["condition"].astype(str) + "/" + episodes["run"].astype(str),
-                              "trial": episodes["episode"], "choice": episodes["context"],
-                              "outcome": episodes["reward"]})
-        return trials_from_table(table, option_names, source=str(path))
+        subjects = episodes["condition"].astype(str) + "/" + episodes["run"].astype(str)
+        return trials_from_episodes(episodes, option_names, subjects, str(path))
     table = read_table(path)
     return trials_from_table(rename(table, columns or {}, path), option_names, one_based=one_based, source=str(path),
                              origin=dict(columns or {}))
+
+
+def trials_from_episodes(episodes: pd.DataFrame, option_names: Sequence[str], subject, source: str) -> list[Trials]:
+    """The trials of a run's episodes table (a simulated agent on the world of options): each episode is a
+    trial, its ``context`` the choice and its ``reward`` the outcome; ``subject`` a label or one per row."""
+    table = pd.DataFrame({"subject": subject, "trial": episodes["episode"], "choice": episodes["context"],
+                          "outcome": episodes["reward"]})
+    return trials_from_table(table, option_names, source=source)
 
 
 def read_table(path: Path) -> pd.DataFrame:

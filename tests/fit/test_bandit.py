@@ -13,7 +13,8 @@ from scipy import optimize
 
 from neurocur.cli import main
 from neurocur.experiments import load_experiment, run_experiment
-from neurocur.fit.study import make_replays
+from neurocur.fit.bootstrap import parametric_bootstrap
+from neurocur.fit.study import make_replays, simulate
 from neurocur.fit.trials import read_trials, trials_from_table
 from neurocur.results import ResultsStore
 
@@ -180,3 +181,31 @@ def test_compare_the_declared_models_on_a_trial_table(tmp_path, subjects):
     _, loglik = numpy_mle(c, r, [(0.0, 1.0), (0.0, 50.0)])
     assert abs(table.loc["delta", "loglik"] - loglik) < 1e-6
     assert table.loc["delta_posneg", "loglik"] >= loglik - 1e-6  # a model that nests it fits at least as well
+
+
+def test_parameter_recovery_and_the_bootstrap_simulate_trials(tmp_path):
+    """`neurocur recover bandit` (no --fit: the declared parameters): each data set's estimate equals the numpy
+    maximum likelihood of the same simulated trials (the recovery's seeds, redrawn here); the parametric bootstrap
+    of a trial fit runs on trials too."""
+    out = tmp_path / "rec"
+    assert main(["recover", "bandit", "--datasets", "3", "--episodes", "120", "--starts", "3", "--out", str(out)]) == 0
+    table = pd.read_csv(out / "recovery.csv")
+    assert sorted(table["param"].unique()) == ["LC.beta", "PFC.alpha"]
+    condition = load_experiment("bandit").conditions["delta"]
+    root = np.random.SeedSequence(0)
+    draw = np.random.default_rng(root.spawn(1)[0])
+    bounds = [(0.0, 1.0), (0.0, 50.0)]
+    for i, child in enumerate(root.spawn(3)):
+        truth = dict(zip(("PFC.alpha", "LC.beta"), draw.uniform([0.0, 0.0], [1.0, 50.0])))
+        trials, _ = simulate(condition, truth, child, 120, name=f"d{i}")
+        rows = table[table["dataset"] == f"d{i}"].set_index("param")
+        assert abs(rows.loc["PFC.alpha", "true"] - truth["PFC.alpha"]) < 1e-12
+        x, loglik = numpy_mle(trials.choices, trials.outcomes, bounds)
+        assert abs(rows.loc["LC.beta", "loglik"] - loglik) < 1e-6, i
+        if loglik < -1e-3:  # not a data set a greedy choice explains perfectly (a flat likelihood at its bound)
+            assert abs(rows.loc["PFC.alpha", "estimate"] - x[0]) < 1e-4 and abs(rows.loc["LC.beta", "estimate"] - x[1]) < 1e-4
+    trials, _ = simulate(condition, {"PFC.alpha": 0.3, "LC.beta": 3.0}, np.random.SeedSequence(9), 80, name="b")
+    boot = parametric_bootstrap(condition, {"PFC.alpha": 0.3, "LC.beta": 3.0}, len(trials),
+                                {"PFC.alpha": (0.0, 1.0), "LC.beta": (0.0, 50.0)}, replicates=3, seed=[0, 0], starts=1,
+                                dataset="b")
+    assert len(boot.replicates) == 6 and set(boot.ci) == {"PFC.alpha", "LC.beta"}

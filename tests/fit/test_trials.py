@@ -113,9 +113,6 @@ def test_the_command_refuses_in_one_line_and_episode_experiments_refuse_trial_op
     assert "\n" not in err and "--one-based" in err and "options" in err
     assert main(["fit", str(data), "--experiment", "free_choice", "--bounds", "LC.gain=0:9"]) == 2
     assert "--fit" in capsys.readouterr().err  # free_choice declares no free parameters
-    assert main(["fit", str(data), "--experiment", "bandit", "--one-based", "--ci", "bootstrap"]) == 2
-    err = capsys.readouterr().err.strip()
-    assert "\n" not in err and "--ci" in err and "bootstrap" in err
 
 
 def test_the_standard_columns_are_public():
