@@ -96,11 +96,13 @@ class Replay:
 
     ``fitted``: the ``"REGION.param"`` keys to be varied (they decide the decision part);
     ``seed``: the circuit's seed (a results folder's run seed reproduces the run's world).
+    ``behaviour``: episodes (:class:`~neurocur.fit.data.Behaviour`) or a subject's trials
+    (:class:`~neurocur.fit.trials.Trials`, replayed by the world of options with the recorded outcomes).
     After construction, :attr:`logp` holds the per-episode log-probabilities at the circuit's
     own parameters, and :meth:`loglik` evaluates any theta on the cached inputs.
     """
 
-    def __init__(self, circuit: Circuit, world, seed, behaviour: Behaviour, *, decision: str = "LC",
+    def __init__(self, circuit: Circuit, world, seed, behaviour: Behaviour | Trials, *, decision: str = "LC",
                  fitted: Sequence[str] = ()):
         self.circuit, self.world, self.behaviour, self.decision = circuit, world, behaviour, decision
         self.fitted = tuple(fitted)
