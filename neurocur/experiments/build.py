@@ -33,8 +33,13 @@ def build(resolved: Resolved, plans: list[Plan]) -> Experiment:
     for plan in plans:
         world, world_params = condition_world(plan.world, resolved.path)
         circuit = load_circuit(resolved.circuits[plan.condition.circuit], plan)
+        for i, key in enumerate(plan.condition.fit):
+            region, _, name = key.partition(".")
+            if region not in circuit.specs or not hasattr(circuit.specs[region].params, name):
+                raise ConfigError(plan.condition.source, f"conditions.{plan.condition.name}.fit[{i}]",
+                                  "a REGION.param of the condition's circuit", repr(key))
         conditions[plan.label] = Condition(plan.label, plan.condition.circuit, plan.params, world, circuit,
-                                           world_params, plan.condition.description, plan.point)
+                                           world_params, plan.condition.description, plan.point, plan.condition.fit)
     return Experiment(name=resolved.name, path=resolved.path, description=resolved.description, runs=resolved.runs,
                       steps=resolved.steps, seed=resolved.seed, conditions=conditions, control=resolved.control)
 

@@ -41,6 +41,8 @@ class Condition:
     description: str = ""
     #: the sweep point of this condition (``{"LC.gain": 0.5}``); empty without a sweep
     sweep: dict = field(default_factory=dict)
+    #: the ``"REGION.param"`` keys ``neurocur fit`` fits when none is given (the file's ``fit``)
+    fit: tuple[str, ...] = ()
 
     @property
     def world_type(self) -> str:
@@ -101,6 +103,7 @@ class Experiment:
                 "params": dict(cond.params),
                 "world": dict(cond.world),
                 **({"sweep": dict(cond.sweep)} if cond.sweep else {}),
+                **({"fit": list(cond.fit)} if cond.fit else {}),
                 "resolved_circuit": cond.circuit.to_dict(),
             }
         return {

@@ -55,7 +55,7 @@ TOP_KEYS = ("extends", "name", "description", "circuit", "runs", "steps", "seed"
 #: keys that describe one file and are not inherited from the file it extends
 OWN_KEYS = ("name", "description")
 SCALAR_KEYS = ("name", "description", "circuit", "runs", "steps", "seed")
-CONDITION_KEYS = ("description", "circuit", "params", "world", "lesion", "replace", "edges")
+CONDITION_KEYS = ("description", "circuit", "params", "world", "lesion", "replace", "edges", "fit")
 #: a condition's tables that change its circuit as a file extending the circuit's would
 VARIANT_KEYS = ("replace", "edges", "lesion")
 DEFAULT_CONDITION = "default"
@@ -86,6 +86,8 @@ class ConditionTable:
     variant: dict
     #: the file whose ``[conditions]`` table this is
     source: Path
+    #: the ``"REGION.param"`` keys that ``neurocur fit`` fits when none is given (the model's free parameters)
+    fit: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -198,9 +200,14 @@ def _conditions(layer: Layer, circuit: Path | None, circuit_set: bool, path: Pat
         params = _flatten_params(require(table, "params", dict, source=source, prefix=prefix, expected="a table",
                                          default={}), source, f"{prefix}.params")
         description = require(table, "description", str, source=source, prefix=prefix, expected="a string", default="")
+        fit = require(table, "fit", list, source=source, prefix=prefix, expected='a list of "REGION.param" keys',
+                      default=[])
+        if not all(isinstance(k, str) and "." in k for k in fit):
+            raise ConfigError(source, f"{prefix}.fit", 'a list of "REGION.param" keys', describe(fit))
         out[name] = ConditionTable(
             name, description, own, {k: Entry(v, source, f"{prefix}.params.{k}", here) for k, v in params.items()},
-            Entry(world, source, f"{prefix}.world", here), {k: table[k] for k in VARIANT_KEYS if k in table}, source)
+            Entry(world, source, f"{prefix}.world", here), {k: table[k] for k in VARIANT_KEYS if k in table}, source,
+            tuple(fit))
     return out
 
 

@@ -3,6 +3,8 @@
 | part | module |
 |---|---|
 | behaviour data: a tidy table of episodes, CSV, Parquet or a results folder | ``data`` |
+| people's trials: one row per trial (subject, trial, choice, outcome), CSV, Parquet or tab-separated text | ``trials`` |
+| a model's declared free parameters and the kind of data it reads | ``models`` |
 | replay: log P(observed decisions given theta), cached learning part | ``replay`` |
 | maximum likelihood with several starts, profile-likelihood intervals | ``mle`` |
 | parametric bootstrap: percentile intervals from refits of data sets simulated at the estimate | ``bootstrap`` |

@@ -63,7 +63,8 @@ def _common(p: argparse.ArgumentParser, *, condition: bool = True, keys_required
         p.add_argument("--condition", metavar="NAME", help="the experiment's condition whose circuit to fit "
                        "(default: the first)")
     p.add_argument("--fit", dest="keys", action="append", required=keys_required, default=[], metavar="KEY",
-                   help="a parameter to fit, REGION.param (repeatable), e.g. LC.gain, PFC.alpha")
+                   help="a parameter to fit, REGION.param (repeatable), e.g. LC.gain, PFC.alpha (fit and compare: "
+                   "default the condition's declared free parameters)")
     p.add_argument("--bounds", action="append", type=_bounds, default=[], metavar="KEY=LOW:HIGH",
                    help="search range of a fitted parameter (default: its declared range, when finite)")
     p.add_argument("--signal", type=_signal, metavar="REGION=COLUMN",
@@ -100,6 +101,15 @@ def _intervals(p: argparse.ArgumentParser) -> None:
                    help="bootstrap replicates per data set with --ci bootstrap (default 200; cost: B fits)")
 
 
+def _trial_table(p: argparse.ArgumentParser) -> None:
+    """A trial table's options (:mod:`neurocur.fit.trials`, :mod:`neurocur.fit.models`)."""
+    p.add_argument("--columns", action="append", default=[], metavar="KEY=NAME,...",
+                   help="a trial table's column names: KEY one of subject, trial, choice, outcome, rt "
+                   "(e.g. subject=subjID,outcome=correct)")
+    p.add_argument("--one-based", action="store_true",
+                   help="a trial table's integer choice codes start at 1 (never guessed)")
+
+
 def _parser(sub, name: str, help: str, description: str, example: str) -> argparse.ArgumentParser:
     """A subcommand's parser: its one-line ``help``, its ``description`` and one example after it."""
     return sub.add_parser(name, help=help, description=description, epilog=f"example:\n  {example}\n",
@@ -124,8 +134,9 @@ def add_parsers(sub) -> None:
         "neurocur fit results/free_choice --experiment free_choice --condition learning_progress --fit LC.gain "
         "--bounds LC.gain=0:60 --signal HPC=error --out results/fit")
     _data(fit)
-    _common(fit)
+    _common(fit, keys_required=False)
     _intervals(fit)
+    _trial_table(fit)
     recover = _parser(
         sub, "recover",
         "parameter (and model) recovery of an experiment's circuit (docs/fitting.md)",
@@ -135,7 +146,7 @@ def add_parsers(sub) -> None:
         "neurocur recover free_choice --condition learning_progress --fit LC.gain --bounds LC.gain=1:60 "
         "--signal HPC=error --datasets 20 --episodes 250")
     recover.add_argument("experiment", metavar="EXPERIMENT", help="experiment TOML file or shipped name")
-    _common(recover)
+    _common(recover, keys_required=False)
     _intervals(recover)
     recover.add_argument("--datasets", type=_count(3, "a number of data sets of at least 3 (Pearson r needs 3)"),
                          default=20, metavar="N", help="data sets (default 20; at least 3)")
@@ -160,6 +171,7 @@ def add_parsers(sub) -> None:
     _common(compare, condition=False, keys_required=False)
     compare.add_argument("--no-loo", action="store_true",
                          help="skip the leave-one-data-set-out cross-validation (one pooled fit per data set)")
+    _trial_table(compare)
     sbi = _parser(
         sub, "sbi",
         "simulation-based inference (neural posterior estimation) of parameters without a likelihood "
@@ -212,19 +224,22 @@ def _checked_data(args, experiment, conditions, decision: str = "LC", signal=Non
     """The data sets of ``args.data`` for the ``conditions``' world (the first's), the folder checked against the
     experiment (:func:`~neurocur.fit.checks.check_folder`), and what the fit would ignore (``data_warnings``)."""
     from .checks import check_folder, data_warnings
-    from .study import load_data
+    from .models import load_fit_data
 
     check_folder(args.data, experiment, conditions)
-    data = load_data(args.data, conditions[0], decision=decision, signal=signal)
+    data = load_fit_data(args.data, conditions[0], columns=getattr(args, "columns", ()),
+                         one_based=getattr(args, "one_based", False), decision=decision, signal=signal)
     return data, data_warnings(data, conditions[0].make_world().context_names, args.data)
 
 
 def _cmd_fit(args) -> int:
     from .bootstrap import parametric_bootstrap
     from .mle import fit_table
+    from .models import data_summary, fit_keys
     from .study import check_bound_keys, condition_of, default_bounds, fit_data, make_replays
 
     experiment, condition = condition_of(args.experiment, args.condition)
+    args.keys = fit_keys(condition, args.keys)
     check_bound_keys(dict(args.bounds), args.keys)
     bounds = default_bounds(condition, args.keys, dict(args.bounds))
     data, found = _checked_data(args, experiment, [condition], args.decision, args.signal)
@@ -258,7 +273,8 @@ def _cmd_fit(args) -> int:
                    "aic": 2 * k - 2 * loglik, "bic": k * math.log(n) - 2 * loglik,
                    "warnings": list(out.manifest["warnings"]), "ignored_columns": found["ignored_columns"],
                    "unseen_contexts": found["unseen_contexts"], "not_identified": unidentified,
-                   "fits": [f.summary() | {"estimate": f.estimate, "not_identified": f.unidentified} for f in fits]}
+                   "fits": [f.summary() | {"estimate": f.estimate, "not_identified": f.unidentified} for f in fits],
+                   **data_summary(data, columns=args.columns, one_based=args.one_based)}
         out.write_text("summary.json", json.dumps(summary, indent=2, allow_nan=True) + "\n")
     for f in fits:
         print(f"{f.dataset}: " + ", ".join(f"{key} = {v:.4g}" + (f" [{f.ci[key][0]:.4g}, {f.ci[key][1]:.4g}]"
@@ -269,6 +285,7 @@ def _cmd_fit(args) -> int:
 
 
 def _cmd_recover(args) -> int:
+    from .models import fit_keys, model_keys
     from .recovery import (
         confusion,
         confusion_figure,
@@ -280,10 +297,12 @@ def _cmd_recover(args) -> int:
     from .study import check_bound_keys, condition_of, default_bounds, model_bounds
 
     experiment, condition = condition_of(args.experiment, args.condition)
-    check_bound_keys(dict(args.bounds), args.keys)
-    bounds = default_bounds(condition, args.keys, dict(args.bounds))
+    keys = fit_keys(condition, args.keys)
+    check_bound_keys(dict(args.bounds), keys)
+    bounds = default_bounds(condition, keys, dict(args.bounds))
     if args.models:
-        models, bounds_of = model_bounds(experiment, args.models, args.keys, dict(args.bounds))
+        models, bounds_of = model_bounds(experiment, args.models, model_keys(experiment, args.models, args.keys),
+                                         dict(args.bounds))
     with fit_output(args.out or f"results/recover-{experiment.name}", "recover", _arguments(args)) as out:
         table = parameter_recovery(condition, bounds, n_datasets=args.datasets, n_episodes=args.episodes,
                                    seed=args.seed, starts=args.starts, decision=args.decision, signal=args.signal,
@@ -345,10 +364,12 @@ def _cmd_sbi(args) -> int:
 
 def _cmd_compare(args) -> int:
     from .compare import bms_table, compare_models, comparison_figure, totals
+    from .models import model_keys
     from .study import condition_of, model_bounds
 
     experiment, _ = condition_of(args.experiment, None)
-    models, bounds_of = model_bounds(experiment, args.models, args.keys, dict(args.bounds))
+    models, bounds_of = model_bounds(experiment, args.models, model_keys(experiment, args.models, args.keys),
+                                     dict(args.bounds))
     data, found = _checked_data(args, experiment, list(models.values()), args.decision, args.signal)
     with fit_output(args.out or f"results/compare-{experiment.name}", "compare", _arguments(args),
                     inputs=[args.data]) as out:

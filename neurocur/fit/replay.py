@@ -16,7 +16,13 @@ from a region with a fitted parameter to it (e.g. PFC for eq 14's alpha). Everyt
 the *learning part*, does not depend on the fitted parameters, so it runs once: the replay
 records every input of the decision part, pass by pass. :meth:`Replay.loglik` then steps
 fresh decision-part regions built with each theta through those inputs, and for a decision
-region with a vectorised likelihood (:data:`VECTORISED`) evaluates all thetas at once.
+region that declares a vectorised likelihood (a classmethod ``log_likelihoods``,
+:class:`~neurocur.regions.lc.LCRole`) evaluates all thetas at once.
+
+**Trials** (:class:`~neurocur.fit.trials.Trials`, people's choices among options): one pass is
+one trial, the decision chooses the option that the task visits in the same pass, and the world
+of options (:meth:`~neurocur.contexts.options.OptionsWorld.recorded`) pays the recorded outcome
+of each trial, so every recorded choice is scored, the first from the initial values.
 """
 
 from __future__ import annotations
@@ -31,13 +37,12 @@ import numpy as np
 from ..circuit import Circuit
 from ..config import ConfigError
 from ..regions.free_choice import RecordedSignal
-from ..regions.lc_choice import ChoiceLC, choice_log_probabilities
-from ..regions.lc_softmax import SoftmaxLC, log_p_decision
-from ..regions.pfc import DISENGAGE
+from ..regions.pfc import DISENGAGE, ENGAGE
 from ..scheduler import region_seed
 from .data import Behaviour
+from .trials import Trials
 
-__all__ = ["Replay", "VECTORISED", "decision_part", "signal_circuit"]
+__all__ = ["Replay", "decision_part", "signal_circuit"]
 
 
 def signal_circuit(circuit: Circuit, name: str, behaviour: Behaviour, signal: str) -> Circuit:
@@ -91,22 +96,30 @@ class Replay:
 
     ``fitted``: the ``"REGION.param"`` keys to be varied (they decide the decision part);
     ``seed``: the circuit's seed (a results folder's run seed reproduces the run's world).
+    ``behaviour``: episodes (:class:`~neurocur.fit.data.Behaviour`) or a subject's trials
+    (:class:`~neurocur.fit.trials.Trials`, replayed by the world of options with the recorded outcomes).
     After construction, :attr:`logp` holds the per-episode log-probabilities at the circuit's
     own parameters, and :meth:`loglik` evaluates any theta on the cached inputs.
     """
 
-    def __init__(self, circuit: Circuit, world, seed, behaviour: Behaviour, *, decision: str = "LC",
+    def __init__(self, circuit: Circuit, world, seed, behaviour: Behaviour | Trials, *, decision: str = "LC",
                  fitted: Sequence[str] = ()):
         self.circuit, self.world, self.behaviour, self.decision = circuit, world, behaviour, decision
         self.fitted = tuple(fitted)
         self.part = decision_part(circuit, decision, self.fitted)
         self.n_contexts = world.n_contexts
         b = behaviour
+        cls = circuit.specs[decision].cls
+        self.decides = cls.decides
+        if isinstance(b, Trials):
+            self.world = _trial_world(world, b, self.decides)
+            self.next_contexts = self.observed = b.choices
+            self.actions = np.r_[DISENGAGE, np.where(b.choices[1:] == b.choices[:-1], ENGAGE, DISENGAGE)]
+            self._finish(self._run(circuit, seed))
+            return
         if b.contexts.max() >= self.n_contexts or (b.free_choice and b.decisions.max() >= self.n_contexts):
             raise ConfigError(b.source, "context", f"contexts 0..{self.n_contexts - 1} of the world",
                               f"{max(b.contexts.max(), b.decisions.max())} in data set '{b.name}'")
-        cls = circuit.specs[decision].cls
-        self.decides = cls.decides
         self.next_contexts = b.next_contexts(self.n_contexts)
         self.actions = (self.next_contexts != b.contexts).astype(np.int64)
         self.observed = b.decisions if self.decides == "next_context" else self.actions
@@ -117,7 +130,11 @@ class Replay:
                 raise ConfigError(b.source, "context", f"data set '{b.name}' to start in the circuit's first context",
                                   f"context {b.contexts[0]}")
             sim = self._run(circuit.with_params({f"{clock}.initial_context": int(b.contexts[0])}), seed)
-        regions = sim.regions
+        self._finish(sim)
+
+    def _finish(self, sim) -> None:
+        """Keep what the likelihood evaluations read from the one full run ``sim``."""
+        regions, decision = sim.regions, self.decision
         self.seed_sequence = sim.seed_sequence
         self.tapes = {n: regions[n].tape for n in self.part}
         self.logp = np.array(regions[decision].logp)
@@ -137,6 +154,8 @@ class Replay:
             specs[name] = dataclasses.replace(spec, cls=_taped(spec.cls, observed),
                                               instance=_retyped(spec.instance, observed))
         sim = Circuit(specs, circuit.links, source=circuit.source, lesions=circuit.lesions).build(self.world, seed)
+        if isinstance(self.behaviour, Trials):  # the recorded world checks each visit against the recorded choice
+            return sim.run(len(self.observed))
         contexts, i_ctx = self.behaviour.contexts, self._context_index(self.decision)
         tape = sim.regions[self.decision].tape
         for t in range(len(contexts)):
@@ -186,8 +205,8 @@ class Replay:
             if unknown:
                 raise ConfigError("theta", sorted(unknown)[0], f"one of the replay's fitted keys {self.fitted}",
                                   "a key the replay did not cache")
-        fast = VECTORISED.get(self.circuit.specs[self.decision].cls)
-        if fast is not None and not self.circuit.specs[self.decision].drugs and self._separable:
+        spec = self.circuit.specs[self.decision]
+        if getattr(spec.cls, "log_likelihoods", None) is not None and not spec.drugs and self._separable:
             groups: dict[tuple, list[int]] = {}
             own = f"{self.decision}."
             for i, t in enumerate(thetas):
@@ -195,9 +214,20 @@ class Replay:
             out = np.empty(len(thetas))
             for upstream, rows in groups.items():
                 tape = self._decision_tape(upstream)
-                out[rows] = fast(self, [thetas[i] for i in rows], tape)[:, keep].sum(axis=1)
+                out[rows] = self._vectorised([thetas[i] for i in rows], tape)[:, keep].sum(axis=1)
             return out
         return np.array([self.episode_logp(t)[keep].sum() for t in thetas])
+
+    def _vectorised(self, thetas, tape) -> np.ndarray:
+        """(m, n) log P of the observed decisions for m thetas at once: the decision region's own
+        ``log_likelihoods`` on its parameters (a column each, the circuit's value where theta has
+        none) and its inputs, pass by pass."""
+        spec = self.circuit.specs[self.decision]
+        own = f"{self.decision}."
+        params = {f.name: np.array([t.get(own + f.name, getattr(spec.params, f.name)) for t in thetas])[:, None]
+                  for f in dataclasses.fields(spec.params)}
+        inputs = {s.name: [args[i] for args in tape] for i, s in enumerate(spec.cls.inputs)}
+        return spec.cls.log_likelihoods(params, inputs, self.observed)
 
     @property
     def _separable(self) -> bool:
@@ -216,27 +246,35 @@ class Replay:
         if upstream in memo:
             return memo[upstream]
         specs = self.circuit.with_params(dict(upstream), source="theta").specs if upstream else self.circuit.specs
-        names = [n for n in self.part if n != self.decision]
-        regions = {n: self._fresh(specs[n]) for n in names}
-        outputs = {n: tuple(s.initial for s in specs[n].cls.outputs) for n in names}
-        previous = dict(outputs)
-        tape = []
-        for t in range(self.n_obs):
-            for name in (*names, self.decision):
-                args = self.tapes[name][t]
-                if self._plan[name]:
-                    args = list(args)
-                    for i, src, j, delayed in self._plan[name]:
-                        args[i] = (previous if delayed else outputs)[src][j]
-                if name == self.decision:
-                    tape.append(tuple(args))
-                else:
-                    outputs[name] = regions[name].step(*args)
-            previous = dict(outputs)
+        tape = [args for args, _ in self._passes(specs, step_decision=False)]
         if len(memo) >= 64:
             memo.pop(next(iter(memo)))
         memo[upstream] = tape
         return tape
+
+    def _passes(self, specs, *, step_decision: bool):
+        """The decision part stepped through the cached inputs, fresh regions of ``specs``: yields, pass by
+        pass, the decision region's inputs and the decision region (stepped with them when
+        ``step_decision``; else None, and its outputs keep their initial values, which only a separable
+        part may do)."""
+        names = self.part if step_decision else self.part[:-1]
+        regions = {n: self._fresh(specs[n]) for n in names}
+        outputs = {n: tuple(s.initial for s in specs[n].cls.outputs) for n in self.part}
+        previous = dict(outputs)
+        plan, tapes = self._plan, self.tapes
+        for t in range(self.n_obs):
+            for name in self.part:
+                args = tapes[name][t]
+                if plan[name]:
+                    args = list(args)
+                    for i, src, j, delayed in plan[name]:
+                        args[i] = (previous if delayed else outputs)[src][j]
+                if name == self.decision:
+                    inputs = tuple(args)
+                if name in regions:
+                    outputs[name] = regions[name].step(*args)
+            previous = dict(outputs)
+            yield inputs, regions.get(self.decision)
 
     def _fresh(self, spec):
         """A new region of ``spec``, bound to the world and reset with the generator it had in the run
@@ -252,22 +290,9 @@ class Replay:
         """Per episode, log P(observed decision | state, theta): the decision part stepped through the
         cached inputs with fresh regions built with ``theta``."""
         specs = self.circuit.with_params(dict(theta), source="theta").specs if theta else self.circuit.specs
-        regions = {name: self._fresh(specs[name]) for name in self.part}
-        outputs = {n: tuple(s.initial for s in specs[n].cls.outputs) for n in self.part}
-        previous = dict(outputs)
-        out = np.empty(self.n_obs)
-        decision, observed, plan, tapes = self.decision, self.observed, self._plan, self.tapes
-        for t in range(self.n_obs):
-            for name in self.part:
-                args = tapes[name][t]
-                if plan[name]:
-                    args = list(args)
-                    for i, src, j, delayed in plan[name]:
-                        args[i] = (previous if delayed else outputs)[src][j]
-                outputs[name] = regions[name].step(*args)
-            previous = dict(outputs)
-            out[t] = regions[decision].log_probability(observed[t])
-        return out
+        observed = self.observed
+        return np.array([region.log_probability(observed[t])
+                         for t, (_, region) in enumerate(self._passes(specs, step_decision=True))], dtype=np.float64)
 
     def first_impossible(self, logp: np.ndarray) -> str | None:
         """The first episode whose observed decision had probability 0, named, or None."""
@@ -275,6 +300,9 @@ class Replay:
         if not len(bad):
             return None
         t = int(bad[0])
+        if isinstance(self.behaviour, Trials):
+            return f"subject '{self.behaviour.name}', trial {self.behaviour.trials[t]} (choice {self.observed[t]}): " \
+                   "probability 0"
         return (f"data set '{self.behaviour.name}', episode {t} (context {self.behaviour.contexts[t]}, "
                 f"decision {self.observed[t]}): probability 0")
 
@@ -321,27 +349,13 @@ def _retyped(instance, observed):
     return new
 
 
-def _softmax_logp(replay: Replay, thetas, tape) -> np.ndarray:
-    """:class:`~neurocur.regions.lc_softmax.SoftmaxLC`: log sigma(+-gain (Q_dis - Q_eng)) for every theta at once."""
-    i_q = [s.name for s in SoftmaxLC.inputs].index("q")
-    q = np.array([args[i_q] for args in tape])
-    gain = np.array([t.get(f"{replay.decision}.gain", replay.circuit.specs[replay.decision].params.gain)
-                     for t in thetas])[:, None]
-    return log_p_decision(np.maximum(gain, 0.0), q[:, DISENGAGE] - q[:, 1 - DISENGAGE], replay.observed)
-
-
-def _choice_logp(replay: Replay, thetas, tape) -> np.ndarray:
-    """:class:`~neurocur.regions.lc_choice.ChoiceLC`: log softmax of the chosen context for every theta at once."""
-    names = [s.name for s in ChoiceLC.inputs]
-    values = np.array([args[names.index("values")] for args in tape])
-    contexts = np.array([args[names.index("context")] for args in tape])
-    own = replay.circuit.specs[replay.decision].params
-    gain = np.array([t.get(f"{replay.decision}.gain", own.gain) for t in thetas])
-    stay = np.array([t.get(f"{replay.decision}.stay", own.stay) for t in thetas])
-    logp = choice_log_probabilities(np.maximum(gain, 0.0)[:, None], values, contexts, stay[:, None])
-    return logp[:, np.arange(len(contexts)), replay.observed]
-
-
-#: Decision region classes whose log-likelihood is vectorised across thetas ((replay, thetas, the decision's
-#: inputs pass by pass) -> (m, n) log P).
-VECTORISED = {SoftmaxLC: _softmax_logp, ChoiceLC: _choice_logp}
+def _trial_world(world, trials: Trials, decides: str):
+    """The world replaying ``trials``' choices and outcomes; a circuit that cannot replay trials is a ConfigError."""
+    if not hasattr(world, "recorded") or decides != "next_context":
+        raise ConfigError(trials.source, "choice", "an experiment whose world replays recorded trials (world type "
+                          "'options', e.g. --experiment bandit) and whose decision chooses the option",
+                          f"world {type(world).__name__}")
+    if trials.choices.max() >= world.n_contexts:
+        raise ConfigError(trials.source, "choice", f"options 0..{world.n_contexts - 1} of the world",
+                          f"{trials.choices.max()} for subject '{trials.name}'")
+    return world.recorded(trials.choices, trials.outcomes)

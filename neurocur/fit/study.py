@@ -21,6 +21,7 @@ from ..experiments import load_experiment
 from .data import Behaviour, behaviour_from_episodes, read_behaviour
 from .mle import MLFit, fit_ml
 from .replay import Replay, signal_circuit
+from .trials import trials_from_episodes
 
 __all__ = ["check_bound_keys", "condition_of", "default_bounds", "fit_data", "load_data", "make_replays", "model_bounds", "replay_of",
            "simulate"]
@@ -59,6 +60,8 @@ def simulate(condition, theta: Mapping[str, float], seed, n_episodes: int, *, de
     for _ in range(n_episodes):
         sim.run(1)
     episodes = sim.episodes()
+    if hasattr(world, "recorded"):  # a task of trials: the subject's Trials (neurocur.fit.trials)
+        return trials_from_episodes(episodes, world.context_names, name, f"<simulated {name}>")[0], episodes
     free = getattr(circuit.specs[decision].cls, "decides", "action") == "next_context"
     table = pd.DataFrame({"dataset": name, "episode": episodes["episode"], "context": episodes["context"],
                           "decision": episodes["next_context" if free else "action"]})

@@ -44,6 +44,13 @@ class LCRole(Region):
     #: likelihood of each decision given the region's state, its inputs and its parameters (a
     #: drug's noise included: under a noise drug it is conditional on the drawn level).
     probabilities: tuple[float, float] = (0.5, 0.5)
+    #: ``log_likelihoods(params, inputs, decisions) -> (m, n) array``, a classmethod of a model whose
+    #: log P(decision) is a closed form it can evaluate for many parameter sets at once: ``params`` maps
+    #: each of its parameters to an (m, 1) column (one row per parameter set), ``inputs`` each of its
+    #: inputs to the n passes' values, ``decisions`` the n scored decisions. A replay
+    #: (:mod:`neurocur.fit.replay`) calls it instead of stepping the region once per parameter set;
+    #: None (the default): the replay steps it.
+    log_likelihoods: ClassVar = None
     inputs = (
         Signal("context", "int64", ()),
         Signal("q", "float64", (2,)),

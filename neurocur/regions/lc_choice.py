@@ -103,5 +103,14 @@ class ChoiceLC(LCRole):
         gain, values, context = self._choice
         return float(choice_log_probabilities(gain, values, context, self.params.stay)[decision])
 
+    @classmethod
+    def log_likelihoods(cls, params, inputs, decisions) -> np.ndarray:
+        """(m, n) log softmax of n chosen contexts for m parameter sets at once (:func:`choice_log_probabilities`;
+        the protocol of :attr:`~neurocur.regions.lc.LCRole.log_likelihoods`)."""
+        values = np.array(inputs["values"], dtype=np.float64)
+        contexts = np.array(inputs["context"])
+        logp = choice_log_probabilities(np.maximum(params["gain"], 0.0), values, contexts, params["stay"])
+        return logp[:, np.arange(len(contexts)), decisions]
+
     def record(self):
         return self._rec

@@ -106,5 +106,12 @@ class SoftmaxLC(GainLC):
         self._rec = (action, nxt, tonic, phasic, gain)
         return action, nxt, gain
 
+    @classmethod
+    def log_likelihoods(cls, params, inputs, decisions) -> np.ndarray:
+        """(m, n) log sigma(+-gain (Q_dis - Q_eng)) of n decisions for m gains at once (:func:`log_p_decision`;
+        the protocol of :attr:`~neurocur.regions.lc.LCRole.log_likelihoods`)."""
+        q = np.array(inputs["q"], dtype=np.float64)
+        return log_p_decision(np.maximum(params["gain"], 0.0), q[:, DISENGAGE] - q[:, ENGAGE], decisions)
+
     def record(self):
         return self._rec
