@@ -179,6 +179,7 @@ SMALL = {  # a small world of each type, by its gymnasium id
     "neurocur/Gym-v0": dict(envs=["CartPole-v1"], visit_length=8, frame_shape=(4, 6)),
     "neurocur/Conditioning-v0": {},
     "neurocur/Vigilance-v0": {},
+    "neurocur/Posner-v0": {},
     "neurocur/RewardBlocks-v0": dict(contexts=["S-A", "S-B"], visit_length=5, frame_shape=[3, 3],
                                      blocks=[[1.0, 0.2], [0.0, 0.5]], block_visits=3),
 }
