@@ -29,9 +29,19 @@ from neurocur.config import ParamSpec, check_params, param, spec_param
 
 from .base import Episode, World, register_world
 
-__all__ = ["PosnerParams", "PosnerWorld", "relevant_columns", "target_column", "validity_column"]
+__all__ = ["PosnerParams", "PosnerWorld", "cues_of", "relevant_columns", "target_column", "validity_column"]
 
 _VALIDITY = ParamSpec(float, low=0.5, high=1.0)
+
+
+def cues_of(world, reader: str) -> int:
+    """The number of cues of ``world``'s frames, for the region ``reader`` that binds to it; a
+    ``ValueError`` naming the reader when the world's frames are not a posner world's."""
+    width = world.frame_shape[-1]
+    if not isinstance(world, PosnerWorld) or width < 6 or width % 2:
+        raise ValueError(f"{reader}: needs the frames of a posner world (2 cues + 2 columns); the world is "
+                         f"{type(world).__name__} with {width} columns")
+    return (width - 2) // 2
 
 
 def target_column(cues: int) -> int:

@@ -25,7 +25,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..config import check_params, param
-from ..contexts.posner import target_column, validity_column
+from ..contexts.posner import cues_of, target_column, validity_column
 from .base import Probe, Region, Signal, register
 
 __all__ = ["ExpectedUncertaintyACh", "believed_validity"]
@@ -76,11 +76,7 @@ class ExpectedUncertaintyACh(Region):
     )
 
     def bind(self, world) -> None:
-        width = world.frame_shape[-1]
-        if width < 6 or width % 2:
-            raise ValueError(f"{self.name}: needs the frames of a posner world (2 cues + 2 columns, at least 6); "
-                             f"the world's have {width}")
-        self.cues = (width - 2) // 2
+        self.cues = cues_of(world, self.name)
 
     def reset(self, rng) -> None:
         self.valid = 0

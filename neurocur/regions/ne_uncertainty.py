@@ -39,7 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..config import check_params, param
-from ..contexts.posner import relevant_columns, target_column
+from ..contexts.posner import cues_of, relevant_columns, target_column
 from .ach import believed_validity
 from .base import Probe, Region, Signal, register
 
@@ -97,11 +97,7 @@ class UnexpectedUncertaintyNE(Region):
     )
 
     def bind(self, world) -> None:
-        width = world.frame_shape[-1]
-        if width < 6 or width % 2:
-            raise ValueError(f"{self.name}: needs the frames of a posner world (2 cues + 2 columns, at least 6); "
-                             f"the world's have {width}")
-        self.cues = (width - 2) // 2
+        self.cues = cues_of(world, self.name)
 
     def reset(self, rng) -> None:
         self.rng = rng

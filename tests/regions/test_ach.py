@@ -76,3 +76,13 @@ def test_after_a_block_of_constant_validity_ach_is_one_minus_the_validity(validi
     assert level == pytest.approx(1 - (valid + 1) / (5000 + 2), abs=1e-12)
     assert abs(level - (1 - validity)) < 4 * np.sqrt(validity * (1 - validity) / 5000)
     assert ach.record()[2] == validity
+
+
+def test_the_posner_regions_refuse_another_world_in_one_line():
+    from neurocur.contexts.conditioning import ConditioningWorld
+    from neurocur.regions.ne_uncertainty import UnexpectedUncertaintyNE
+    from neurocur.regions.posner import PosnerDecision
+
+    for region in (ExpectedUncertaintyACh("ACh"), UnexpectedUncertaintyNE("NE"), PosnerDecision("decision")):
+        with pytest.raises(ValueError, match=f"^{region.name}: needs the frames of a posner world.*ConditioningWorld"):
+            region.bind(ConditioningWorld())
