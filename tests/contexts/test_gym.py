@@ -180,6 +180,7 @@ SMALL = {  # a small world of each type, by its gymnasium id
     "neurocur/Conditioning-v0": {},
     "neurocur/Vigilance-v0": {},
     "neurocur/Options-v0": dict(options=["left", "middle", "right"], p_reward=[0.2, 0.5, 0.8]),
+    "neurocur/Posner-v0": {},
     "neurocur/RewardBlocks-v0": dict(contexts=["S-A", "S-B"], visit_length=5, frame_shape=[3, 3],
                                      blocks=[[1.0, 0.2], [0.0, 0.5]], block_visits=3),
 }

@@ -11,6 +11,8 @@
 - :mod:`~neurocur.analysis.figures.invariance` — the invariance demonstration (Figure 5);
 - :mod:`~neurocur.analysis.figures.validation` — the canonical tasks of the neuromodulator models
   (docs/validation.md) and their figure sets;
+- :mod:`~neurocur.analysis.figures.posner` — the inferential Posner task of Yu & Dayan 2005 (ACh and
+  NE as uncertainty; docs/validation.md) and its figure set;
 - :mod:`~neurocur.analysis.figures.sweeps` — a sweep's efficiency by condition and sweep point;
 - :mod:`~neurocur.analysis.figures.layout` — readable symlog ticks, panels laid out by a sweep;
 - :mod:`~neurocur.analysis.figures.sets` — the figure set of each world type and
@@ -20,16 +22,30 @@
 Importing the package imports every module, so each figure set registers its world type.
 """
 
-from . import choice_shares, goldilocks, icub, invariance, layout, learning, neuro, sets, style, sweeps, validation  # noqa: F401  (registration)
+from . import (  # noqa: F401  (registration)
+           choice_shares,
+           goldilocks,
+           icub,
+           invariance,
+           layout,
+           learning,
+           neuro,
+           posner,
+           sets,
+           style,
+           sweeps,
+           validation,
+)
 from .choice_shares import *  # noqa: F403
 from .goldilocks import *  # noqa: F403
 from .icub import *  # noqa: F403
 from .invariance import *  # noqa: F403
 from .learning import *  # noqa: F403
 from .neuro import *  # noqa: F403
+from .posner import *  # noqa: F403
 from .sets import *  # noqa: F403
 from .sweeps import *  # noqa: F403
 from .validation import *  # noqa: F403
 
-__all__ = [*choice_shares.__all__, *goldilocks.__all__, *icub.__all__, *invariance.__all__, *learning.__all__, *neuro.__all__, *sets.__all__,
-           *sweeps.__all__, *validation.__all__]
+__all__ = [*choice_shares.__all__, *goldilocks.__all__, *icub.__all__, *invariance.__all__, *learning.__all__, *neuro.__all__,
+           *posner.__all__, *sets.__all__, *sweeps.__all__, *validation.__all__]

@@ -46,13 +46,18 @@ FIGURE_SETS = Registry("figure set", "neurocur.figure_sets")
 
 class FigureSet:
     """The figures of a results folder of one world type: :meth:`draw` returns them by file stem,
-    and :meth:`tables` the tables they show (written beside them as CSV; none by default)."""
+    :meth:`tables` the tables they show (written beside them as CSV; none by default) and
+    :meth:`report` the statistics ``neurocur run`` prints instead of the module-learning summary
+    ("" by default: that summary is printed)."""
 
     def draw(self, results: Results) -> dict[str, Figure]:
         raise NotImplementedError
 
     def tables(self, results: Results) -> dict[str, pd.DataFrame]:
         return {}
+
+    def report(self, results: Results) -> str:
+        return ""
 
 
 @FIGURE_SETS.register("synthetic")
