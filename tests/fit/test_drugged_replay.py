@@ -15,7 +15,7 @@ import pytest
 
 from neurocur.circuit import Circuit
 from neurocur.fit.data import behaviour_from_episodes
-from neurocur.fit.replay import VECTORISED, Replay
+from neurocur.fit.replay import Replay
 from neurocur.regions.lc_softmax import log_p_decision
 
 FACTOR = 0.25
@@ -24,7 +24,7 @@ FACTOR = 0.25
 def test_a_drugged_softmax_decision_is_replayed_with_the_released_gain(circuits_dir, small, make_world):
     base = Circuit.from_toml(circuits_dir / "lc_softmax.toml", small).with_params({"LC.gain": 8.0})
     circuit = base.lesion("LC", "scale", factor=FACTOR)
-    assert circuit.specs["LC"].cls in VECTORISED  # the path a drug must not take
+    assert circuit.specs["LC"].cls.log_likelihoods is not None  # the vectorised path a drug must not take
     world = make_world()
     sim = circuit.build(world, seed=5)
     sim.run(60 * world.episode_len)
@@ -54,7 +54,7 @@ def test_a_drugged_free_choice_is_replayed_with_the_released_gain(make_world, fi
     contexts, at the circuit's own parameters, as the agent acted with the drugged gain."""
     base = Circuit.from_toml("free_choice", {"LC.gain": 40.0, "PFC.alpha": 0.3})
     circuit = base.lesion("LC", "scale", factor=FACTOR)
-    assert circuit.specs["LC"].cls in VECTORISED
+    assert circuit.specs["LC"].cls.log_likelihoods is not None
     world = make_world()
     sim = circuit.build(world, seed=11)
     sim.run(80 * world.episode_len)
