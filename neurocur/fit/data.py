@@ -23,8 +23,6 @@ read something other than a table); a file that is not UTF-8 text, or is empty, 
 from __future__ import annotations
 
 import dataclasses
-import os
-import stat
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -35,6 +33,7 @@ import pandas as pd
 from ..config import ConfigError
 from ..regions.pfc import ACTIONS
 from ..results import ResultsStore
+from .files import PARQUET_SUFFIXES, path_kind, read_table
 
 __all__ = ["Behaviour", "REQUIRED", "RESERVED", "read_behaviour", "behaviour_from_episodes"]
 
@@ -42,6 +41,9 @@ __all__ = ["Behaviour", "REQUIRED", "RESERVED", "read_behaviour", "behaviour_fro
 REQUIRED = ("dataset", "episode", "context", "decision")
 #: data set names the fit commands' outputs give rows of their own (the pooled fit's)
 RESERVED = ("pooled",)
+
+#: What a data path should be, for the messages.
+EXPECTED = "a regular CSV or Parquet file or a results folder"
 #: the largest magnitude of a recorded signal: its squares and products with a parameter stay finite in float64
 SIGNAL_LIMIT = 1e150
 
@@ -85,7 +87,7 @@ def read_behaviour(path, context_names: Sequence[str], *, free_choice: bool = Fa
     ``free_choice``: decisions are contexts rather than engage/disengage; ``signals``: the
     extra columns required (for signal replay)."""
     path = Path(path)
-    kind = _kind(path)
+    kind = path_kind(path, EXPECTED)
     if kind == "folder":
         store = ResultsStore(path)
         episodes, _ = store.load()
@@ -97,7 +99,7 @@ def read_behaviour(path, context_names: Sequence[str], *, free_choice: bool = Fa
                 raise ConfigError(path, name, f"a recorded column '{name}' in the results folder", "none")
             table[name] = episodes[name]
     else:
-        table = _read_table(path)
+        table = read_table(path, (".csv", *PARQUET_SUFFIXES), EXPECTED, header=", ".join(REQUIRED) + ", ...")
     found = behaviour_from_episodes(table, context_names, free_choice=free_choice, signals=signals, source=str(path))
     if kind == "folder":  # each run's own seed: its replay sees the run's own world
         seeds = {}
@@ -107,57 +109,6 @@ def read_behaviour(path, context_names: Sequence[str], *, free_choice: bool = Fa
                 seed["entropy"], spawn_key=tuple(seed["spawn_key"]))
         found = [dataclasses.replace(b, seed=seeds.get(b.name)) for b in found]
     return found
-
-
-def _kind(path: Path) -> str:
-    """``"folder"`` or ``"file"`` for a real folder or a regular file at ``path`` (never following a link);
-    anything else is a ConfigError."""
-    expected = "a regular CSV or Parquet file or a results folder"
-    try:
-        mode = os.lstat(path).st_mode
-    except FileNotFoundError:
-        raise ConfigError(path, None, "an existing CSV or Parquet file or a results folder", "no such path") from None
-    except OSError as exc:
-        raise ConfigError(path, None, expected, exc.strerror or str(exc)) from None
-    if stat.S_ISDIR(mode):
-        return "folder"
-    if stat.S_ISLNK(mode):
-        raise ConfigError(path, None, f"{expected} (a symbolic link is never followed)", "a symbolic link")
-    if not stat.S_ISREG(mode):
-        got = "a FIFO" if stat.S_ISFIFO(mode) else "a socket" if stat.S_ISSOCK(mode) else "a device or special file"
-        raise ConfigError(path, None, expected, got)
-    return "file"
-
-
-def _read_table(path: Path) -> pd.DataFrame:
-    """The CSV or Parquet table at ``path``, opened without following a link and refused unless it is a
-    regular file when opened; a file that cannot be parsed is a ConfigError naming it."""
-    suffix = path.suffix.lower()
-    if suffix not in (".csv", ".parquet", ".pq"):
-        raise ConfigError(path, None, "a .csv or .parquet file or a results folder", f"suffix '{path.suffix}'")
-    try:
-        fd = os.open(path, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC)
-    except OSError as exc:
-        raise ConfigError(path, None, "a regular file you can read (a symbolic link is never followed)",
-                          exc.strerror or str(exc)) from None
-    with os.fdopen(fd, "rb") as fh:
-        if not stat.S_ISREG(os.fstat(fd).st_mode):
-            raise ConfigError(path, None, "a regular CSV or Parquet file", "not a regular file")
-        os.set_blocking(fd, True)
-        try:
-            if suffix == ".csv":
-                return pd.read_csv(fh, encoding="utf-8")
-            return pd.read_parquet(fh)
-        except UnicodeDecodeError as exc:
-            raise ConfigError(path, None, "UTF-8 text", f"the byte 0x{exc.object[exc.start]:02x} at offset "
-                              f"{exc.start}") from None
-        except pd.errors.EmptyDataError:
-            raise ConfigError(path, None, f"a table with a header row ({', '.join(REQUIRED)}, ...)",
-                              "an empty file") from None
-        except (pd.errors.ParserError, ValueError, OSError) as exc:
-            kind = "CSV" if suffix == ".csv" else "Parquet"
-            raise ConfigError(path, None, f"a {kind} table", f"{type(exc).__name__}: "
-                              f"{(str(exc).splitlines() or [''])[0]}") from None
 
 
 def behaviour_from_episodes(table: pd.DataFrame, context_names: Sequence[str], *, free_choice: bool = False,

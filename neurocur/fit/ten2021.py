@@ -33,15 +33,13 @@ docs/hypotheses.md, entry 16.
 
 from __future__ import annotations
 
-import io
-import os
-import stat
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
 from ..config import ConfigError
+from .files import read_table
 
 __all__ = ["ACTIVITIES", "COLUMNS", "FREE_TRIALS", "GROUPS", "STAGES", "free_play", "paper_exclusions",
            "read_ten2021", "read_ten2021_groups", "response_bias"]
@@ -63,28 +61,6 @@ RESPONSE_BIAS_SD = 2.0
 #: Allowed values of the coded columns.
 _CODES = {"category": (1, 2, 3, 4), "family": (1, 2, 3, 4), "stage": tuple(STAGES), "correct": (0, 1),
           "switch": (0, 1), "condition": (0, 1)}
-
-
-def _read_text(path: Path) -> str:
-    """The file's text, opened without following a symbolic link; a FIFO or a device is refused."""
-    try:
-        fd = os.open(path, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC)
-    except FileNotFoundError:
-        raise ConfigError(path, None, "an existing CSV file", "no such file") from None
-    except OSError:
-        if os.path.islink(path):
-            raise ConfigError(path, None, "a regular CSV file", "a symbolic link") from None
-        raise
-    with os.fdopen(fd, "rb") as handle:
-        mode = os.fstat(fd).st_mode
-        if not stat.S_ISREG(mode):
-            raise ConfigError(path, None, "a regular CSV file", "a FIFO" if stat.S_ISFIFO(mode) else "not a regular file")
-        os.set_blocking(fd, True)
-        data = handle.read()
-    try:
-        return data.decode("utf-8")
-    except UnicodeDecodeError:
-        raise ConfigError(path, None, "a UTF-8 CSV file", "bytes that are not UTF-8") from None
 
 
 def _group_of(path: Path, group: str | None) -> str:
@@ -153,10 +129,8 @@ def read_ten2021(path, group: str | None = None) -> pd.DataFrame:
     the file and the column; a symbolic link or a FIFO as ``path`` is refused."""
     path = Path(path)
     group = _group_of(path, group)
-    try:
-        raw = pd.read_csv(io.StringIO(_read_text(path)), dtype=str, keep_default_na=False)
-    except (pd.errors.ParserError, pd.errors.EmptyDataError) as err:
-        raise ConfigError(path, None, "a CSV file with a header row", str(err).splitlines()[0]) from None
+    raw = read_table(path, (".csv",), "a regular CSV file", header=", ".join(COLUMNS), dtype=str,
+                     keep_default_na=False)
     missing = [c for c in COLUMNS if c not in raw.columns]
     if missing:
         raise ConfigError(path, missing[0], f"the posted columns {', '.join(COLUMNS)}", "no such column")

@@ -34,6 +34,7 @@ import pandas as pd
 
 from ..config import ConfigError
 from ..results import ResultsStore
+from .files import PARQUET_SUFFIXES, path_kind, read_table
 
 __all__ = ["OPTIONAL_COLUMNS", "TRIAL_COLUMNS", "Trials", "read_trials", "trials_from_episodes", "trials_from_table"]
 
@@ -43,6 +44,9 @@ TRIAL_COLUMNS = ("subject", "trial", "choice", "outcome")
 OPTIONAL_COLUMNS = ("rt",)
 #: Suffixes read as delimited text.
 TEXT_SUFFIXES = (".csv", ".tsv", ".txt")
+
+#: What a trial table's path should be, for the messages.
+EXPECTED = "a regular trial table (.csv, .tsv, .txt, .parquet) or a results folder"
 
 
 @dataclass(frozen=True)
@@ -77,14 +81,11 @@ def read_trials(path, option_names: Sequence[str], *, columns: Mapping[str, str]
     ``option_names``: the world's options (a choice may be given by index or name); ``columns``:
     standard column -> the file's column; ``one_based``: integer choice codes start at 1."""
     path = Path(path)
-    if not path.exists():
-        raise ConfigError(path, None, "an existing trial table (.csv, .tsv, .txt, .parquet) or a results folder",
-                          "no such path")
-    if path.is_dir():
+    if path_kind(path, EXPECTED) == "folder":
         episodes, _ = ResultsStore(path).load()
         subjects = episodes["condition"].astype(str) + "/" + episodes["run"].astype(str)
         return trials_from_episodes(episodes, option_names, subjects, str(path))
-    table = read_table(path)
+    table = read_table(path, (*TEXT_SUFFIXES, *PARQUET_SUFFIXES), EXPECTED, header=", ".join(TRIAL_COLUMNS))
     return trials_from_table(rename(table, columns or {}, path), option_names, one_based=one_based, source=str(path),
                              origin=dict(columns or {}))
 
@@ -95,18 +96,6 @@ def trials_from_episodes(episodes: pd.DataFrame, option_names: Sequence[str], su
     table = pd.DataFrame({"subject": subject, "trial": episodes["episode"], "choice": episodes["context"],
                           "outcome": episodes["reward"]})
     return trials_from_table(table, option_names, source=source)
-
-
-def read_table(path: Path) -> pd.DataFrame:
-    """A table file as it is: Parquet, or delimited text (a tab when the header line has one, else a comma)."""
-    suffix = path.suffix.lower()
-    if suffix in (".parquet", ".pq"):
-        return pd.read_parquet(path)
-    if suffix not in TEXT_SUFFIXES:
-        raise ConfigError(path, None, "a .csv, .tsv, .txt or .parquet file or a results folder", f"suffix '{path.suffix}'")
-    with path.open(encoding="utf-8", errors="replace") as f:
-        header = f.readline()
-    return pd.read_csv(path, sep="\t" if "\t" in header else ",")
 
 
 def rename(table: pd.DataFrame, columns: Mapping[str, str], source) -> pd.DataFrame:

@@ -117,3 +117,21 @@ def test_the_command_refuses_in_one_line_and_episode_experiments_refuse_trial_op
 
 def test_the_standard_columns_are_public():
     assert TRIAL_COLUMNS == ("subject", "trial", "choice", "outcome")
+
+
+def test_a_link_a_fifo_and_latin1_text_are_refused_without_reading_through_them(tmp_path):
+    """Trial tables go through the fit layer's one reader (neurocur.fit.files): no link followed, no FIFO opened
+    for reading (it would block), bytes that are not UTF-8 named with their offset."""
+    import os
+
+    target = tmp_path / "target.tsv"
+    target.write_text("subject\ttrial\tchoice\toutcome\ns\t0\t0\t1\n")
+    (tmp_path / "link.tsv").symlink_to(target)
+    with pytest.raises(ConfigError, match="symbolic link"):
+        read_trials(tmp_path / "link.tsv", ["a", "b"])
+    os.mkfifo(tmp_path / "pipe.tsv")
+    with pytest.raises(ConfigError, match="a FIFO"):
+        read_trials(tmp_path / "pipe.tsv", ["a", "b"])
+    (tmp_path / "latin.tsv").write_bytes("subject\ttrial\tchoice\toutcome\ns\u00e9\t0\t0\t1\n".encode("latin-1"))
+    with pytest.raises(ConfigError, match="UTF-8.*0xe9"):
+        read_trials(tmp_path / "latin.tsv", ["a", "b"])
