@@ -14,7 +14,9 @@ The versions of the packages that shape the numbers (MuJoCo renders the iCub wor
 objects; numba compiles the learners) are recorded beside each experiment's fingerprints. When
 tables differ and so do the versions, ``--check`` says so: the iCub episodes are not the same
 across MuJoCo releases (the cup of the topple context falls differently), so its tables are
-reproducible bit for bit only under the recorded versions.
+reproducible bit for bit only under the recorded versions. So are the synthetic tables under numpy's
+BLAS kernel: they were recorded with OpenBLAS's Haswell kernel, and its SkylakeX kernel (chosen on a
+processor with AVX-512 unless ``OPENBLAS_CORETYPE`` says otherwise) gives other tables for the same seed.
 """
 
 from __future__ import annotations
@@ -45,8 +47,15 @@ PACKAGES = ("numpy", "scipy", "pandas", "pyarrow", "numba", "llvmlite", "scikit-
 
 
 def environment() -> dict[str, str]:
-    """Python's version and those of :data:`PACKAGES` (``"absent"`` when one is not installed)."""
+    """Python's version, numpy's BLAS and its kernel (OpenBLAS picks one per processor, or as
+    ``OPENBLAS_CORETYPE`` says; two kernels' matrix products differ in their last bits, and so do the
+    tables), and the versions of :data:`PACKAGES` (``"absent"`` when one is not installed)."""
+    import numpy  # noqa: F401  (loads the BLAS threadpoolctl reports)
+    from threadpoolctl import threadpool_info
+
     found = {"python": platform.python_version()}
+    blas = [i for i in threadpool_info() if i.get("user_api") == "blas"]
+    found["blas"] = " ".join(str(blas[0].get(k)) for k in ("internal_api", "version", "architecture")) if blas else "absent"
     for name in PACKAGES:
         try:
             found[name] = version(name)
