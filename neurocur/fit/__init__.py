@@ -7,6 +7,7 @@
 | maximum likelihood with several starts, profile-likelihood intervals | ``mle`` |
 | parametric bootstrap: percentile intervals from refits of data sets simulated at the estimate | ``bootstrap`` |
 | random-effects Bayesian model selection (Stephan et al. 2009, Rigoux et al. 2014) | ``bms`` |
+| group parameters: empirical-Bayes EM with a Laplace approximation, the integrated BIC (Huys et al. 2011) | ``hierarchical``, ``transforms`` |
 
 A layer above :mod:`neurocur.experiments`: it builds circuits and worlds from experiment files.
 """

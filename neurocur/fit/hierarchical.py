@@ -49,7 +49,7 @@ from scipy import optimize, special, stats
 from threadpoolctl import threadpool_limits
 
 from ..config import ConfigError
-from ..config.checks import check_fraction, check_positive_int
+from ..config.checks import check_positive_int
 from .mle import DESIGN, IMPOSSIBLE
 from .transforms import Transforms
 
@@ -98,11 +98,11 @@ class HierarchicalFit:
 
     @property
     def ibic(self) -> float:
-        return -2.0 * self.log_evidence + self.n_params * np.log(self.n_obs)
+        return float(-2.0 * self.log_evidence + self.n_params * np.log(self.n_obs))
 
     @property
     def ibic_laplace(self) -> float:
-        return -2.0 * self.log_evidence_laplace + self.n_params * np.log(self.n_obs)
+        return float(-2.0 * self.log_evidence_laplace + self.n_params * np.log(self.n_obs))
 
     def summary(self) -> dict:
         return {"n_subjects": self.n_subjects, "n_params": self.n_params, "n_obs": self.n_obs, "log_evidence": self.log_evidence,
@@ -159,9 +159,9 @@ def fit_hierarchical(subjects, bounds: Mapping[str, tuple[float, float]], *, n_o
     if not subjects:
         raise ConfigError("subjects", None, "at least one subject", "none")
     names = [f"s{i}" for i in range(len(subjects))] if names is None else [str(n) for n in names]
-    if len(names) != len(subjects) or (n_obs is not None and len(n_obs) != len(subjects)):
-        raise ConfigError("subjects", "names" if len(names) != len(subjects) else "n_obs",
-                          f"one per subject ({len(subjects)})", f"{len(names) if names else len(n_obs)}")
+    for key, values in (("names", names), ("n_obs", n_obs)):
+        if values is not None and len(values) != len(subjects):
+            raise ConfigError("subjects", key, f"one per subject ({len(subjects)})", str(len(values)))
     for i, s in enumerate(subjects):
         if not (hasattr(s, "loglik") and hasattr(s, "n_obs")):
             if not callable(s) or n_obs is None:
@@ -170,7 +170,8 @@ def fit_hierarchical(subjects, bounds: Mapping[str, tuple[float, float]], *, n_o
             subjects[i] = Subject(s, n_obs[i], keys, vectorised=vectorised)
     starts, max_iter, n_samples = (check_positive_int(v, k) for v, k in
                                    ((starts, "starts"), (max_iter, "max_iter"), (n_samples, "n_samples")))
-    level = check_fraction(level, "level")
+    if not 0 < level < 1:
+        raise ConfigError("<python>", "level", "an interval's level in (0, 1)", repr(level))
     if not tol > 0:
         raise ConfigError("<python>", "tol", "a tolerance > 0", repr(tol))
     total = int(sum(s.n_obs for s in subjects))
