@@ -25,7 +25,7 @@ N(mu, diag(sigma^2)); theta_i = T(x_i) is what the subject's log-likelihood log 
 by Laplace, sum_i [log L_i(T(m_i)) + log N(m_i; mu, sigma^2) + (k/2) log 2 pi + (1/2) log det V_i];
 and by sampling, as Huys et al. do: ``n_samples`` x_s ~ N(mu, sigma^2) from a seeded Generator,
 the same for every subject, sum_i log mean_s L_i(T(x_s)); its Monte Carlo standard error by the
-delta method over the shared samples. The integrated BIC (Huys et al. eq 4) is
+delta method over the shared samples. The integrated BIC (Huys et al.'s iBIC) is
 iBIC = -2 log p(D | mu, sigma) + 2k log N, with k fitted parameters (a mu and a sigma each) and
 N the total number of observations; lower is better.
 
@@ -36,6 +36,9 @@ for mu by Louis' (1982) missing-information identity under the Laplace posterior
 I(mu) = N diag(1/sigma^2) - diag(1/sigma^2) (sum_i V_i) diag(1/sigma^2) (exact for Gaussian
 subjects; never below the sqrt(sigma^2/N) of the subjects' spread alone). **Subjects' table**:
 T(m_i) and T(m_i -/+ z sqrt(V_i,kk)), the Laplace posterior's central interval mapped to the own scale.
+
+The EM runs with BLAS limited to one thread: scipy's L-BFGS-B (since 1.15) makes many tiny BLAS
+calls, each of which costs milliseconds with OpenBLAS's threads on a busy machine.
 """
 
 from __future__ import annotations
