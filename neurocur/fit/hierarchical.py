@@ -1,0 +1,351 @@
+"""Hierarchical fits: group parameters by empirical-Bayes EM with a Laplace approximation (Huys et al. 2011).
+
+Huys, Cools, Gölzer, Friedel, Heinz, Dolan & Dayan (2011), PLoS Comput Biol 7:e1002028, methods
+("emfit"). Subject i's parameters x_i, on the unbounded scale of :mod:`neurocur.fit.transforms`
+(logit for two bounds, log for one, identity for none), are drawn from a group prior
+N(mu, diag(sigma^2)); theta_i = T(x_i) is what the subject's log-likelihood log L_i takes.
+
+- **E-step** (under the current mu, sigma): the MAP m_i maximises
+  log L_i(T(x)) + log N(x; mu, sigma^2) (scipy's L-BFGS-B on x, each parameter of a bounded
+  scale kept within |x| <= :data:`BOX`; the likelihood's gradient by central differences, the
+  prior's exact), and the Laplace posterior covariance V_i is the inverse of the negative
+  log-posterior's Hessian at m_i (the likelihood's part by central second differences in one
+  vectorised call, the prior's 1/sigma^2 exact). Starts: in the first E-step the ``starts`` best of
+  the prior mean and a seeded 64-point scrambled Sobol design mapped through the prior's quantiles
+  (mu + sigma Phi^-1(u), as :func:`~neurocur.fit.mle.fit_ml` chooses its starts); later E-steps
+  start from the previous MAP (warm start) and from the design points, mapped through the new
+  prior, whose log-posterior already beats it (at most ``starts - 1``).
+- **M-step**: mu = mean_i m_i, sigma^2 = mean_i ((m_i - mu)^2 + diag V_i) (at least :data:`VAR_FLOOR`).
+- The first prior is mu = 0 (the midpoint of two bounds, one above a single bound), sigma =
+  :data:`INIT_SD`. EM stops when the Laplace log marginal likelihood changes by less than ``tol``
+  between E-steps or no mu or sigma moves by more than ``tol``, or after ``max_iter`` E-steps;
+  the last E-step is under the reported mu, sigma, so the subjects' table is the reported prior's.
+
+**Evidence.** log p(D | mu, sigma) = sum_i log integral L_i(T(x)) N(x; mu, sigma^2) dx, two ways:
+by Laplace, sum_i [log L_i(T(m_i)) + log N(m_i; mu, sigma^2) + (k/2) log 2 pi + (1/2) log det V_i];
+and by sampling, as Huys et al. do: ``n_samples`` x_s ~ N(mu, sigma^2) from a seeded Generator,
+the same for every subject, sum_i log mean_s L_i(T(x_s)); its Monte Carlo standard error by the
+delta method over the shared samples. The integrated BIC (Huys et al.'s iBIC) is
+iBIC = -2 log p(D | mu, sigma) + 2k log N, with k fitted parameters (a mu and a sigma each) and
+N the total number of observations; lower is better.
+
+**Group table** (on each parameter's own scale): ``mean`` and ``sd`` of T(x), x ~ N(mu, sigma^2),
+by 61-point Gauss–Hermite quadrature; ``ci_low, ci_high``: that mean at mu -/+ z se(mu), sigma
+held at its estimate, with se(mu) from the observed information of the marginal likelihood
+for mu by Louis' (1982) missing-information identity under the Laplace posteriors,
+I(mu) = N diag(1/sigma^2) - diag(1/sigma^2) (sum_i V_i) diag(1/sigma^2) (exact for Gaussian
+subjects; never below the sqrt(sigma^2/N) of the subjects' spread alone). **Subjects' table**:
+T(m_i) and T(m_i -/+ z sqrt(V_i,kk)), the Laplace posterior's central interval mapped to the own scale.
+
+The EM runs with BLAS limited to one thread: scipy's L-BFGS-B (since 1.15) makes many tiny BLAS
+calls, each of which costs milliseconds with OpenBLAS's threads on a busy machine.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+from scipy import optimize, special, stats
+from threadpoolctl import threadpool_limits
+
+from ..config import ConfigError
+from ..config.checks import check_positive_int
+from .mle import DESIGN, IMPOSSIBLE
+from .transforms import Transforms
+
+__all__ = ["HierarchicalFit", "Subject", "fit_hierarchical"]
+
+#: the first group prior's sigma on every unbounded scale
+INIT_SD = 3.0
+#: the smallest group variance the M-step returns
+VAR_FLOOR = 1e-6
+#: |x| bound on a logit or log scale (theta then stays inside its bounds)
+BOX = 30.0
+#: relative central-difference steps on x: the likelihood's gradient and its Hessian
+STEP_GRAD, STEP_HESS = 1e-5, 1e-3
+#: Gauss–Hermite nodes for the population's mean and sd on the own scale
+NODES = 61
+
+
+@dataclass
+class HierarchicalFit:
+    """A hierarchical fit: group ``mu``, ``sigma``, ``mu_se`` on the unbounded scale, the ``subjects``
+    (``dataset, param, estimate, ci_low, ci_high``) and ``group`` (``param, mean, sd, ci_low, ci_high,
+    kind, mu, sigma, mu_se``) tables, log p(D | mu, sigma) sampled (``log_evidence``, with its Monte
+    Carlo ``log_evidence_mcse`` over ``n_samples``) and by Laplace, and the EM's ``history`` (the
+    Laplace log evidence per E-step)."""
+
+    keys: list
+    n_subjects: int
+    mu: np.ndarray
+    sigma: np.ndarray
+    mu_se: np.ndarray
+    subjects: pd.DataFrame
+    group: pd.DataFrame
+    log_evidence: float
+    log_evidence_mcse: float
+    log_evidence_laplace: float
+    n_obs: int
+    n_samples: int
+    iterations: int
+    converged: bool
+    history: list
+
+    @property
+    def n_params(self) -> int:
+        """Group parameters: a mu and a sigma per fitted parameter."""
+        return 2 * len(self.keys)
+
+    @property
+    def ibic(self) -> float:
+        return float(-2.0 * self.log_evidence + self.n_params * np.log(self.n_obs))
+
+    @property
+    def ibic_laplace(self) -> float:
+        return float(-2.0 * self.log_evidence_laplace + self.n_params * np.log(self.n_obs))
+
+    def summary(self) -> dict:
+        return {"n_subjects": self.n_subjects, "n_params": self.n_params, "n_obs": self.n_obs, "log_evidence": self.log_evidence,
+                "log_evidence_mcse": self.log_evidence_mcse, "n_samples": self.n_samples,
+                "log_evidence_laplace": self.log_evidence_laplace, "ibic": self.ibic,
+                "ibic_laplace": self.ibic_laplace, "iterations": self.iterations, "converged": self.converged}
+
+
+class Subject:
+    """A subject's log-likelihood offered as a replay offers it (``loglik(theta or thetas)``, ``n_obs``), so
+    that :func:`fit_hierarchical` and :func:`~neurocur.fit.mle.fit_ml` take the same subjects.
+    ``fn`` maps a parameter vector on the own scale (shape (k,), in ``keys``' order) to a log-likelihood;
+    with ``vectorised``, an (m, k) array to m of them."""
+
+    def __init__(self, fn, n_obs: int, keys: Sequence[str], *, vectorised: bool = False):
+        self.fn, self.keys, self.vectorised = fn, list(keys), vectorised
+        self.n_obs = check_positive_int(n_obs, "n_obs")
+
+    def evaluate(self, points) -> np.ndarray:
+        """The log-likelihoods of the rows of ``points`` (m, k)."""
+        points = np.atleast_2d(np.asarray(points, dtype=np.float64))
+        if self.vectorised:
+            return np.asarray(self.fn(points), dtype=np.float64).reshape(len(points))
+        return np.array([float(self.fn(p)) for p in points])
+
+    def loglik(self, theta, mask=None):
+        if mask is not None:
+            raise ConfigError("mask", None, "no mask (a Subject scores all its observations)", "a mask")
+        thetas = [theta] if isinstance(theta, Mapping) else list(theta)
+        out = self.evaluate([[t[k] for k in self.keys] for t in thetas])
+        return float(out[0]) if isinstance(theta, Mapping) else out
+
+
+def _evaluator(subject, keys: list):
+    """(m, k) own-scale points -> m log-likelihoods, for a :class:`Subject` or a replay."""
+    if isinstance(subject, Subject) and subject.keys == keys:
+        return subject.evaluate
+    return lambda points: np.asarray(subject.loglik([dict(zip(keys, map(float, p))) for p in points]),
+                                     dtype=np.float64).reshape(len(points))
+
+
+def fit_hierarchical(subjects, bounds: Mapping[str, tuple[float, float]], *, n_obs: Sequence[int] | None = None,
+                     vectorised: bool = False, names: Sequence[str] | None = None, seed: int = 0, starts: int = 3,
+                     max_iter: int = 200, tol: float = 1e-4, n_samples: int = 2000,
+                     level: float = 0.95) -> HierarchicalFit:
+    """Group and per-subject parameters of ``subjects`` (module docstring). A subject is a replay (or a
+    :class:`Subject`: anything with ``loglik(list of {key: value})`` and ``n_obs``, as ``fit_ml`` takes)
+    or a callable of the own-scale vector (k,) in ``bounds``' order (``vectorised``: of an (m, k) array),
+    whose number of observations ``n_obs`` gives. ``bounds``: ``{key: (low, high)}``, -inf/inf for none;
+    none at all evaluates a model without free parameters."""
+    transforms = Transforms(bounds)
+    keys = transforms.keys
+    subjects = list(subjects)
+    if not subjects:
+        raise ConfigError("subjects", None, "at least one subject", "none")
+    names = [f"s{i}" for i in range(len(subjects))] if names is None else [str(n) for n in names]
+    for key, values in (("names", names), ("n_obs", n_obs)):
+        if values is not None and len(values) != len(subjects):
+            raise ConfigError("subjects", key, f"one per subject ({len(subjects)})", str(len(values)))
+    for i, s in enumerate(subjects):
+        if not (hasattr(s, "loglik") and hasattr(s, "n_obs")):
+            if not callable(s) or n_obs is None:
+                raise ConfigError("subjects", names[i], "a replay, a Subject, or a callable with n_obs given",
+                                  type(s).__name__)
+            subjects[i] = Subject(s, n_obs[i], keys, vectorised=vectorised)
+    starts, max_iter, n_samples = (check_positive_int(v, k) for v, k in
+                                   ((starts, "starts"), (max_iter, "max_iter"), (n_samples, "n_samples")))
+    if not 0 < level < 1:
+        raise ConfigError("<python>", "level", "an interval's level in (0, 1)", repr(level))
+    if not tol > 0:
+        raise ConfigError("<python>", "tol", "a tolerance > 0", repr(tol))
+    total = int(sum(s.n_obs for s in subjects))
+    fns = [_evaluator(s, keys) for s in subjects]
+    k = len(keys)
+    if k == 0:
+        ll = float(sum(_loglik(f, np.zeros((1, 0)), n)[0] for f, n in zip(fns, names)))
+        empty = pd.DataFrame(columns=["dataset", "param", "estimate", "ci_low", "ci_high"])
+        return HierarchicalFit([], len(subjects), np.zeros(0), np.zeros(0), np.zeros(0), empty, _group_table(
+            transforms, np.zeros(0), np.zeros(0), np.zeros(0), 0.0), ll, 0.0, ll, total, 0, 0, True, [])
+
+    design_seed, sample_seed = np.random.SeedSequence(seed).spawn(2)
+    with threadpool_limits(limits=1, user_api="blas"):  # scipy's L-BFGS-B: many tiny BLAS calls
+        mu, var, maps, covs, history, converged = _em(fns, transforms, names, design_seed, starts, max_iter, tol)
+    mu_se = _mu_se(var, covs)
+    z = float(special.ndtri(0.5 + level / 2))
+    sd = np.sqrt(np.diagonal(covs, axis1=1, axis2=2))
+    rows = []
+    for i, name in enumerate(names):
+        est, lo, hi = (transforms.to_own(maps[i] + d * z * sd[i]) for d in (0.0, -1.0, 1.0))
+        rows += [{"dataset": name, "param": key, "estimate": float(est[j]), "ci_low": float(lo[j]),
+                  "ci_high": float(hi[j])} for j, key in enumerate(keys)]
+    log_ev, mcse = _sampled_evidence(fns, transforms, mu, var, n_samples, sample_seed, names)
+    return HierarchicalFit(keys, len(subjects), mu, np.sqrt(var), mu_se, pd.DataFrame(rows),
+                           _group_table(transforms, mu, np.sqrt(var), mu_se, z), log_ev, mcse, history[-1],
+                           total, n_samples, len(history), converged, history)
+
+
+def _em(fns, transforms: Transforms, names, seed, starts: int, max_iter: int, tol: float):
+    """The EM iterations (module docstring): the last E-step is under the returned mu, var."""
+    k = len(transforms)
+    unit = stats.qmc.Sobol(k, rng=np.random.default_rng(seed)).random_base2(int(np.log2(DESIGN)))
+    normal = special.ndtri(np.clip(unit, 1e-9, 1 - 1e-9))
+    box = [(-BOX, BOX) if kind != "identity" else (None, None) for kind in transforms.kinds]
+    mu, var = np.zeros(k), np.full(k, INIT_SD**2)
+    maps, previous, history = None, None, []
+    for iteration in range(1, max_iter + 1):
+        design = np.vstack([mu, mu + np.sqrt(var) * normal])
+        results = [_posterior_mode(f, transforms, mu, var, design, None if maps is None else maps[i],
+                                   starts, box, names[i]) for i, f in enumerate(fns)]
+        maps = np.array([r[0] for r in results])
+        covs = np.array([r[1] for r in results])
+        history.append(float(sum(r[2] for r in results)))
+        if previous is not None:
+            moved = max(np.max(np.abs(mu - previous[0])), np.max(np.abs(np.sqrt(var) - np.sqrt(previous[1]))))
+            if abs(history[-1] - history[-2]) < tol or moved < tol:
+                return mu, var, maps, covs, history, True
+        if iteration < max_iter:
+            previous = (mu, var)
+            mu = maps.mean(axis=0)
+            var = np.maximum(np.mean((maps - mu) ** 2 + np.diagonal(covs, axis1=1, axis2=2), axis=0), VAR_FLOOR)
+    return mu, var, maps, covs, history, False
+
+
+def _loglik(f, points: np.ndarray, name: str) -> np.ndarray:
+    """log L at own-scale ``points``; NaN or +inf is refused (a number that cannot be trusted)."""
+    ll = f(points)
+    bad = np.isnan(ll) | (ll == np.inf)
+    if np.any(bad):
+        i = int(np.argmax(bad))
+        raise ConfigError(name, "loglik", "a log-likelihood that is finite or -inf", f"{ll[i]} at theta = {points[i]}")
+    return ll
+
+
+def _posterior_mode(f, transforms: Transforms, mu, var, design, warm, starts: int, box, name: str):
+    """Subject's MAP m on x, its Laplace covariance V and its Laplace log evidence under N(mu, var)."""
+    k = len(mu)
+
+    def neg_ll(xs):  # -log L at unbounded points; an impossible point costs IMPOSSIBLE
+        ll = _loglik(f, transforms.to_own(xs), name)
+        return np.where(ll == -np.inf, IMPOSSIBLE, -ll)
+
+    def cost(x):
+        h = STEP_GRAD * np.maximum(1.0, np.abs(x))
+        steps = np.diag(h)
+        v = neg_ll(np.vstack([x, x + steps, x - steps]))
+        r = x - mu
+        return v[0] + 0.5 * np.sum(r**2 / var), (v[1:k + 1] - v[k + 1:]) / (2 * h) + r / var
+
+    prior = 0.5 * np.sum((design - mu) ** 2 / var, axis=1)
+    candidates = design if warm is None else np.vstack([warm, design])
+    values = neg_ll(candidates) + (prior if warm is None else np.concatenate([[0.5 * np.sum((warm - mu) ** 2 / var)],
+                                                                              prior]))
+    order = np.argsort(values, kind="stable")
+    if warm is None:
+        chosen = [i for i in order[:starts] if values[i] < IMPOSSIBLE]
+    else:
+        chosen = [0] + [i for i in order[:starts - 1] if i != 0 and values[i] < values[0]]
+    if not chosen:
+        raise ConfigError(name, "loglik", "a start where the observed data are possible", "-inf at every start")
+    best = min((optimize.minimize(cost, candidates[i], jac=True, method="L-BFGS-B", bounds=box,
+                                  options={"ftol": 1e-12, "gtol": 1e-6, "maxiter": 500}) for i in chosen),
+               key=lambda r: r.fun)
+    x = best.x
+    nll, hess = _hessian(neg_ll, x, name)
+    precision = hess + np.diag(1.0 / var)
+    try:
+        chol = np.linalg.cholesky(precision)
+    except np.linalg.LinAlgError:
+        raise ConfigError(name, "theta", "a maximum of the log-posterior (a positive definite Hessian)",
+                          f"a saddle or a flat direction at {transforms.to_own(x)}") from None
+    cov = np.linalg.inv(precision)
+    cov = (cov + cov.T) / 2
+    log_det_precision = 2.0 * np.sum(np.log(np.diag(chol)))
+    evidence = -nll - 0.5 * np.sum((x - mu) ** 2 / var) - 0.5 * np.sum(np.log(var)) - 0.5 * log_det_precision
+    return x, cov, evidence
+
+
+def _hessian(neg_ll, x: np.ndarray, name: str) -> tuple[float, np.ndarray]:
+    """-log L at ``x`` and its Hessian by central (second) differences, every point in one call."""
+    k = len(x)
+    h = STEP_HESS * np.maximum(1.0, np.abs(x))
+    e = np.diag(h)
+    pairs = [(i, j) for i in range(k) for j in range(i + 1, k)]
+    points = [x] + [x + e[i] for i in range(k)] + [x - e[i] for i in range(k)]
+    for i, j in pairs:
+        points += [x + e[i] + e[j], x + e[i] - e[j], x - e[i] + e[j], x - e[i] - e[j]]
+    v = neg_ll(np.array(points))
+    if np.any(v >= IMPOSSIBLE):
+        raise ConfigError(name, "loglik", "the observed data possible at and around the MAP (its curvature)",
+                          f"-inf near x = {points[int(np.argmax(v >= IMPOSSIBLE))]} (unbounded scale)")
+    plus, minus = v[1:k + 1], v[k + 1:2 * k + 1]
+    hess = np.diag((plus - 2 * v[0] + minus) / h**2)
+    for n, (i, j) in enumerate(pairs):
+        pp, pm, mp, mm = v[2 * k + 1 + 4 * n: 2 * k + 5 + 4 * n]
+        hess[i, j] = hess[j, i] = (pp - pm - mp + mm) / (4 * h[i] * h[j])
+    return float(v[0]), hess
+
+
+def _mu_se(var: np.ndarray, covs: np.ndarray) -> np.ndarray:
+    """se(mu) from Louis' identity (module docstring); inf where the information is not positive definite."""
+    d = np.diag(1.0 / var)
+    info = len(covs) * d - d @ covs.sum(axis=0) @ d
+    try:
+        np.linalg.cholesky(info)
+    except np.linalg.LinAlgError:
+        return np.full(len(var), np.inf)
+    return np.sqrt(np.diag(np.linalg.inv(info)))
+
+
+def _group_table(transforms: Transforms, mu, sigma, mu_se, z: float) -> pd.DataFrame:
+    """Per parameter the population's mean and sd on the own scale (Gauss–Hermite), the mean's interval."""
+    nodes, weights = np.polynomial.hermite_e.hermegauss(NODES)
+    weights = weights / weights.sum()
+
+    def moments(m):  # mean and sd of T(m + sigma z), z ~ N(0, 1), per parameter
+        values = transforms.to_own(m[None, :] + sigma[None, :] * nodes[:, None])
+        mean = weights @ values
+        return mean, np.sqrt(np.maximum(weights @ (values - mean) ** 2, 0.0))
+
+    mean, sd = moments(mu)
+    with np.errstate(invalid="ignore"):
+        low, high = moments(mu - z * mu_se)[0], moments(mu + z * mu_se)[0]
+    return pd.DataFrame({"param": transforms.keys, "mean": mean, "sd": sd, "ci_low": low, "ci_high": high,
+                         "kind": transforms.kinds, "mu": mu, "sigma": sigma, "mu_se": mu_se},
+                        columns=["param", "mean", "sd", "ci_low", "ci_high", "kind", "mu", "sigma", "mu_se"])
+
+
+def _sampled_evidence(fns, transforms: Transforms, mu, var, n_samples: int, seed, names) -> tuple[float, float]:
+    """sum_i log mean_s L_i(T(x_s)), x_s ~ N(mu, var) shared by every subject, and its delta-method
+    standard error (the sum's derivative in subject i's sample mean is 1 / that mean)."""
+    x = mu + np.sqrt(var) * np.random.default_rng(seed).standard_normal((n_samples, len(mu)))
+    thetas = transforms.to_own(x)
+    total, ratio = 0.0, np.zeros(n_samples)
+    for f, name in zip(fns, names):
+        ll = _loglik(f, thetas, name)
+        log_mean = special.logsumexp(ll) - np.log(n_samples)
+        if log_mean == -np.inf:
+            raise ConfigError(name, "loglik", "a sample of the group prior where the data are possible",
+                              f"-inf at all {n_samples}")
+        total += log_mean
+        ratio += np.exp(ll - log_mean)
+    mcse = float(np.std(ratio, ddof=1) / np.sqrt(n_samples)) if n_samples > 1 else np.inf
+    return float(total), mcse
