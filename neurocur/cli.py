@@ -200,10 +200,11 @@ def _cmd_run(args) -> int:
     run_experiment(exp, out, conditions=args.condition, progress=args.progress, max_memory=args.max_memory,
                    accept_code_change=args.accept_code_change, executor=executor, finish=summarise,
                    checkpoint_every=args.checkpoint_every, save_agent=args.save_agent)
-    from neurocur.analysis import narrow, order_tables
+    from neurocur.analysis import narrow, order_tables, verdict_text
 
     print(f"results: {out}")
     print(narrow(order_tables(out, conditions=list(exp.conditions), tables=tables)))
+    print(verdict_text(out, conditions=list(exp.conditions), tables=tables))
     return 0
 
 
