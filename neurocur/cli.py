@@ -209,12 +209,13 @@ def _cmd_run(args) -> int:
 
 
 def _cmd_figures(args) -> int:
-    from neurocur.analysis.figures.sets import write_all
+    from neurocur.analysis.figures.sets import write_figures
 
     if args.out is not None:
         _check_writable_folder(Path(args.out), "--out")
-    for path in write_all(args.results, args.out):
-        print(path)
+    paths, notes = write_figures(args.results, args.out)
+    for line in [*map(str, paths), *notes]:
+        print(line)
     return 0
 
 

@@ -23,7 +23,7 @@ from neurocur.results.runinfo import run_number
 
 from .results import Results, source_specs
 from .stats.efficiency import censoring_horizon
-from .stats.report import _of_the_paper, order_table, paired_test_rows, reference_group, summary
+from .stats.report import of_the_paper, order_table, paired_test_rows, reference_group, summary
 from .stats.verdict import verdict_notes, verdict_table
 
 __all__ = ["dataset", "load", "run_dirs", "source_specs", "order_tables", "narrow", "verdict_text", "throughput",
@@ -118,7 +118,7 @@ def verdict_text(results_dir: str | Path, conditions=None, *,
             or results.spec_of(reference) != results.spec_of(control)):
         return "\n".join(verdict_notes(results, reference, reference)[2:])
     pair = results.select([reference, control])
-    table = verdict_table(pair, reference, control, with_paper=_of_the_paper(pair))
+    table = verdict_table(pair, reference, control, with_paper=of_the_paper(pair))
     title = f"verdict: {reference} against {control}" + (" and the paper" if "paper" in table else "")
     return "\n".join([title, narrow(table),
                       *verdict_notes(results, reference, control, n_tests=table.attrs["n_tests"])])
