@@ -126,3 +126,21 @@ def test_a_sweep_writes_its_order_table_beside_its_figures(write_folder, tmp_pat
     assert list(written.columns) == list(expected.columns)
     assert written.astype(str).values.tolist() == expected.astype(str).values.tolist()
     assert "order_table.csv" not in set(pd.read_csv(out / INDEX)["file"])     # the index lists the PNGs
+
+
+def test_the_icub_order_figure_marks_the_papers_14_of_15_and_15_of_15():
+    from neurocur.analysis.figures.icub import fig_order
+
+    # three runs: topple then roll, topple only, roll then topple
+    episodes = pd.DataFrame({"condition": "curious", "run": [0, 1, 2], "episode": 0, "n_frames": 100})
+    modules = pd.DataFrame({"condition": "curious", "run": [0, 0, 1, 2, 2], "module": [0, 1, 0, 0, 1],
+                            "source": ["topple", "roll", "topple", "roll", "topple"], "gates": ""})
+    fig = fig_order(modules, episodes)
+    ax = fig.axes[0]
+    marks = sorted((round(float(m.get_xdata()[0])), float(m.get_ydata()[0])) for m in ax.lines
+                   if m.get_gid() == PAPER_GID)
+    assert marks == [(1, pytest.approx(3 * 14 / 15)), (2, 0.0)]   # topple first 14/15; no run without a second
+    assert "14/15" in fig.get_suptitle() and "15/15" in fig.get_suptitle()
+    from neurocur.analysis.figures.style import caption_of
+
+    assert caption_of(fig).paper_figure.startswith("Figure 6D")

@@ -392,7 +392,8 @@ def fig_reward_function(
                    "coloured by the context's source")
 
 
-def fig_order_counts(results: Results, *, wrap: int = 4) -> Figure:
+def fig_order_counts(results: Results, *, wrap: int = 4, marks: Mapping[str, Mapping[int, float]] | None = None,
+                     note: str | None = None) -> Figure:
     """Which source was stored 1st/2nd/3rd, counted over runs (runs without any module count
     as "none"); the count axis is in whole runs. Each source in its colour
     (:func:`~neurocur.analysis.figures.style.source_colours`), "none" white with an outline.
@@ -403,13 +404,17 @@ def fig_order_counts(results: Results, *, wrap: int = 4) -> Figure:
     at most ``wrap`` panels. For the paper's experiment
     (:func:`~neurocur.analysis.stats.report.of_the_paper`) each panel marks the paper's counts of
     its curious agent (section 4.1.4: S-A first 25/25, S-B second 18/25, S-C third 18/25), scaled
-    to the panel's runs, with black diamonds (gid ``"paper"``) on their bars."""
+    to the panel's runs, with black diamonds (gid ``"paper"``) on their bars; ``marks`` gives other
+    shares to mark (``{source or "none": {position: share of runs}}``) and ``note`` says what they are."""
     require_order_columns(results.episodes, results.modules, needed_by="fig_order_counts")
     counts = position_counts(results)
     grid = panel_grid(results.episodes, sorted(counts["condition"].unique()), wrap)
     sources = list(dict.fromkeys(counts["source"]))
     colours = {**source_colours([s for s in sources if s != "none"]), "none": "white"}
-    marks = _paper_positions(results) if of_the_paper(results) else {}
+    if marks is None:
+        marks = _paper_positions(results) if of_the_paper(results) else {}
+        note = ("Module order (section 4.1.4). ◆ the paper's curious agent: S-A first 25/25, S-B second 18/25, "
+                "S-C third 18/25; exact order 18/25 (implied)") if marks else None
     width = 0.8 / len(sources)
     nrows, ncols = len(grid), max(len(row) for row in grid)
     with style():
@@ -437,9 +442,8 @@ def fig_order_counts(results: Results, *, wrap: int = 4) -> Figure:
         unique = dict(zip(labels, handles))
         axes[0, len(grid[0]) - 1].legend(unique.values(), unique.keys(), title="source", loc="upper left",
                                          bbox_to_anchor=(1.02, 1.0), fontsize="small")
-        if marks:
-            fig.suptitle("Module order (section 4.1.4). ◆ the paper's curious agent: S-A first 25/25, S-B second "
-                         "18/25, S-C third 18/25; exact order 18/25 (implied)", fontsize="medium")
+        if note:
+            fig.suptitle(note, fontsize="medium")
     return caption(fig, "none: section 4.1.4's counts (S-A first 25/25, S-B second 18/25, S-C third 18/25)",
                    "which source each run stored first, second, third, per condition; diamonds: the paper's "
                    "counts scaled to the runs")
