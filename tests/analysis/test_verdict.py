@@ -29,7 +29,9 @@ def _folder(write_folder, tmp_path, curious, random, descriptions=True):
     root = write_folder(tmp_path / "synthetic", runs)
     if descriptions:
         text = (root / "config.toml").read_text()
-        text = text.replace("[conditions.curious]\n", '[conditions.curious]\ndescription = "the curious agent"\n')
+        head = '[conditions."curious"]\n'
+        assert head in text
+        text = text.replace(head, head + 'description = "the curious agent"\n')
         (root / "config.toml").write_text(text)
     return Results.load(root)
 
