@@ -444,9 +444,11 @@ def fig_order_counts(results: Results, *, wrap: int = 4, marks: Mapping[str, Map
                                          bbox_to_anchor=(1.02, 1.0), fontsize="small")
         if note:
             fig.suptitle(note, fontsize="medium")
+    what = "which source each run stored first, second, third, per condition"
+    if not marks:
+        return caption(fig, "none", what)
     return caption(fig, "none: section 4.1.4's counts (S-A first 25/25, S-B second 18/25, S-C third 18/25)",
-                   "which source each run stored first, second, third, per condition; diamonds: the paper's "
-                   "counts scaled to the runs")
+                   f"{what}; diamonds: the paper's counts scaled to the runs")
 
 
 def _paper_positions(results: Results) -> dict[str, dict[int, float]]:
