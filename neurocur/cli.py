@@ -204,20 +204,25 @@ def _cmd_run(args) -> int:
     run_experiment(exp, out, conditions=args.condition, progress=args.progress, max_memory=args.max_memory,
                    accept_code_change=args.accept_code_change, executor=executor, finish=summarise,
                    checkpoint_every=args.checkpoint_every, save_agent=args.save_agent)
-    from neurocur.analysis import narrow, order_tables
+    from neurocur.analysis import narrow, order_tables, verdict_text
 
     print(f"results: {out}")
-    print(report or narrow(order_tables(out, conditions=list(exp.conditions), tables=tables)))
+    if report:  # a task of its own (a figure set's report): its statistics, not the module-learning summary
+        print(report)
+    else:
+        print(narrow(order_tables(out, conditions=list(exp.conditions), tables=tables)))
+        print(verdict_text(out, conditions=list(exp.conditions), tables=tables))
     return 0
 
 
 def _cmd_figures(args) -> int:
-    from neurocur.analysis.figures.sets import write_all
+    from neurocur.analysis.figures.sets import write_figures
 
     if args.out is not None:
         _check_writable_folder(Path(args.out), "--out")
-    for path in write_all(args.results, args.out):
-        print(path)
+    paths, notes = write_figures(args.results, args.out)
+    for line in [*map(str, paths), *notes]:
+        print(line)
     return 0
 
 

@@ -24,6 +24,9 @@ polars, read through the store's checks; ``narrow(order_tables(DIR))`` the order
 - :mod:`~neurocur.analysis.stats.report` — the order table beside the paper's numbers, its paired
   tests (``paired_tests``: the one computation of the adjusted p-values the table, the summary and
   the efficiency figure show), and the summary;
+- :mod:`~neurocur.analysis.stats.verdict` — per statistic, whether the reference differs from the
+  control and whether the paper's number is reached (``verdict_text(DIR)``: as ``neurocur run``
+  prints it under the order table);
 - :mod:`~neurocur.analysis.stats.degenerate` — conditions whose runs repeat another's, left out of
   the comparisons;
 - :mod:`~neurocur.analysis.stats.dwell` — visits, dwell per context, occupancy over time, the share
@@ -63,6 +66,7 @@ from neurocur.analysis.io import narrow as narrow
 from neurocur.analysis.io import order_tables as order_tables
 from neurocur.analysis.io import run_dirs as run_dirs
 from neurocur.analysis.io import throughput as throughput
+from neurocur.analysis.io import verdict_text as verdict_text
 from neurocur.analysis.io import write_summary as write_summary
 from neurocur.analysis.results import Results as Results
 from neurocur.analysis.results import source_specs as source_specs
@@ -80,6 +84,7 @@ from neurocur.analysis.stats import (
     report,
     significance,
     sweeps,
+    verdict,
 )
 from neurocur.analysis.stats.bootstrap import *  # noqa: F403
 from neurocur.analysis.stats.choice_shares import *  # noqa: F403
@@ -94,13 +99,14 @@ from neurocur.analysis.stats.order import *  # noqa: F403
 from neurocur.analysis.stats.report import *  # noqa: F403
 from neurocur.analysis.stats.significance import *  # noqa: F403
 from neurocur.analysis.stats.sweeps import *  # noqa: F403
+from neurocur.analysis.stats.verdict import *  # noqa: F403
 from neurocur.contexts.base import SourceSpec as SourceSpec
 from neurocur.contexts.synthetic import SYNTHETIC as SYNTHETIC
 
-_EAGER = ["dataset", "load", "narrow", "order_tables", "run_dirs", "source_specs", "throughput", "write_summary", "Results", "SourceSpec",
+_EAGER = ["dataset", "load", "narrow", "order_tables", "verdict_text", "run_dirs", "source_specs", "throughput", "write_summary", "Results", "SourceSpec",
           "SYNTHETIC", *order.__all__, *learning_time.__all__, *comparison.__all__, *significance.__all__,
           *bootstrap.__all__, *sweeps.__all__, *report.__all__, *dwell.__all__, *efficiency.__all__,
-          *event_locked.__all__, *cycles.__all__, *degenerate.__all__, *choice_shares.__all__]
+          *event_locked.__all__, *cycles.__all__, *degenerate.__all__, *choice_shares.__all__, *verdict.__all__]
 
 #: Re-exported, but imported on first use (PEP 562): they import matplotlib, seaborn or
 #: statsmodels' full API (about 1.5 s), which loading results and writing a summary do not need.

@@ -23,9 +23,10 @@ from neurocur.results.runinfo import run_number
 
 from .results import Results, source_specs
 from .stats.efficiency import censoring_horizon
-from .stats.report import order_table, paired_test_rows, reference_group, summary
+from .stats.report import of_the_paper, order_table, paired_test_rows, reference_group, summary
+from .stats.verdict import verdict_notes, verdict_table
 
-__all__ = ["dataset", "load", "run_dirs", "source_specs", "order_tables", "narrow", "throughput",
+__all__ = ["dataset", "load", "run_dirs", "source_specs", "order_tables", "narrow", "verdict_text", "throughput",
            "write_summary"]
 
 
@@ -100,6 +101,27 @@ def order_tables(
         if len(rows):
             table = pd.concat([table, rows.reindex(columns=table.columns, fill_value="—")])
     return table
+
+
+def verdict_text(results_dir: str | Path, conditions=None, *,
+            tables: tuple[pd.DataFrame, pd.DataFrame] | None = None) -> str:
+    """The verdict printed under the order table by ``neurocur run``: the reference condition against
+    the experiment's control and the paper, per statistic (:func:`~neurocur.analysis.stats.verdict.verdict_table`,
+    :func:`narrow`), then its rules and what each condition is (:func:`~neurocur.analysis.stats.verdict.verdict_notes`).
+    Only the condition descriptions when the folder declares no control, or the reference or control is not
+    among ``conditions`` (all by default) or their worlds differ. ``tables``: as in :func:`order_tables`."""
+    results = Results.load(results_dir, tables=tables)
+    if conditions is not None:
+        results = results.select([c for c in results.conditions if c in conditions])
+    reference, control = results.reference, results.control
+    if (control is None or reference == control or not {reference, control} <= set(results.conditions)
+            or results.spec_of(reference) != results.spec_of(control)):
+        return "\n".join(verdict_notes(results, reference, reference)[2:])
+    pair = results.select([reference, control])
+    table = verdict_table(pair, reference, control, with_paper=of_the_paper(pair))
+    title = f"verdict: {reference} against {control}" + (" and the paper" if "paper" in table else "")
+    return "\n".join([title, narrow(table),
+                      *verdict_notes(results, reference, control, n_tests=table.attrs["n_tests"])])
 
 
 def narrow(table: pd.DataFrame, width: int = 100) -> str:

@@ -18,6 +18,9 @@ WORKER_MODULE = "neurocur.experiments.runner"
 #: imported by the fork server after it: the compiled kernels, loaded once for every worker
 WARM_MODULE = "neurocur.experiments.warm"
 
+#: neurocur.learn._compiling.ANNOUNCER (not imported: it imports numba): who says "compiling kernels"
+COMPILING_ANNOUNCER = "NEUROCUR_COMPILING_ANNOUNCER"
+
 _THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS")
 
 
@@ -74,6 +77,7 @@ def start_fork_server() -> None:
     process does meanwhile; the pool's first worker would otherwise wait for them. A no-op when it
     runs already or the platform has no fork server."""
     if isinstance(fork_context(), multiprocessing.context.ForkServerContext):
+        os.environ.setdefault(COMPILING_ANNOUNCER, str(os.getpid()))  # this process says "compiling kernels" for the server
         with single_threaded_children(), ctrl_c_held():
             multiprocessing.forkserver.ensure_running()
 

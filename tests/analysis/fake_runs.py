@@ -74,9 +74,9 @@ def write_results(root, runs, alphas=PFC_ALPHA, control="random_switching"):
     if control is not None:
         config += f'control = "{control}"\n'
     for condition in runs:
-        config += f"\n[conditions.{condition}]\n"
+        config += f"\n[conditions.\"{condition}\"]\n"             # quoted: a sweep's names hold '@' and '='
         if condition in alphas:
-            config += (f"\n[conditions.{condition}.resolved_circuit.regions.PFC]\ntype = \"pfc.lspi\"\n"
+            config += (f"\n[conditions.\"{condition}\".resolved_circuit.regions.PFC]\ntype = \"pfc.lspi\"\n"
                        f"params = {{ alpha = {alphas[condition]} }}\n")
     (root / "config.toml").write_text(config)
     for condition, tables in runs.items():

@@ -22,6 +22,21 @@ def test_cycles_are_aligned_to_the_storage_that_ends_them():
     assert table["n_episodes"].tolist() == [2, 2, 2, 2]
 
 
+def test_the_error_of_the_module_being_learned_is_on_its_own_source():
+    # contexts alternate 0, 1; both storages (episodes 3 and 7) are in context 1: with context 0
+    # showing S-A and context 1 S-B, each cycle keeps its S-B episodes only (1, 3 and 5, 7)
+    table = error_cycles(RUN, bin_frames=200, context_sources=("S-A", "S-B"))
+    assert table[["cycle", "source", "bin"]].values.tolist() == [[1, "S-B", 0], [1, "S-B", 1],
+                                                                  [2, "S-B", 0], [2, "S-B", 1]]
+    assert table["error"].tolist() == [3.0, 1.0, 7.0, 5.0]
+    assert table["n_episodes"].tolist() == [1, 1, 1, 1]
+    # one source for both contexts: every episode is the stored source's, as without sources
+    same = error_cycles(RUN, bin_frames=200, context_sources=("S-A", "S-A"))
+    assert same["error"].tolist() == error_cycles(RUN, bin_frames=200)["error"].tolist()
+    with pytest.raises(ValueError, match="'context'"):
+        error_cycles(RUN.drop(columns="context"), context_sources=("S-A", "S-B"))
+
+
 def test_missing_errors_and_runs_without_storage():
     run = RUN.assign(error=[np.nan, 1, 2, 3, 4, 5, 6, 7, 8, 9])
     other = RUN.assign(run=1, module_learned=False)

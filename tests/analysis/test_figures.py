@@ -180,11 +180,12 @@ def test_write_all(results_dir, tmp_path):
     paths = write_all(results_dir, tmp_path / "figs")
     names = sorted(p.name for p in paths)
     per_condition = ["cumulative_error", "intrinsic_reward", "neuromodulators", "reward_function"]
-    expected = sorted(["order_counts.png", "learning_time.png", "efficiency.png"]
+    expected = sorted(["order_counts.png", "learning_time.png", "efficiency.png", "index.csv"]
                       + [f"{k}_{c}.png" for k in per_condition for c in ("curious", "random_switching")])
     assert names == expected
     for path in paths:
-        assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+        if path.suffix == ".png":
+            assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert plt.get_fignums() == []  # no pyplot figure left open
 
 

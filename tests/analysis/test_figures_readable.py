@@ -78,15 +78,18 @@ def test_the_learning_time_bars_are_the_tables_mean_and_sd(results):
     spans = sorted(np.ptp(seg[:, 1]) for c in ax.collections if hasattr(c, "get_segments") for seg in c.get_segments())
     np.testing.assert_allclose(spans, sorted(2 * summary["sd"].dropna()))
     assert "mean ± sd" in ax.get_title()
-    # random switching learned S-A and S-B (not S-A first in every run): named once in the legend
-    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["curious", "random_switching"]
+    # random switching learned S-A and S-B (not S-A first in every run): named once in the legend,
+    # then the paper's values (tables in memory of the synthetic world: the paper's experiment)
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["curious", "random_switching",
+                                                                   "paper (section 4.1.1)"]
 
 
 def test_a_condition_that_learned_only_a_later_source_is_in_the_legend(tables):
     episodes, modules = tables
     later = modules[~((modules["condition"] == "random_switching") & (modules["source"] == "S-A"))]
     ax = fig_learning_time(Results.of(episodes, later, SYNTHETIC)).axes[0]
-    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["curious", "random_switching"]
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["curious", "random_switching",
+                                                                   "paper (section 4.1.1)"]
 
 
 def test_symlog_axes_have_plain_ticks(tables):

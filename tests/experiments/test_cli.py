@@ -28,9 +28,12 @@ def test_run_then_figures(tmp_path, capsys):
     assert json.loads((out / "summary.json").read_text())["n_runs"] == {"curious": 2}
 
     assert main(["figures", str(out)]) == 0
-    paths = [Path(line) for line in capsys.readouterr().out.split()]
-    assert paths and all(p.is_file() and p.suffix == ".png" and p.parent == out / "figures" for p in paths)
+    *lines, figure_5 = capsys.readouterr().out.splitlines()
+    paths = [Path(line) for line in lines]
+    assert paths and all(p.is_file() and p.parent == out / "figures" for p in paths)
+    assert {p.suffix for p in paths} == {".png", ".csv"} and out / "figures" / "index.csv" in paths
     assert {"order_counts.png", "learning_time.png", "cumulative_error_curious.png"} <= {p.name for p in paths}
+    assert figure_5.startswith("Figure 5 (invariance") and "neurocur invariance" in figure_5
 
 
 @pytest.mark.parametrize("argv, message", [

@@ -205,7 +205,9 @@ def test_run_and_figures_end_to_end(tmp_path, capsys):
     assert set(features["module"]) == set(modules["module"]) and set(features["context"]) == {0, 1}
 
     assert main(["figures", str(out)]) == 0
-    names = {Path(line).name for line in capsys.readouterr().out.split()}
+    printed = capsys.readouterr().out.split()
+    names = {Path(line).name for line in printed if line.endswith(".png")}
+    assert str(out / "figures" / "index.csv") in printed
     assert {"module_error_1.png", "module_error_2.png", "order_counts.png", "frames.png",
             "feature_output_curious.png", "reward_function_curious.png",
             "neuromodulators_random_switching.png"} <= names

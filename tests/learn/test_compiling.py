@@ -25,3 +25,16 @@ def test_the_message_is_printed_exactly_when_numba_compiles(tmp_path):
     assert any(tmp_path.rglob("*.nbi"))
     warm = _run(tmp_path)  # the same cache: loaded, not compiled
     assert warm.returncode == 0 and warm.stderr == "" and warm.stdout == "fitted\n"
+
+
+def test_a_child_of_the_announcing_command_stays_silent(tmp_path):
+    """`neurocur run` names itself in its children's environment: the fork server, which compiles the
+    same kernels as the command's pre-flight, does not print the line a second time."""
+    from neurocur.experiments.processes import COMPILING_ANNOUNCER
+    from neurocur.learn._compiling import ANNOUNCER
+
+    assert COMPILING_ANNOUNCER == ANNOUNCER
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "NUMBA_CACHE_DIR": str(tmp_path), ANNOUNCER: "1"}
+    child = subprocess.run([sys.executable, "-c", FIT], capture_output=True, text=True, timeout=300, env=env, cwd=ROOT)
+    assert child.returncode == 0 and child.stderr == "" and child.stdout == "fitted\n"
+    assert any(tmp_path.rglob("*.nbi"))  # it did compile

@@ -27,13 +27,14 @@ from neurocur.analysis.paper import ICUB_CURIOUS
 from neurocur.analysis.results import Results
 from neurocur.analysis.stats.icub import ICUB, learning_segments, load_features
 from neurocur.analysis.stats.order import require_order_columns
+from neurocur.analysis.stats.verdict import paper_range
 from neurocur.contexts import build_world
 from neurocur.contract import require_columns
 from neurocur.regions.hpc import HPCROC
 
 from .learning import condition_of, fig_neuromodulators, fig_order_counts, fig_reward_function
 from .sets import FIGURE_SETS, FigureSet
-from .style import figure, style
+from .style import caption, condition_colours, figure, style
 
 __all__ = ["fig_module_error", "fig_order", "fig_frames", "fig_feature_output", "ICubFigures"]
 
@@ -79,28 +80,42 @@ def fig_module_error(
             runs = binned.groupby("condition")["run"].nunique()
             binned["condition"] = binned["condition"].map(lambda c: f"{c} ({runs.get(c, 0)} runs)")
             order = [f"{c} ({runs.get(c, 0)} runs)" for c in conditions if c in runs]
+            colours = condition_colours(conditions)
             sns.lineplot(data=binned, x="frames_in", y="error", hue="condition", hue_order=order,
-                         errorbar="sd", ax=ax, palette="colorblind")
+                         errorbar="sd", ax=ax, palette=[colours[c] for c in conditions if c in runs])
         if threshold is not None:
             ax.axhline(threshold, color="0.3", ls="--", lw=0.9, label=f"freeze threshold {threshold:g}")
             ax.legend(loc="upper right")
+        total = episodes.groupby("condition")["run"].nunique()
+        reached = ", ".join(f"{c} {runs.get(c, 0) if not binned.empty else 0}/{total[c]}" for c in conditions)
+        paper_runs = f"; the paper: both learned {ICUB_CURIOUS['both learned'].cell()}" if module <= 1 else ""
         ax.set(xlabel=f"frames since module {module + 1} started learning",
                ylabel="estimation error (mean over states)",
-               title=f"Figure {label}: estimation error while module {module + 1} learns (mean ± sd)".replace(
-                   "Figure : ", ""))
-    return fig
+               title=(f"Figure {label}: estimation error while module {module + 1} learns (mean ± sd)\n"
+                      f"runs that reached it: {reached}{paper_runs}").replace("Figure : ", ""))
+    return caption(fig, f"Figure {label} (section 4.2.2)" if label else "none",
+                   f"the adaptive module's estimation error while module {module + 1} learns, mean ± sd over the "
+                   "runs that reached it, per condition")
 
 
 def fig_order(modules: pd.DataFrame, episodes: pd.DataFrame) -> Figure:
     """Figure 6D: which object was stored first and second, counted over runs, per condition.
 
-    The paper: the easier topple representation was learned first in 14 of 15 runs
-    (:data:`neurocur.analysis.paper.ICUB_CURIOUS`).
+    The paper (:data:`neurocur.analysis.paper.ICUB_CURIOUS`, section 4.2.2): the easier topple
+    representation was learned first in 14 of 15 runs, and both objects in 15/15 (implied:
+    Figure 6C averages the second module's learning over the runs), so no run is without a
+    second module. Both are marked on each panel, scaled to its runs: a black diamond on the
+    bar of topple first and on the bar of "none" second (at 0).
     """
     require_order_columns(episodes, modules, needed_by="fig_order")
-    fig = fig_order_counts(Results.of(episodes, modules, ICUB))
-    fig.suptitle(f"Figure 6D: storage order (paper: topple first {ICUB_CURIOUS['topple first'].value})")
-    return fig
+    first, both = (paper_range(ICUB_CURIOUS[key].value)[0] for key in ("topple first", "both learned"))
+    fig = fig_order_counts(
+        Results.of(episodes, modules, ICUB), marks={"topple": {1: first}, "none": {2: 1.0 - both}},
+        note=(f"Figure 6D: storage order. ◆ the paper: topple first {ICUB_CURIOUS['topple first'].value}, "
+              f"both learned {ICUB_CURIOUS['both learned'].cell()} (no run without a second module)"))
+    return caption(fig, "Figure 6D (section 4.2.2)",
+                   "which object each run stored first and second, per condition; diamonds: the paper's topple "
+                   "first 14/15 and both learned 15/15, scaled to the runs")
 
 
 def fig_frames(world, episode_index: int = 0, n_frames: int = 5) -> Figure:

@@ -16,19 +16,23 @@ import numpy as np
 import pandas as pd
 import seaborn as sns
 from matplotlib.figure import Figure
-from matplotlib.ticker import MaxNLocator
+from matplotlib.ticker import FuncFormatter, MaxNLocator
 
+from neurocur.analysis import paper
 from neurocur.analysis.results import Results
 from neurocur.analysis.stats.bootstrap import bootstrap_ci
 from neurocur.analysis.stats.cycles import error_cycles
 from neurocur.analysis.stats.learning_time import learning_time_summary, learning_times, require_learning_columns
 from neurocur.analysis.stats.order import position_counts, require_order_columns
+from neurocur.analysis.stats.report import of_the_paper
+from neurocur.analysis.stats.verdict import paper_range
 from neurocur.config import ConfigError
+from neurocur.contexts.base import SourceSpec
 from neurocur.contract import require_columns
 from neurocur.regions.pfc import PFCLSPI, SAMPLE_AVERAGE, PFCParams, eq14_rate, reward_update
 
 from .layout import panel_grid, symlog_axis
-from .style import figure, style
+from .style import caption, condition_colours, figure, source_colours, style
 
 __all__ = [
     "condition_of",
@@ -45,6 +49,12 @@ __all__ = [
 CUMULATIVE_ERROR = "cumulative error ξ / M (eq 11)"
 #: gid of the vertical lines marking module storage, so they can be told from data lines.
 EVENT_GID = "module_learned"
+#: gid of the marks of the paper's numbers (Luciw et al. 2013), so they can be told from the model's.
+PAPER_GID = "paper"
+#: Episodes in the running median drawn over a per-episode trace (:func:`fig_neuromodulators`).
+TRACE_WINDOW = 25
+#: Frames in thousands on a step axis: "150k".
+KILO_FRAMES = FuncFormatter(lambda v, _: f"{v / 1000:g}k".replace("-", "−"))
 
 
 def condition_of(table: pd.DataFrame, condition: str | None) -> str:
@@ -97,58 +107,84 @@ def fig_cumulative_error(
     bin_steps: int = 1000,
     max_cycles: int | None = 3,
     min_runs: int = 3,
+    spec: SourceSpec | None = None,
+    threshold: float | None = None,
 ) -> Figure:
     """Figure 4D: the estimation error falling within each learning cycle.
 
     The paper's "cumulative estimation error" is eq 11's context-wide error ξ, accumulated over
     the context's states, drawn per state (ξ / M: column ``error``, the mean of the stored eq-10
-    errors) as the figure's title and axis say; not a running sum over time.
+    errors) as the figure's title and axis say; not a running sum over time. Both panels have a
+    log error axis, on which the fall to the freeze ``threshold`` (drawn when given) shows.
     Left: one run (``run``, default the first) per episode against the global step, each
-    module storage marked (dashed, gid ``"module_learned"``). Right: the error of every
-    learning cycle aligned to the storage that ends it
+    module storage marked (dashed, gid ``"module_learned"``). Right: the error aligned to the
+    storage that ends each learning cycle
     (:func:`~neurocur.analysis.stats.cycles.error_cycles`: per run, the mean over bins of
-    ``bin_steps`` frames before storage), one line per cycle (the first ``max_cycles``), the
-    mean over runs with its 95 % percentile bootstrap interval over runs
-    (:func:`~neurocur.analysis.stats.bootstrap.bootstrap_ci`, Efron & Tibshirani 1993; never below
-    zero for a non-negative error), where at least ``min_runs`` runs had the cycle that long.
+    ``bin_steps`` frames before storage), the mean over runs with its 95 % percentile bootstrap
+    interval over runs (:func:`~neurocur.analysis.stats.bootstrap.bootstrap_ci`, Efron & Tibshirani
+    1993), where at least ``min_runs`` runs had the bin. With the world's ``spec``: one line per
+    stored source, the error of the module being learned on the contexts of that source only (the
+    other contexts, visited between, hide its fall), in the source's colour
+    (:func:`~neurocur.analysis.figures.style.source_colours`); without: one line per cycle (the
+    first ``max_cycles``), over every episode. The legend stands outside the data.
     """
     require_columns(episodes, ["condition", "run", "episode", "step", "n_frames", "module_learned", column],
                     needed_by="fig_cumulative_error")
     condition = condition_of(episodes, condition)
     table = episodes[episodes["condition"] == condition]
     _, run, single = _one_run(episodes, condition, run)
-    cycles = error_cycles(table, column, bin_steps)
-    if max_cycles is not None:
+    by_source = spec is not None
+    cycles = error_cycles(table, column, bin_steps, context_sources=spec.context_sources if by_source else None)
+    if max_cycles is not None and not by_source:
         cycles = cycles[cycles["cycle"] <= max_cycles]
-    cycles = cycles[cycles.groupby(["cycle", "bin"])["run"].transform("nunique") >= min_runs]
+    group = "source" if by_source else "cycle"
+    cycles = cycles[cycles.groupby([group, "bin"])["run"].transform("nunique") >= min_runs]
     ylabel = CUMULATIVE_ERROR if column == "error" else column
     with style():
-        fig, axes = figure(1, 2, figsize=(11.0, 4.2), sharey=True)
-        fig.suptitle("Cumulative estimation error: eq 11, the context's error summed over its states (here per "
-                     "state); not a running sum over time", fontsize="medium")
+        fig, axes = figure(1, 2, figsize=(12.0, 4.4), sharey=True)
+        fig.suptitle("Figure 4D. Cumulative estimation error: eq 11, the context's error summed over its states "
+                     "(here per state);\nnot a running sum over time", fontsize="medium")
         left, right = axes[0]
         left.plot(single["step"], single[column], lw=0.6, color="0.3", label=f"run {run}")
         for x in (single["step"] + single["n_frames"])[single["module_learned"].astype(bool)]:
             left.axvline(x, color="0.3", ls="--", lw=0.8, gid=EVENT_GID)
-        left.set(xlabel="global step (frames)", ylabel=ylabel,
-                 title=f"{condition}, run {run} (dashed: module stored)")
-        palette = sns.color_palette("colorblind", max(1, cycles["cycle"].nunique()))
-        for colour, (cycle, part) in zip(palette, cycles.groupby("cycle", sort=True)):
+        left.set(xlabel="global step (frames)", ylabel=ylabel, title=f"{condition}, run {run}: every episode")
+        if by_source:
+            colours = source_colours([*spec.context_sources, *cycles["source"]])
+            lines = [(source, colours[source], f"{source}'s module ({part['run'].nunique()} runs)", part)
+                     for source, part in cycles.groupby("source", sort=False)]
+            lines.sort(key=lambda line: [*spec.context_sources, line[0]].index(line[0]))
+        else:
+            palette = sns.color_palette("Greys_r", max(1, cycles["cycle"].nunique()) + 2)
+            lines = [(cycle, palette[k], f"module {cycle}", part)
+                     for k, (cycle, part) in enumerate(cycles.groupby("cycle", sort=True))]
+        for _, colour, label, part in lines:
             bins = part.groupby(-part["frames_before"], sort=True)[column]      # x: frames from storage, ≤ 0
             means = bins.mean()
             ci = np.array([bootstrap_ci(values.to_numpy()) for _, values in bins])
-            right.plot(means.index, means.to_numpy(), color=colour, label=f"module {cycle}")
-            right.fill_between(means.index, ci[:, 0], ci[:, 1], color=colour, alpha=0.25, lw=0)
+            right.plot(means.index, means.to_numpy(), color=colour, label=label)
+            right.fill_between(means.index, ci[:, 0], ci[:, 1], color=colour, alpha=0.2, lw=0)
+        if threshold is not None:
+            for ax in (left, right):
+                ax.axhline(threshold, color="0.5", ls=":", lw=1.0, label=f"freeze threshold {threshold:g}")
+        for ax in (left, right):
+            ax.set_yscale("log", nonpositive="mask")
         if cycles.empty:
             right.text(0.5, 0.5, f"no cycle in {min_runs} or more runs", ha="center", va="center",
                        transform=right.transAxes)
-        else:
-            right.legend(title=f"cycle ({table['run'].nunique()} runs; 95 % CI; ≥ {min_runs} runs a bin)",
-                         loc="upper left")
         right.axvline(0.0, color="0.3", ls="--", lw=0.8, gid=EVENT_GID)
-        right.set(xlabel="frames before the module's storage", ylabel=ylabel,
-                  title="Per learning cycle, aligned to storage")
-    return fig
+        what = "on the stored source's contexts" if by_source else "every episode"
+        right.set(xlabel="frames before the module's storage (dashed)", ylabel=ylabel,
+                  title=f"Per cycle, aligned to storage: {what}")
+        for ax in (left, right):
+            ax.xaxis.set_major_formatter(KILO_FRAMES)
+        if right.get_legend_handles_labels()[1]:
+            right.legend(title=f"{table['run'].nunique()} runs; mean, 95 % CI; ≥ {min_runs} runs a bin",
+                         loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize="small")
+    return caption(fig, "Figure 4D (section 4.1.4)",
+                   f"{condition}: the estimation error (eq 11 / M) of one run, and per learning cycle the error "
+                   f"{'of the module being learned on its source' if by_source else 'of every episode'}, "
+                   "aligned to the storage that ends the cycle (log axis)")
 
 
 def fig_intrinsic_reward(
@@ -182,7 +218,8 @@ def fig_intrinsic_reward(
     with style():
         fig, axes = figure()
         ax = axes[0, 0]
-        sns.lineplot(x=smooth.index, y=smooth.to_numpy(), ax=ax, errorbar=None)
+        colour = condition_colours(sorted(episodes["condition"].unique()))[condition]
+        sns.lineplot(x=smooth.index, y=smooth.to_numpy(), ax=ax, errorbar=None, color=colour)
         ax.axhline(0.0, color="0.5", lw=0.8, ls=":")
         note = "boredom −100 included" if include_boredom else "familiar episodes left out"
         if symlog:
@@ -192,8 +229,9 @@ def fig_intrinsic_reward(
             ax.set_ylim(*ylim)
             note += f"; y clipped to [{ylim[0]:g}, {ylim[1]:g}]"
         ax.set(xlabel="global step (frames)", ylabel="intrinsic reward (DA)",
-               title=f"Smoothed intrinsic reward — {condition} ({note})")
-    return fig
+               title=f"Figure 4E. Smoothed intrinsic reward — {condition} ({note})")
+    return caption(fig, "Figure 4E (section 4.1.4)",
+                   f"{condition}: the intrinsic reward (DA) averaged over runs and smoothed, against the global step")
 
 
 def fig_learning_time(results: Results, condition: str | None = None, *, since: str = "previous") -> Figure:
@@ -202,13 +240,19 @@ def fig_learning_time(results: Results, condition: str | None = None, *, since: 
     :func:`~neurocur.analysis.stats.learning_time.learning_time_summary`, the runs drawn as points
     (learning times are skewed: a source learned late in a run can take ten times the median).
 
-    One bar per (source, condition) — all conditions unless ``condition`` is given. Learning time
+    One bar per (source, condition) — all conditions unless ``condition`` is given — in the
+    condition's colour (:func:`~neurocur.analysis.figures.style.condition_colours`). Learning time
     as in :func:`neurocur.analysis.stats.learning_time.learning_times` (first module of each source).
+    For the paper's experiment (:func:`~neurocur.analysis.stats.report.of_the_paper`) the paper's
+    values (section 4.1.1: S-A 2–3, S-B ≈15, S-C ≈40 epochs,
+    :data:`~neurocur.analysis.paper.SYNTHETIC_CURIOUS`) are drawn over each source's bars in black
+    (gid ``"paper"``): a diamond at a value, a bar over a range.
     """
     require_learning_columns(results.episodes, results.modules, needed_by="fig_learning_time")
     times = learning_times(results, since=since)
     times = times[times["learnable"] & times["first_of_source"]]
     conditions = results.conditions
+    colours = condition_colours(conditions)
     if condition is not None:
         conditions = [condition_of(results.episodes, condition)]
     learnable = list(dict.fromkeys(s for c in conditions for s in results.spec_of(c).learnable))
@@ -216,27 +260,53 @@ def fig_learning_time(results: Results, condition: str | None = None, *, since: 
     width = 0.8 / len(conditions)
     rng = np.random.default_rng(0)  # the points' horizontal jitter only
     with style():
-        fig, axes = figure()
+        fig, axes = figure(figsize=(7.5, 4.2))
         ax = axes[0, 0]
-        palette = sns.color_palette("colorblind", len(conditions))
-        for k, (name, colour) in enumerate(zip(conditions, palette)):
+        for k, name in enumerate(conditions):
             for x, source in enumerate(learnable):
                 if (name, source) not in summary.index or not summary.loc[(name, source), "n"]:
                     continue
                 row = summary.loc[(name, source)]
                 centre = x - 0.4 + width * (k + 0.5)
-                ax.bar(centre, row["mean"], width, color=colour, alpha=0.7,
+                ax.bar(centre, row["mean"], width, color=colours[name], alpha=0.75,
                        label=None if name in ax.get_legend_handles_labels()[1] else name,
                        yerr=None if np.isnan(row["sd"]) else row["sd"], capsize=3)
                 runs = times.loc[(times["condition"] == name) & (times["source"] == source), "epochs"]
                 ax.scatter(centre + rng.uniform(-0.2, 0.2, len(runs)) * width, runs, color="0.2", s=9, zorder=3)
+        if of_the_paper(results.select(conditions)):
+            _paper_learning_times(ax, learnable)
         if times[times["condition"].isin(conditions)].empty:
             ax.text(0.5, 0.5, "no learnable source was learned", ha="center", va="center", transform=ax.transAxes)
         else:
-            ax.legend(title="condition", fontsize="small")
+            handles, labels = ax.get_legend_handles_labels()
+            order = sorted(range(len(labels)), key=lambda i: labels[i] not in conditions)  # the paper last
+            ax.legend([handles[i] for i in order], [labels[i] for i in order], title="condition", fontsize="small",
+                      loc="upper left", bbox_to_anchor=(1.02, 1.0))
         ax.set(xticks=range(len(learnable)), xticklabels=learnable, xlabel="source", ylabel="learning time (epochs)",
-               title="Learning time per source (mean ± sd over the runs that learned it; points: runs)")
-    return fig
+               title="Figure 4F. Learning time per source\n(mean ± sd over the runs that learned it; points: runs)")
+    return caption(fig, "Figure 4F (sections 4.1.1, 4.1.4)",
+                   "learning time per learnable source in epochs, mean ± sd per condition, each run a point; "
+                   "black: the paper's values (S-A 2–3, S-B ≈15, S-C ≈40 epochs)")
+
+
+def _paper_learning_times(ax, sources) -> None:
+    """The paper's learning time of each of ``sources`` (section 4.1.1) over its bars, labelled once."""
+    label = "paper (section 4.1.1)"
+    for x, source in enumerate(sources):
+        reported = paper.SYNTHETIC_CURIOUS.get(f"{source} learning time (epochs)")
+        if reported is None:
+            continue
+        low, high, _ = paper_range(reported.value)
+        beside = x + 0.46                                  # right of the source's bars
+        if high > low:
+            ax.plot([beside, beside], [low, high], color="black", lw=4, solid_capstyle="butt", gid=PAPER_GID,
+                    label=label)
+        else:
+            ax.plot([beside], [low], marker="D", ms=7, color="black", mec="white", ls="none", gid=PAPER_GID,
+                    label=label)
+        ax.annotate(f"paper {reported.value}", (beside, high), xytext=(0, 6), textcoords="offset points",
+                    ha="center", va="bottom", fontsize="small")
+        label = None
 
 
 def reward_estimates(run: pd.DataFrame, n_contexts: int, alpha: float | str) -> np.ndarray:
@@ -306,32 +376,49 @@ def fig_reward_function(
     with style():
         fig, axes = figure()
         ax = axes[0, 0]
-        palette = sns.color_palette("colorblind", n_contexts)
+        colours = source_colours(spec.context_sources)
         for c, (name, source) in enumerate(zip(spec.context_names, spec.context_sources)):
-            ax.plot(steps, estimates[:, c], drawstyle="steps-post", color=palette[c], label=f"{name} ({source})")
+            shown = spec.context_sources[:c].count(source)      # a second context of a source: dashed
+            ax.plot(steps, estimates[:, c], drawstyle="steps-post", color=colours[source],
+                    ls=("-", "--", ":", "-.")[shown % 4], label=f"{name} ({source})")
         ax.set(xlabel="global step (frames)", ylabel="estimated reward R(context)",
-               title=f"Reward function — {condition}, run {run} (eq 14, {'sample average' if alpha == SAMPLE_AVERAGE else f'α={alpha:g}'})")
+               title=f"Figure 4G. Reward function — {condition}, run {run} "
+                     f"(eq 14, {'sample average' if alpha == SAMPLE_AVERAGE else f'α={alpha:g}'})")
         if symlog:
             symlog_axis(ax, _progress_linthresh(table))
         ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0))
-    return fig
+    return caption(fig, "Figure 4G (section 4.1.4)",
+                   f"{condition}, run {run}: the reward estimated for each context (eq 14) over the run, "
+                   "coloured by the context's source")
 
 
-def fig_order_counts(results: Results, *, wrap: int = 4) -> Figure:
+def fig_order_counts(results: Results, *, wrap: int = 4, marks: Mapping[str, Mapping[int, float]] | None = None,
+                     note: str | None = None) -> Figure:
     """Which source was stored 1st/2nd/3rd, counted over runs (runs without any module count
-    as "none"); the count axis is in whole runs.
+    as "none"); the count axis is in whole runs. Each source in its colour
+    (:func:`~neurocur.analysis.figures.style.source_colours`), "none" white with an outline.
 
     One panel per condition, laid out by the swept parameters of a sweep
     (:func:`~neurocur.analysis.stats.sweeps.sweep_points`): a row per base condition, a column per
     sweep point (in the order of the swept values); without a sweep, the conditions in rows of
-    at most ``wrap`` panels."""
+    at most ``wrap`` panels. For the paper's experiment
+    (:func:`~neurocur.analysis.stats.report.of_the_paper`) each panel marks the paper's counts of
+    its curious agent (section 4.1.4: S-A first 25/25, S-B second 18/25, S-C third 18/25), scaled
+    to the panel's runs, with black diamonds (gid ``"paper"``) on their bars; ``marks`` gives other
+    shares to mark (``{source or "none": {position: share of runs}}``) and ``note`` says what they are."""
     require_order_columns(results.episodes, results.modules, needed_by="fig_order_counts")
     counts = position_counts(results)
     grid = panel_grid(results.episodes, sorted(counts["condition"].unique()), wrap)
     sources = list(dict.fromkeys(counts["source"]))
+    colours = {**source_colours([s for s in sources if s != "none"]), "none": "white"}
+    if marks is None:
+        marks = _paper_positions(results) if of_the_paper(results) else {}
+        note = ("Module order (section 4.1.4). ◆ the paper's curious agent: S-A first 25/25, S-B second 18/25, "
+                "S-C third 18/25; exact order 18/25 (implied)") if marks else None
+    width = 0.8 / len(sources)
     nrows, ncols = len(grid), max(len(row) for row in grid)
     with style():
-        fig, axes = figure(nrows, ncols, figsize=(3.6 * ncols + 1.4, 3.2 * nrows), sharey=True)
+        fig, axes = figure(nrows, ncols, figsize=(3.6 * ncols + 2.2, 3.2 * nrows + 0.4), sharey=True)
         for i, row in enumerate(grid):
             for j in range(ncols):
                 ax = axes[i, j]
@@ -339,15 +426,44 @@ def fig_order_counts(results: Results, *, wrap: int = 4) -> Figure:
                     ax.set_visible(False)
                     continue
                 table = counts[counts["condition"] == row[j]]
-                sns.barplot(data=table, x="position", y="k", hue="source", hue_order=sources, ax=ax,
-                            palette="colorblind", legend=(i, j) == (0, len(grid[0]) - 1))
+                n = int(table["n"].iloc[0])
+                for k, source in enumerate(sources):
+                    part = table[table["source"] == source]
+                    x = part["position"].to_numpy() - 0.4 + width * (k + 0.5)
+                    ax.bar(x, part["k"].to_numpy(), width, color=colours[source], edgecolor="0.3", lw=0.6,
+                           label=source)
+                    for position, share in marks.get(source, {}).items():
+                        ax.plot([position - 0.4 + width * (k + 0.5)], [share * n], marker="D", ms=7, color="black",
+                                mec="white", ls="none", gid=PAPER_GID, label="paper's count, scaled to n")
                 ax.yaxis.set_major_locator(MaxNLocator(integer=True))
-                ax.set(xlabel="storage position", ylabel="runs", title=f"{row[j]} (n={int(table['n'].iloc[0])})")
-        legend = axes[0, len(grid[0]) - 1].get_legend()
-        if legend is not None:
-            legend.set_bbox_to_anchor((1.0, 1.0))
-            legend.set_loc("upper left")
-    return fig
+                ax.set(xticks=sorted(table["position"].unique()), xlabel="storage position", ylabel="runs",
+                       title=f"{row[j]} (n={n})")
+        handles, labels = axes[0, 0].get_legend_handles_labels()
+        unique = dict(zip(labels, handles))
+        axes[0, len(grid[0]) - 1].legend(unique.values(), unique.keys(), title="source", loc="upper left",
+                                         bbox_to_anchor=(1.02, 1.0), fontsize="small")
+        if note:
+            fig.suptitle(note, fontsize="medium")
+    what = "which source each run stored first, second, third, per condition"
+    if not marks:
+        return caption(fig, "none", what)
+    return caption(fig, "none: section 4.1.4's counts (S-A first 25/25, S-B second 18/25, S-C third 18/25)",
+                   f"{what}; diamonds: the paper's counts scaled to the runs")
+
+
+def _paper_positions(results: Results) -> dict[str, dict[int, float]]:
+    """The paper's share of runs storing each source at each position (section 4.1.4), by source:
+    {"S-A": {1: 1.0}, "S-B": {2: 0.72}, "S-C": {3: 0.72}}, read from the order table's rows
+    "<source> <ordinal>" of :data:`~neurocur.analysis.paper.SYNTHETIC_CURIOUS`."""
+    marks: dict[str, dict[int, float]] = {}
+    for k, source in enumerate(results.spec.learnable):
+        for label, reported in paper.SYNTHETIC_CURIOUS.items():
+            if label.startswith(f"{source} ") and label.split(" ", 1)[1] in _ORDINAL_WORDS[k:k + 1]:
+                marks.setdefault(source, {})[k + 1] = paper_range(reported.value)[0]
+    return marks
+
+
+_ORDINAL_WORDS = ("first", "second", "third", "fourth", "fifth", "sixth", "seventh", "eighth")
 
 
 def fig_neuromodulators(
@@ -360,8 +476,11 @@ def fig_neuromodulators(
 ) -> Figure:
     """DA, NE tonic, NE phasic and ε per episode for one run, module storage marked.
 
-    Stacked panels sharing the step axis; each has one trace plus a dashed vertical line
-    (gid ``"module_learned"``) at every module storage. The ε panel is drawn only when the
+    Stacked panels sharing the step axis; each has the episodes as light dots, one line (their
+    running median over :data:`TRACE_WINDOW` episodes: the NE signals jump between levels from
+    one episode to the next, and a line through every episode is a dense hatching), in the
+    condition's colour, plus a dashed vertical line (gid ``"module_learned"``) at every module
+    storage. The ε panel is drawn only when the
     table has an ``epsilon`` column (the epsilon-greedy LC records it; other LC models need
     not), so there are three or four panels. DA is drawn on a symlog axis (linear within
     ``±da_linthresh``, default the 90th percentile of |DA| on unfamiliar episodes) so the
@@ -380,20 +499,26 @@ def fig_neuromodulators(
     panels = [("da", "DA (intrinsic reward)"), ("ne_tonic", "NE tonic"), ("ne_phasic", "NE phasic")]
     if "epsilon" in table:
         panels.append(("epsilon", "ε"))
+    colour = condition_colours(sorted(episodes["condition"].unique()))[condition]
     with style():
         fig, axes = figure(len(panels), 1, figsize=(8.0, 1.75 * len(panels)), sharex=True)
-        palette = sns.color_palette("deep", len(panels))
-        for ax, color, (column, label) in zip(axes[:, 0], palette, panels):
-            ax.plot(steps, table[column].to_numpy(dtype=float), color=color, lw=0.8)
+        for ax, (column, label) in zip(axes[:, 0], panels):
+            values = table[column].to_numpy(dtype=float)
+            ax.scatter(steps, values, s=2, color=colour, alpha=0.25, lw=0, rasterized=True)
+            ax.plot(steps, pd.Series(values).rolling(TRACE_WINDOW, center=True, min_periods=1).median().to_numpy(),
+                    color=colour, lw=1.2)
             for x in events:
                 ax.axvline(x, color="0.3", ls="--", lw=0.8, gid=EVENT_GID)
             ax.set_ylabel(label)
-            values = table[column].to_numpy(dtype=float)
             if column != "da" and np.nanmin(values, initial=0.0) >= 0.0 and np.nanmax(values, initial=0.0) <= 1.0:
                 ax.set_ylim(-0.05, 1.05)
             if captions and column in captions:
                 ax.set_title(f"{label}: {captions[column]}", loc="left", fontsize="small")
         symlog_axis(axes[0, 0], da_linthresh)
-        fig.suptitle(f"Neuromodulators — {condition}, run {run} (dashed: module stored)")
+        fig.suptitle(f"Neuromodulators — {condition}, run {run}\n(dots: episodes; line: running median over "
+                     f"{TRACE_WINDOW} episodes; dashed: module stored)", fontsize="medium")
         axes[-1, 0].set_xlabel("global step (frames)")
-    return fig
+        axes[-1, 0].xaxis.set_major_formatter(KILO_FRAMES)
+    return caption(fig, "none: the model's neuromodulators (the paper has no figure of them)",
+                   f"{condition}, run {run}: DA, NE tonic, NE phasic (and ε) per episode with their running median, "
+                   "module storage marked")

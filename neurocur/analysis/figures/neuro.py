@@ -38,7 +38,7 @@ from neurocur.analysis.stats.report import family_note
 from neurocur.analysis.stats.significance import TESTS
 from neurocur.contract import require_columns
 
-from .style import figure, style
+from .style import caption, condition_colours, figure, style
 
 __all__ = ["fig_inverted_u", "fig_occupancy", "fig_over_time", "fig_event_locked", "fig_tonic_phasic",
            "fig_efficiency"]
@@ -201,6 +201,7 @@ def fig_efficiency(table: pd.DataFrame, tests: pd.DataFrame, a: str, b: str) -> 
     pairs = table[table["condition"].isin([a, b])].pivot(index="run", columns="condition")
     pairs = pairs.dropna(subset=[("frames_to_learn_all_censored", a), ("frames_to_learn_all_censored", b)])
     horizon = table["horizon"].iloc[0]
+    colours = condition_colours(sorted(table["condition"].unique()))
     with style():
         fig, axes = figure(1, 2, figsize=(9.0, 4.2))
         for ax, metric, label in ((axes[0, 0], "frames_to_learn_all_censored", "frames to learn all learnable sources"),
@@ -211,7 +212,7 @@ def fig_efficiency(table: pd.DataFrame, tests: pd.DataFrame, a: str, b: str) -> 
                 values = pairs[(metric, condition)].to_numpy(dtype=float)
                 done = pairs[("learned_all", condition)].astype(bool).to_numpy() if metric != "frames_unlearnable" \
                     else np.ones(len(values), dtype=bool)
-                colour = f"C{k}"
+                colour = colours[condition]
                 ax.scatter(np.full(done.sum(), k), values[done], color=colour, zorder=2, s=24)
                 ax.scatter(np.full((~done).sum(), k), values[~done], facecolors="none", edgecolors=colour, zorder=2,
                            s=24)
@@ -224,4 +225,6 @@ def fig_efficiency(table: pd.DataFrame, tests: pd.DataFrame, a: str, b: str) -> 
             else:
                 note = f"not tested ({b}'s runs repeat another condition's)"
             ax.set(xticks=[0, 1], xticklabels=[a, b], xlim=(-0.4, 1.4), ylabel=label, title=f"{label}\n{note}")
-    return fig
+    return caption(fig, "none: section 4.3's claim (random exploration learns nothing), tested",
+                   f"{a} against {b} paired by run: frames to learn every learnable source and frames in the "
+                   "unlearnable contexts, with the order table's adjusted p-values")

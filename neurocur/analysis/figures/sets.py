@@ -10,21 +10,28 @@ a third-party package adds one through the ``neurocur.figure_sets`` entry-point 
 
 :func:`write_all` picks the set of the folder's world type (the conditions' ``world.type``
 in ``config.toml``): a folder whose conditions all have one registered world type gets that
-type's set, any other folder the :class:`StandardFigures` (paper Figures 4D–G).
+type's set, any other folder the :class:`StandardFigures` (paper Figures 4D–G). Beside the PNG
+files it writes ``index.csv``: per file the paper figure it reproduces and what it shows, read from
+the very figures it saved (:func:`~neurocur.analysis.figures.style.caption_of`), so the index names
+every PNG written and only those.
 """
 
 from __future__ import annotations
 
+from dataclasses import asdict
 from pathlib import Path
 
 import pandas as pd
 from matplotlib.figure import Figure
 
+from neurocur.analysis.io import order_tables
 from neurocur.analysis.results import Results
 from neurocur.analysis.stats.efficiency import censoring_horizon, efficiency_per_run
 from neurocur.analysis.stats.order import sweep_columns
 from neurocur.analysis.stats.report import paired_tests, reference_group
+from neurocur.regions.hpc import HPCROC
 from neurocur.registry import Registry
+from neurocur.results.safeio import atomic_text
 
 from .learning import (
     fig_cumulative_error,
@@ -35,10 +42,16 @@ from .learning import (
     fig_reward_function,
 )
 from .neuro import fig_efficiency
-from .style import save_figures
+from .style import caption_of, save_figures
 from .sweeps import fig_sweep_efficiency
 
-__all__ = ["FIGURE_SETS", "FigureSet", "StandardFigures", "figure_set", "write_all"]
+__all__ = ["FIGURE_SETS", "INDEX", "FigureSet", "StandardFigures", "figure_set", "write_figures", "write_all"]
+
+#: The file ``write_all`` writes beside the figures: one row per PNG (file, paper_figure, what_it_shows).
+INDEX = "index.csv"
+#: What the synthetic world's figure set does not draw, and how to get it.
+FIGURE_5 = ("Figure 5 (invariance, section 4.1.5) is drawn by its own run, not from a results folder: "
+            "neurocur invariance invariance --out DIR")
 
 #: The figure set of each world type.
 FIGURE_SETS = Registry("figure set", "neurocur.figure_sets")
@@ -59,6 +72,10 @@ class FigureSet:
     def report(self, results: Results) -> str:
         return ""
 
+    def notes(self, results: Results) -> list[str]:
+        """Lines to print after the figures: a paper figure this set does not draw and how to get it."""
+        return []
+
 
 @FIGURE_SETS.register("synthetic")
 class StandardFigures(FigureSet):
@@ -74,8 +91,10 @@ class StandardFigures(FigureSet):
     def draw(self, results: Results) -> dict[str, Figure]:
         episodes = results.episodes
         figures = {"order_counts": fig_order_counts(results), "learning_time": fig_learning_time(results)}
+        thresholds = results.region_param(HPCROC, "threshold")
         for condition in results.conditions:
-            figures[f"cumulative_error_{condition}"] = fig_cumulative_error(episodes, condition)
+            figures[f"cumulative_error_{condition}"] = fig_cumulative_error(
+                episodes, condition, spec=results.spec_of(condition), threshold=thresholds.get(condition))
             figures[f"intrinsic_reward_{condition}"] = fig_intrinsic_reward(episodes, condition)
             figures[f"reward_function_{condition}"] = fig_reward_function(results, condition=condition)
             figures[f"neuromodulators_{condition}"] = fig_neuromodulators(episodes, condition=condition,
@@ -91,6 +110,16 @@ class StandardFigures(FigureSet):
                                                    control)
         return figures
 
+    def tables(self, results: Results) -> dict[str, pd.DataFrame]:
+        """A sweep's order table as ``neurocur run`` prints it (:func:`~neurocur.analysis.io.order_tables`,
+        wide: a row per statistic, a column per condition and sweep point)."""
+        if not sweep_columns(results.episodes):
+            return {}
+        return {"order_table": order_tables(results.path, tables=(results.episodes, results.modules)).reset_index()}
+
+    def notes(self, results: Results) -> list[str]:
+        return [FIGURE_5] if results.world_types == {"synthetic"} else []
+
 
 def figure_set(results: Results) -> FigureSet:
     """The figure set of ``results``' world type (:class:`StandardFigures` unless one is registered)."""
@@ -100,16 +129,32 @@ def figure_set(results: Results) -> FigureSet:
     return StandardFigures()
 
 
-def write_all(results_dir: str | Path, out_dir: str | Path | None = None, *, dpi: int = 120) -> list[Path]:
+def write_figures(results_dir: str | Path, out_dir: str | Path | None = None, *,
+                  dpi: int = 120) -> tuple[list[Path], list[str]]:
     """Draw every figure of a results folder (its world type's :class:`FigureSet`) and save them
-    as PNG in ``out_dir`` (default ``results_dir/figures``), and the tables they show as CSV
-    (:meth:`FigureSet.tables`). Returns the written paths."""
+    as PNG in ``out_dir`` (default ``results_dir/figures``), the tables they show as CSV
+    (:meth:`FigureSet.tables`) and :data:`INDEX`: a row per PNG saved, its ``file``, the
+    ``paper_figure`` it reproduces and ``what_it_shows`` (the caption each figure carries,
+    :func:`~neurocur.analysis.figures.style.caption_of`). Returns the written paths and the set's
+    :meth:`~FigureSet.notes`."""
     results = Results.load(results_dir)
     out = Path(results_dir) / "figures" if out_dir is None else Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     figures = figure_set(results)
     written = []
     for name, table in figures.tables(results).items():
-        table.to_csv(out / f"{name}.csv", index=False)
+        atomic_text(out / f"{name}.csv", table.to_csv(index=False))
         written.append(out / f"{name}.csv")
-    return written + save_figures(figures.draw(results), out, dpi)
+    drawn = figures.draw(results)
+    pngs = save_figures(drawn, out, dpi)
+    index = pd.DataFrame([{"file": path.name, **asdict(caption_of(fig))} for path, fig in zip(pngs, drawn.values())],
+                         columns=["file", "paper_figure", "what_it_shows"])
+    atomic_text(out / INDEX, index.to_csv(index=False))
+    written.append(out / INDEX)
+    return written + pngs, figures.notes(results)
+
+
+def write_all(results_dir: str | Path, out_dir: str | Path | None = None, *, dpi: int = 120) -> list[Path]:
+    """:func:`write_figures`' written paths: every figure of a results folder as PNG, the tables they
+    show as CSV and :data:`INDEX`."""
+    return write_figures(results_dir, out_dir, dpi=dpi)[0]

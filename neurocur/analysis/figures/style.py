@@ -9,13 +9,23 @@ Each figure function of :mod:`neurocur.analysis` draws on a :func:`figure` insid
 
 A :func:`figure` is a :class:`matplotlib.figure.Figure` on its own Agg canvas: no pyplot
 state, no window, nothing to close. :func:`save_figure` writes one as PNG, :func:`save_figures` a batch.
+
+**Colours.** A colour means one thing in every figure: a source (:func:`source_colours`: S-A blue,
+S-B orange, S-C green, the unlearnable S-D grey; Okabe & Ito 2008's colour-blind-safe set) or a
+condition (:func:`condition_colours`: curious wine, random switching near-black, literal purple;
+dark hues none of the sources uses), never both.
+
+**Captions.** :func:`caption` records on a figure the paper figure it reproduces and what it
+shows; :func:`save_figures` writes them into the PNG's metadata and
+:func:`~neurocur.analysis.figures.sets.write_all` into ``index.csv``.
 """
 
 from __future__ import annotations
 
 import io
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterable, Iterator, Mapping
 from contextlib import contextmanager
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -25,7 +35,59 @@ from matplotlib.figure import Figure
 
 from ...results.safeio import atomic_bytes
 
-__all__ = ["style", "figure", "save_figure", "save_figures"]
+__all__ = ["SOURCE_COLOURS", "CONDITION_COLOURS", "source_colours", "condition_colours", "Caption", "caption",
+           "caption_of", "style", "figure", "save_figure", "save_figures"]
+
+#: The colour of each source of the paper's synthetic world (section 4.1), in every figure.
+SOURCE_COLOURS = {"S-A": "#0072b2", "S-B": "#e69f00", "S-C": "#009e73", "S-D": "#999999"}
+#: The colours of any other source, given in the order of the world's sources.
+_MORE_SOURCES = ("#56b4e9", "#d55e00", "#cc79a7", "#f0e442", "#8c613c")
+#: The colour of each shipped condition of the synthetic experiment, in every figure.
+CONDITION_COLOURS = {"curious": "#882255", "random_switching": "#222222", "literal": "#aa4499"}
+#: The colours of any other condition, given in the order of the folder's conditions.
+_MORE_CONDITIONS = ("#6b3e26", "#dc267f", "#332288", "#5b5b2e", "#a5466b")
+
+
+def _colours(names: Iterable[str], fixed: Mapping[str, str], more: tuple[str, ...]) -> dict[str, str]:
+    names = list(dict.fromkeys(names))
+    others = [n for n in names if n not in fixed]
+    return {n: fixed[n] if n in fixed else more[others.index(n) % len(more)] for n in names}
+
+
+def source_colours(sources: Iterable[str]) -> dict[str, str]:
+    """The colour of each of ``sources`` (a world's sources, in its order): :data:`SOURCE_COLOURS`
+    for the paper's, the others in turn from a set of their own."""
+    return _colours(sources, SOURCE_COLOURS, _MORE_SOURCES)
+
+
+def condition_colours(conditions: Iterable[str]) -> dict[str, str]:
+    """The colour of each of ``conditions`` (a folder's conditions, in its order):
+    :data:`CONDITION_COLOURS` for the shipped ones, the others in turn from dark hues no source uses."""
+    return _colours(conditions, CONDITION_COLOURS, _MORE_CONDITIONS)
+
+
+@dataclass(frozen=True)
+class Caption:
+    """What a figure file is: the ``paper_figure`` it reproduces (e.g. "Figure 4D (section 4.1.4)", or
+    "none: ..." for an analysis the paper has no figure of) and ``what_it_shows``, one sentence."""
+
+    paper_figure: str
+    what_it_shows: str
+
+
+def caption(fig: Figure, paper_figure: str, what_it_shows: str) -> Figure:
+    """Record on ``fig`` the paper figure it reproduces and what it shows (:class:`Caption`); returns ``fig``."""
+    fig.neurocur_caption = Caption(paper_figure, what_it_shows)
+    return fig
+
+
+def caption_of(fig: Figure) -> Caption:
+    """The :class:`Caption` of ``fig``; a figure drawn without one is "none" and its title."""
+    found = getattr(fig, "neurocur_caption", None)
+    if found is not None:
+        return found
+    titles = [fig.get_suptitle(), *(ax.get_title() for ax in fig.axes)]
+    return Caption("none", next((t for t in titles if t), ""))
 
 
 @contextmanager
@@ -48,9 +110,12 @@ def figure(nrows: int = 1, ncols: int = 1, *, figsize=(7.0, 4.0), **kwargs) -> t
 
 def save_figure(fig: Figure, path: str | Path, dpi: int = 120) -> Path:
     """Write ``fig`` as a PNG file at ``path``, whole (:func:`~neurocur.results.safeio.atomic_bytes`: a
-    temporary file renamed into place, no link followed)."""
+    temporary file renamed into place, no link followed), its :func:`caption_of` in the PNG's
+    ``Title`` and ``Description`` text chunks."""
     png = io.BytesIO()
-    fig.savefig(png, dpi=dpi, format="png")
+    found = caption_of(fig)
+    fig.savefig(png, dpi=dpi, format="png",
+                metadata={"Title": found.paper_figure, "Description": found.what_it_shows})
     atomic_bytes(Path(path), png.getvalue())
     return Path(path)
 

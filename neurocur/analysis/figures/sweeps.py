@@ -17,7 +17,7 @@ from neurocur.analysis.stats.sweeps import split_condition
 from neurocur.contract import require_columns
 
 from .layout import panel_grid
-from .style import figure, style
+from .style import caption, figure, style
 
 __all__ = ["SWEEP_METRICS", "sweep_matrix", "fig_sweep_efficiency"]
 
@@ -57,4 +57,6 @@ def fig_sweep_efficiency(table: pd.DataFrame) -> Figure:
                         vmin=low, vmax=high, ax=ax, cbar=False)
             ax.set(title=f"{title} ({table['run'].nunique()} runs)", xlabel="sweep point", ylabel="condition")
             ax.tick_params(axis="y", labelrotation=0)
-    return fig
+    return caption(fig, "none: a sweep of the model's parameters",
+                   "per condition and sweep point: the share of runs that learned every learnable source and the "
+                   "mean frames until then")

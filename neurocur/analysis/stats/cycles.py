@@ -34,22 +34,34 @@ from .dwell import run_keys
 __all__ = ["error_cycles", "cycle_behaviour"]
 
 
-def error_cycles(episodes: pd.DataFrame, column: str = "error", bin_frames: int = 1000) -> pd.DataFrame:
+def error_cycles(episodes: pd.DataFrame, column: str = "error", bin_frames: int = 1000, *,
+                 context_sources=None) -> pd.DataFrame:
     """The per-run mean of ``column`` in bins of ``bin_frames`` frames before each storage.
 
     One row per (run, cycle, bin) with a value. Columns: condition, run, the swept keys, cycle
     (1 = ended by the first stored module), bin (0 = the last ``bin_frames`` frames up to the
     storage, 1 the ones before, ...), frames_before (the bin's centre, in frames before
     storage), n_episodes, and ``column`` (the mean over the bin's episodes with a value).
+
+    ``context_sources`` (the source each context shows, by context index:
+    :attr:`~neurocur.contexts.base.SourceSpec.context_sources`): the error of the module being
+    learned on its own source. Only the episodes whose context shows the source of the cycle's
+    storing episode (the source the cycle's module is stored from) are kept, and a ``source``
+    column names it (after cycle); the error of the other contexts, which the agent visits
+    between, is what makes the mean over all episodes flat.
     """
     if int(bin_frames) != bin_frames or bin_frames < 1:
         raise ValueError(f"error_cycles: bin_frames must be a positive integer number of frames, got {bin_frames!r}")
-    require_columns(episodes, ["condition", "run", "episode", "step", "n_frames", "module_learned", column],
+    require_columns(episodes, ["condition", "run", "episode", "step", "n_frames", "module_learned", column,
+                               *(["context"] if context_sources is not None else [])],
                     needed_by="error_cycles")
     table = episodes.sort_values(["condition", "run", "episode"], kind="stable").reset_index(drop=True)
     keys = run_keys(table)
     end = (table["step"] + table["n_frames"]).to_numpy()
     stored = table["module_learned"].astype(bool).to_numpy()
+    sources = (None if context_sources is None
+               else np.asarray(context_sources, dtype=object)[table["context"].to_numpy(dtype=np.int64)])
+    by = ["cycle", "source"] if sources is not None else ["cycle"]
     blocks = []
     for _, rows in table.groupby(["condition", "run"], sort=True).indices.items():
         at = rows[stored[rows]]
@@ -59,14 +71,18 @@ def error_cycles(episodes: pd.DataFrame, column: str = "error", bin_frames: int 
         mine = rows[rows <= at[-1]]
         cycle = np.searchsorted(at, mine)
         before = end[at][cycle] - end[mine]
-        blocks.append(pd.DataFrame({"row": mine, "cycle": cycle + 1, "bin": before // bin_frames}))
-    columns = [*keys, "cycle", "bin", "frames_before", "n_episodes", column]
+        block = pd.DataFrame({"row": mine, "cycle": cycle + 1, "bin": before // bin_frames})
+        if sources is not None:
+            block["source"] = sources[at][cycle]
+            block = block[sources[mine] == block["source"].to_numpy()]
+        blocks.append(block)
+    columns = [*keys, *by, "bin", "frames_before", "n_episodes", column]
     if not blocks:
         return pd.DataFrame(columns=columns)
     cycles = pd.concat(blocks, ignore_index=True)
     cycles = pd.concat([table.loc[cycles["row"], [*keys, column]].reset_index(drop=True),
-                        cycles[["cycle", "bin"]]], axis=1).dropna(subset=[column])
-    out = cycles.groupby([*keys, "cycle", "bin"], sort=True)[column].agg(["size", "mean"]).reset_index()
+                        cycles[[*by, "bin"]]], axis=1).dropna(subset=[column])
+    out = cycles.groupby([*keys, *by, "bin"], sort=True)[column].agg(["size", "mean"]).reset_index()
     out = out.rename(columns={"size": "n_episodes", "mean": column})
     out["frames_before"] = (out["bin"] + 0.5) * bin_frames
     return out[columns]

@@ -31,7 +31,7 @@ from .learning_time import learning_time_summary, require_learning_columns
 from .order import condition_summary, order_counts, outcome_labels, per_run, require_order_columns
 from .significance import TESTS
 
-__all__ = ["TABLE_TESTS", "DEGENERATE_NOTE", "order_table", "comparison_rows", "family_note", "paired_tests",
+__all__ = ["TABLE_TESTS", "DEGENERATE_NOTE", "order_table", "of_the_paper", "comparison_rows", "family_note", "paired_tests",
            "reference_group", "paired_test_rows", "summary"]
 
 #: The per-run metrics whose paired test against the reference condition the order table shows.
@@ -244,7 +244,7 @@ def order_table(
     if reference is not None:
         table.update(paired_test_rows(results, reference, adjust=adjust, horizon=horizon,
                                       exclude_degenerate=exclude_degenerate).to_dict("index"))
-    papers = {"paper": paper.SYNTHETIC_CURIOUS, "paper (random)": paper.SYNTHETIC_RANDOM} if _of_the_paper(results) else {}
+    papers = {"paper": paper.SYNTHETIC_CURIOUS, "paper (random)": paper.SYNTHETIC_RANDOM} if of_the_paper(results) else {}
     out = pd.DataFrame(
         [{**{column: _paper_cell(numbers, label) for column, numbers in papers.items()}, **cells}
          for label, cells in table.items()],
@@ -253,7 +253,7 @@ def order_table(
     return out[[*papers, *conditions]]
 
 
-def _of_the_paper(results: Results) -> bool:
+def of_the_paper(results: Results) -> bool:
     """Whether ``results`` are the paper's synthetic experiment: its world, and one of
     :data:`~neurocur.analysis.paper.EXPERIMENTS` (or no recorded experiment name: tables in memory)."""
     return results.spec == SYNTHETIC and results.config.get("name") in (None, *paper.EXPERIMENTS)
