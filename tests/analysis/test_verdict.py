@@ -1,4 +1,4 @@
-"""The verdict under the order table: "differs?" and "paper reached?" on hand-made runs with known answers."""
+"""The verdict under the order table: "differs?" and "paper within CI?" on hand-made runs with known answers."""
 
 from __future__ import annotations
 
@@ -89,14 +89,14 @@ def test_ten_to_none_differs_and_reaches_the_paper(write_folder, tmp_path):
     assert (row["paper"], row["curious"], row["random_switching"]) == ("25/25", "10/10", "0/10")
     p, test = row[test_column].split(" ")
     assert test == "(McNemar)" and float(p) == pytest.approx(7 * 2 / 2 ** 10, rel=0.03)
-    assert row["differs?"] == "yes" and row["paper reached?"] == "yes"
+    assert row["differs?"] == "yes" and row["paper within CI?"] == "yes"
     assert table.loc["modules per run", "differs?"] == "yes"        # Wilcoxon: 3 against 0 in every pair
     assert table.loc["modules per run", test_column].endswith("(Wilcoxon)")
-    assert table.loc["modules per run", "paper reached?"] == "yes"  # 3 modules, the paper's 3
+    assert table.loc["modules per run", "paper within CI?"] == "yes"  # 3 modules, the paper's 3
     # exact order 10/10: its Clopper–Pearson interval [0.692, 1] holds the paper's 18/25 = 0.72
-    assert table.loc["exact S-A→S-B→S-C", "paper reached?"] == "yes"
+    assert table.loc["exact S-A→S-B→S-C", "paper within CI?"] == "yes"
     assert table.loc["S-D stored", "differs?"] == "no"              # neither stores S-D: nothing discordant
-    assert table.loc["S-D stored", "paper reached?"] == "yes"
+    assert table.loc["S-D stored", "paper within CI?"] == "yes"
 
 
 def test_few_runs_do_not_differ_and_miss_the_paper(write_folder, tmp_path):
@@ -108,7 +108,7 @@ def test_few_runs_do_not_differ_and_miss_the_paper(write_folder, tmp_path):
     table = verdict_table(results, "curious", "random_switching", n_boot=500)
     row = table.loc["S-A first"]
     assert (row["curious"], row["random_switching"]) == ("3/4", "2/4")
-    assert row["differs?"] == "no" and row["paper reached?"] == "no"
+    assert row["differs?"] == "no" and row["paper within CI?"] == "no"
     times = table.loc["S-A learning time (epochs)"]                # not tested: runs without S-A have none
     assert times["differs?"] == "—" and times[next(c for c in table.columns if " vs " in c)] == "—"
 
@@ -116,7 +116,7 @@ def test_few_runs_do_not_differ_and_miss_the_paper(write_folder, tmp_path):
 def test_verdict_table_without_the_paper_has_no_paper_column(write_folder, tmp_path):
     results = _folder(write_folder, tmp_path, [EXACT] * 3, [NONE] * 3)
     table = verdict_table(results, "curious", "random_switching", with_paper=False, n_boot=200)
-    assert "paper" not in table.columns and set(table["paper reached?"]) == {"—"}
+    assert "paper" not in table.columns and set(table["paper within CI?"]) == {"—"}
 
 
 def test_notes_state_the_rules_the_floor_and_the_conditions(write_folder, tmp_path):
@@ -136,4 +136,4 @@ def test_verdict_text_prints_table_and_notes(write_folder, tmp_path):
     assert results.conditions == ["curious", "random_switching"]
     text = verdict_text(tmp_path / "synthetic")
     assert text.startswith("verdict: curious against random_switching")
-    assert "differs?" in text and "paper reached?" in text and "curious: the curious agent" in text
+    assert "differs?" in text and "paper within CI?" in text and "curious: the curious agent" in text

@@ -10,7 +10,7 @@ number (Luciw et al. 2013, :mod:`~neurocur.analysis.paper`), and says in two wor
   exact for a yes/no outcome, Wilcoxon 1945 signed-rank for a number; paired by run,
   :func:`~neurocur.analysis.stats.comparison.compare`) has a p-value below ``alpha`` after Holm's
   (1979) adjustment over every test of the table; else "no";
-- **paper reached?** — "yes" when the paper's number lies inside the 95 % interval of the
+- **paper within CI?** — "yes" when the paper's number lies inside the 95 % interval of the
   reference's observed value: for a count ("18/25") the paper's proportion inside the
   Clopper–Pearson interval of the observed k/n (:func:`~neurocur.analysis.stats.order.clopper_pearson`),
   for a number the paper's value (or range, "2–3": overlapping it) inside the percentile
@@ -99,7 +99,7 @@ def verdict_table(results: Results, reference: str, control: str, *, alpha: floa
     number, :data:`~neurocur.analysis.paper.SYNTHETIC_CURIOUS`, when ``with_paper``), the
     observed value of ``reference`` and of ``control`` ("k/n" or mean ± sd), the test column
     (the Holm-adjusted p-value of the paired test, named in the cell: "0.062 (McNemar)"), "differs?"
-    (:func:`differs` at ``alpha``) and "paper reached?" (:func:`count_reached` or
+    (:func:`differs` at ``alpha``) and "paper within CI?" (:func:`count_reached` or
     :func:`mean_reached` at ``confidence``; "—" without a paper number). The learning times are
     not tested ("—": a run has one only for a source it learned). ``attrs["n_tests"]``: the size of
     the Holm family.
@@ -128,7 +128,7 @@ def verdict_table(results: Results, reference: str, control: str, *, alpha: floa
         p = test.p_adjusted
         cells[test_column] = "—" if math.isnan(p) else f"{p:.2g} ({_SHORT_TEST.get(test.method, test.method)})"
         cells["differs?"] = _word(differs(p, alpha))
-        cells["paper reached?"] = _word(_reached(numbers.get(label), ref_runs[test.metric], confidence, n_boot, seed))
+        cells["paper within CI?"] = _word(_reached(numbers.get(label), ref_runs[test.metric], confidence, n_boot, seed))
         rows[label] = cells
     times = learning_times(results.select([reference, control]))
     times = times[times["learnable"] & times["first_of_source"]]
@@ -138,12 +138,12 @@ def verdict_table(results: Results, reference: str, control: str, *, alpha: floa
                  for name in (reference, control)}
         mine = times.loc[(times["condition"] == reference) & (times["source"] == source), "epochs"]
         cells.update({test_column: "—", "differs?": "—",
-                      "paper reached?": _word(_reached(numbers.get(label), mine, confidence, n_boot, seed))})
+                      "paper within CI?": _word(_reached(numbers.get(label), mine, confidence, n_boot, seed))})
         rows[label] = cells
     table = pd.DataFrame.from_dict(rows, orient="index").rename_axis("outcome")
     if with_paper:
         table.insert(0, "paper", [numbers[label].cell() if label in numbers else "—" for label in table.index])
-    table = table[[*(["paper"] if with_paper else []), reference, control, test_column, "differs?", "paper reached?"]]
+    table = table[[*(["paper"] if with_paper else []), reference, control, test_column, "differs?", "paper within CI?"]]
     table.attrs["n_tests"] = n_tests
     return table
 
@@ -169,7 +169,7 @@ def verdict_notes(results: Results, reference: str, control: str, *, n_tests: in
                   confidence: float = 0.95) -> list[str]:
     """The lines printed under :func:`verdict_table`: the rule of "differs?" (the tests, Holm over
     ``n_tests``, ``alpha``; the smallest exact p-value the runs allow, 2 / 2ⁿ, Holm-adjusted, and
-    :func:`fewest_runs`), the rule of "paper reached?", and one line per condition of ``results``
+    :func:`fewest_runs`), the rule of "paper within CI?", and one line per condition of ``results``
     saying what it is (its ``description`` in ``config.toml``; "no description" when it has none)."""
     n = int(per_run(results.select([reference])).shape[0])
     floor = 2.0 / 2.0 ** n if n else math.nan
@@ -180,7 +180,7 @@ def verdict_notes(results: Results, reference: str, control: str, *, n_tests: in
         f"the table's {n_tests} tests; yes when p < {alpha:g}. With {n} paired runs an exact test's p is at least "
         f"{floor:.2g}, Holm-adjusted at least {min(1.0, n_tests * floor):.2g}: a yes needs {fewest_runs(n_tests, alpha)} "
         f"or more runs.",
-        f"paper reached?: yes when the paper's number lies inside the {level} interval of the observed value of "
+        f"paper within CI?: yes when the paper's number lies inside the {level} interval of the observed value of "
         f"{reference}: Clopper–Pearson for a count, the percentile bootstrap of the mean over runs for a number "
         f"(a range such as 2–3: when they overlap).",
     ]
