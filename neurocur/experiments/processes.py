@@ -25,11 +25,13 @@ _THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "N
 
 
 @contextmanager
-def single_threaded_children():
+def single_threaded_children(extra: dict[str, str] | None = None):
     """Processes started in the block (local workers, a Dask LocalCluster's) inherit
-    single-threaded BLAS/numba settings; the environment is restored afterwards."""
-    saved = {k: os.environ.get(k) for k in _THREAD_VARS}
-    os.environ.update({k: "1" for k in _THREAD_VARS})
+    single-threaded BLAS/numba settings, and the variables ``extra``; the environment is restored
+    afterwards."""
+    values = {**dict.fromkeys(_THREAD_VARS, "1"), **(extra or {})}
+    saved = {k: os.environ.get(k) for k in values}
+    os.environ.update(values)
     try:
         yield
     finally:
@@ -77,8 +79,9 @@ def start_fork_server() -> None:
     process does meanwhile; the pool's first worker would otherwise wait for them. A no-op when it
     runs already or the platform has no fork server."""
     if isinstance(fork_context(), multiprocessing.context.ForkServerContext):
-        os.environ.setdefault(COMPILING_ANNOUNCER, str(os.getpid()))  # this process says "compiling kernels" for the server
-        with single_threaded_children(), ctrl_c_held():
+        # this process says "compiling kernels" for the server (its own environment is left as it was)
+        announcer = {COMPILING_ANNOUNCER: os.environ.get(COMPILING_ANNOUNCER, str(os.getpid()))}
+        with single_threaded_children(announcer), ctrl_c_held():
             multiprocessing.forkserver.ensure_running()
 
 

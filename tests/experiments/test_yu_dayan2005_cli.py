@@ -19,7 +19,9 @@ def test_run_prints_and_writes_the_tasks_statistics(tmp_path, capsys):
     assert rc == 0 and f"results: {out}" in printed
     assert "Yu & Dayan 2005" in printed and "S-A first" not in printed and "modules per run" not in printed
     figures = out / "figures"
-    assert {p.name for p in figures.iterdir()} == {"validation.png", "validation.csv", "validation_by_validity.csv"}
+    assert {p.name for p in figures.iterdir()} == {"validation.png", "validation.csv", "validation_by_validity.csv",
+                                                   "index.csv"}
+    assert pd.read_csv(figures / "index.csv")["file"].tolist() == ["validation.png"]
     table = pd.read_csv(figures / "validation.csv")
     expected = posner_per_run(Results.load(out).episodes)
     assert list(table["condition"]) == ["control", "control", "ne_depleted", "ne_depleted"]  # the file's order
