@@ -27,7 +27,7 @@ What a row shows (``observation``):
   bound some environments give an unbounded dimension, as gymnasium's CartPole did before 1.0), is
   replaced by the declared ``observation_range = [low, high]``, and values outside the bounds
   are clipped to [0, 1]; an environment with such a dimension and no ``observation_range`` is
-  refused. A fixed scaling, not a running one, so that a frame's value means the same
+  refused. A dimension whose two bounds are equal (a constant) is 0. A fixed scaling, not a running one, so that a frame's value means the same
   observation from a run's first step to its last. No ``render_mode`` is passed; frames are
   (1, size) rows and ``frame_shape`` is not used. Every environment must have observations of
   one size; a non-finite observation is an error.
@@ -86,7 +86,7 @@ class VectorScale:
 
     ``space``: the environment's observation space (flattenable); ``declared``: the
     ``(low, high)`` of its unbounded dimensions, or None. ``where``, ``env``: the parameter
-    class and the environment id, for the errors (ValueError, or ConfigError naming
+    class and the environment id, named by the errors (ValueError, or ConfigError naming
     ``observation_range``).
     """
 
@@ -95,7 +95,7 @@ class VectorScale:
             raise ValueError(f"gymnasium environment {env!r}: observation = 'vector' needs an observation space that "
                              f"flattens to a vector (Box, Discrete, MultiDiscrete, MultiBinary, Dict or Tuple of them); "
                              f"got {space}")
-        self.space = space
+        self.space, self.env = space, env
         flat = gymnasium.spaces.flatten_space(space)
         low, high = flat.low.astype(np.float64).ravel(), flat.high.astype(np.float64).ravel()
         open_low, open_high = ~(np.abs(low) < UNBOUNDED), ~(np.abs(high) < UNBOUNDED)
@@ -104,22 +104,22 @@ class VectorScale:
                 raise ConfigError(where, "observation_range", f"[low, high] for the {int((open_low | open_high).sum())} "
                                   f"unbounded dimension(s) of the observation of {env!r} (of {low.size})", "none")
             low, high = np.where(open_low, declared[0], low), np.where(open_high, declared[1], high)
-            if not (high > low).all():
+            if not (high > low)[open_low | open_high].all():
                 raise ConfigError(where, "observation_range", f"a range whose low is below every finite upper bound "
                                   f"and whose high is above every finite lower bound of {env!r}'s observation",
                                   describe(list(declared)))
-        self.low, self.span = low, high - low
+        self.low, self.span = low, np.where(high > low, high - low, np.inf)  # a constant dimension: 0 throughout
 
     @property
     def size(self) -> int:
         """The number of values of a flattened observation."""
         return self.low.size
 
-    def __call__(self, observation, env: str) -> np.ndarray:
-        """``observation`` flattened and scaled to [0, 1]; ValueError naming ``env`` if it is not finite."""
+    def __call__(self, observation) -> np.ndarray:
+        """``observation`` flattened and scaled to [0, 1]; a ValueError if it is not finite."""
         x = np.asarray(gymnasium.spaces.flatten(self.space, observation), dtype=np.float64).ravel()
         if not np.isfinite(x).all():
-            raise ValueError(f"gymnasium environment {env!r} returned a non-finite observation: {x.tolist()}")
+            raise ValueError(f"gymnasium environment {self.env!r} returned a non-finite observation: {x.tolist()}")
         return np.clip((x - self.low) / self.span, 0.0, 1.0)
 
 
@@ -333,6 +333,6 @@ class GymWorld(World):
             if self._scales is None:
                 frames[t] = to_frame(env.render(), self.frame_shape)
             else:
-                frames[t] = self._scales[context](self._observations[context], self.source_names[context])
+                frames[t] = self._scales[context](self._observations[context])
             states[t] = min(self._steps[context], self.n_states - 1)
         return Episode(frames=frames, states=states, context=context, starts=np.array(starts, dtype=np.int64))

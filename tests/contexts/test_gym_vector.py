@@ -140,14 +140,17 @@ def test_float32s_largest_value_counts_as_unbounded():
     space = gymnasium.spaces.Box(np.array([-1.0, -big, 0.0], dtype=np.float32), np.array([1.0, big, np.inf], dtype=np.float32))
     scale = VectorScale(space, (-4.0, 4.0), where="GymParams", env="a")
     obs = np.array([0.5, 1.0, 6.0], dtype=np.float32)
-    np.testing.assert_allclose(scale(obs, "a"), [0.75, 5.0 / 8.0, 1.0])  # a finite low is kept: (6 - 0) / (4 - 0), clipped
-    np.testing.assert_allclose(scale(np.array([-1.0, -8.0, 2.0], dtype=np.float32), "a"), [0.0, 0.0, 0.5])
+    np.testing.assert_allclose(scale(obs), [0.75, 5.0 / 8.0, 1.0])  # a finite low is kept: (6 - 0) / (4 - 0), clipped
+    np.testing.assert_allclose(scale(np.array([-1.0, -8.0, 2.0], dtype=np.float32)), [0.0, 0.0, 0.5])
     with pytest.raises(ValueError, match=r"'a' returned a non-finite observation: \[0.5, nan, 1.0\]"):
-        scale(np.array([0.5, np.nan, 1.0], dtype=np.float32), "a")
+        scale(np.array([0.5, np.nan, 1.0], dtype=np.float32))
     with pytest.raises(ConfigError, match=r"key 'observation_range': expected a range whose low is below every finite"):
         VectorScale(space, (-4.0, -1.0), where="GymParams", env="a")  # the third dimension: [0, -1]
+    constant = VectorScale(gymnasium.spaces.Box(np.array([0.0, 2.0]), np.array([1.0, 2.0]), dtype=np.float64), None,
+                           where="GymParams", env="c")
+    np.testing.assert_array_equal(constant(np.array([0.25, 2.0])), [0.25, 0.0])
     onehot = VectorScale(gymnasium.spaces.Discrete(3), None, where="GymParams", env="d")
-    np.testing.assert_array_equal(onehot(2, "d"), [0.0, 0.0, 1.0])
+    np.testing.assert_array_equal(onehot(2), [0.0, 0.0, 1.0])
 
 
 def test_a_gymnasium_env_as_vectors_scales_infinite_bounds_by_the_declared_range():
@@ -212,3 +215,19 @@ def test_an_experiment_file_of_a_vector_world_runs_and_writes_results(tmp_path, 
     episodes = pd.read_parquet(out / "runs" / "default" / "run-000" / "episodes.parquet")
     assert episodes["n_frames"].sum() >= 500 and set(episodes["context"]) <= {0, 1}
     assert (out / "summary.json").is_file()
+
+
+@pytest.mark.parametrize("imports, message", [
+    ('["gym vector"]', "walks.toml: key 'world.imports[0]': expected a module name (dotted Python identifiers, "
+                       "e.g. 'neurogym'), got 'gym vector' (str)"),
+    ('["no_such_module_x"]', "condition 'default': GymParams: key 'imports[0]': expected a module that imports "
+                             "(installed, or on PYTHONPATH), got 'no_such_module_x', whose import raised "
+                             "ModuleNotFoundError: No module named 'no_such_module_x'"),
+])
+def test_an_experiment_file_whose_module_does_not_import_exits_2_with_one_line(imports, message, tmp_path, capsys):
+    path, out = tmp_path / "walks.toml", tmp_path / "out"
+    path.write_text(EXPERIMENT.replace(f'imports = ["{MODULE}"]', f"imports = {imports}"))
+    rc = main(["run", str(path), "--runs", "1", "--steps", "300", "--jobs", "1", "--out", str(out), "--no-progress"])
+    err = capsys.readouterr().err
+    assert rc == 2 and err.splitlines() == [f"neurocur run: error: {message}".replace("walks.toml", str(path))]
+    assert not (out / "runs").exists()
