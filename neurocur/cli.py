@@ -15,8 +15,10 @@ import argparse
 import gc
 import os
 import re
+import shutil
 import signal
 import sys
+import textwrap
 import threading
 from pathlib import Path
 from typing import NoReturn
@@ -41,6 +43,58 @@ Running again into the same results folder resumes: finished runs are kept. One 
 time writes into a results folder; resuming refuses changed input files and (unless
 --accept-code-change) changed code. Ctrl-C finishes the runs in progress; twice abandons them.
 """
+
+
+#: the widest a help text gets, on a terminal however wide
+HELP_WIDTH = 100
+
+
+class _HelpFormatter(argparse.RawDescriptionHelpFormatter):
+    """Help that fits :data:`HELP_WIDTH` columns, or the terminal when it is narrower.
+
+    Descriptions and epilogs keep their lines (the examples' layout) where they fit. A paragraph
+    of prose (unindented lines) with a line too long is filled again; a too long indented line
+    is wrapped at spaces: an example command (``neurocur ...``) into shell continuation lines
+    ending in ``\\``, a line with a column (an example and its comment, two spaces or more apart)
+    under that column, any other line under its own indentation.
+    """
+
+    def __init__(self, prog: str, **kwargs) -> None:
+        kwargs.setdefault("width", min(shutil.get_terminal_size().columns, HELP_WIDTH) - 2)
+        super().__init__(prog, **kwargs)
+
+    def _fill_text(self, text: str, width: int, indent: str) -> str:
+        lines = [indent + line for line in text.splitlines()]
+        out: list[str] = []
+        while lines:
+            line = lines.pop(0)
+            if not line[:1].isspace() and line.strip():  # prose: the paragraph of the following unindented lines
+                paragraph = [line]
+                while lines and lines[0].strip() and not lines[0][:1].isspace():
+                    paragraph.append(lines.pop(0))
+                fits = max(len(part) for part in paragraph) <= width
+                out += paragraph if fits else textwrap.wrap(" ".join(paragraph), width, break_long_words=False,
+                                                            break_on_hyphens=False)
+            else:
+                out += _wrap(line, width)
+        return "".join(line + "\n" for line in out)
+
+
+def _wrap(line: str, width: int) -> list[str]:
+    """The indented ``line`` wrapped to ``width`` columns as :class:`_HelpFormatter` says."""
+    if len(line) <= width:
+        return [line]
+    lead = line[: len(line) - len(line.lstrip())]
+    column = re.match(r"\s*\S.*?\S {2,}(?=\S)", line)
+    if line.lstrip().startswith("neurocur ") and column is None:
+        parts = textwrap.wrap(line, width - 2, subsequent_indent=lead + "    ", break_long_words=False,
+                              break_on_hyphens=False)
+        return [part + " \\" for part in parts[:-1]] + parts[-1:]
+    for hang in ([" " * column.end()] if column is not None else []) + [lead]:  # a word too long for the column
+        parts = textwrap.wrap(line, width, subsequent_indent=hang, break_long_words=False, break_on_hyphens=False)
+        if max(len(part) for part in parts) <= width:
+            break
+    return parts
 
 
 def _int_at_least(low: int, expected: str):
@@ -84,7 +138,7 @@ def build_parser() -> argparse.ArgumentParser:
         description="Curiosity-driven modular incremental slow feature analysis (CD-MISFA): "
         "run experiments, draw their figures, measure learning cost.",
         epilog=EPILOG,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
+        formatter_class=_HelpFormatter,
     )
     from neurocur import __version__
 
@@ -170,6 +224,14 @@ def build_parser() -> argparse.ArgumentParser:
     from neurocur.fit.cli import add_parsers as add_fit_parsers
 
     add_fit_parsers(sub)  # fit, recover
+    completion = sub.add_parser(
+        "completion", help="print the shell completion script (bash or zsh)",
+        description="Print the completion script of the neurocur command for the shell (made by shtab).",
+        epilog="examples:\n  neurocur completion bash > ~/.local/share/bash-completion/completions/neurocur\n"
+        "  neurocur completion zsh > ~/.zfunc/_neurocur      (a folder of your fpath)\n")
+    completion.add_argument("shell", choices=("bash", "zsh"), help="the shell")
+    for subparser in sub.choices.values():  # every subcommand's help fits HELP_WIDTH, the fit layer's too
+        subparser.formatter_class = _HelpFormatter
     return parser
 
 
@@ -293,6 +355,19 @@ def _cmd_list(args) -> int:
     return 0
 
 
+def _cmd_completion(args) -> int:
+    import shtab
+
+    parser = build_parser()
+    for action in (a for p in [parser, *parser._subparsers._group_actions[0].choices.values()] for a in p._actions):
+        if action.metavar in ("EXPERIMENT", "EXP", "FILE", "FILE.npy", "DATA"):
+            action.complete = shtab.FILE
+        elif action.metavar in ("DIR", "RESULTS_DIR"):
+            action.complete = shtab.DIRECTORY
+    print(shtab.complete(parser, shell=args.shell))
+    return 0
+
+
 def _check_writable_folder(path: Path, option: str) -> None:
     """ValueError unless ``path`` is a folder this process can write into, or can be created as one."""
     if path.exists() and not path.is_dir():
@@ -312,7 +387,8 @@ def main(argv=None) -> int:
     from neurocur.fit.cli import COMMANDS as FIT_COMMANDS
 
     command = {"run": _cmd_run, "figures": _cmd_figures, "omega": _cmd_omega,
-               "invariance": _cmd_invariance, "list": _cmd_list, **FIT_COMMANDS}[args.command]
+               "invariance": _cmd_invariance, "list": _cmd_list, "completion": _cmd_completion,
+               **FIT_COMMANDS}[args.command]
     try:
         return command(args)
     except (ValueError, OSError) as exc:  # ConfigError is a ValueError; OSError: a file that cannot be read or written

@@ -1,16 +1,36 @@
-"""Any rendering ``gymnasium.Env`` as a world (the other way, any world as an env, is :mod:`.env`).
+"""Any ``gymnasium.Env`` as a world (the other way, any world as an env, is :mod:`.env`).
 
 :class:`GymWorld` (world type ``"gym"``) makes CD-MISFA contexts of gymnasium
-environments that render ``rgb_array`` frames: context ``i`` is environment ``envs[i]``
-(optionally reset with a fixed seed or fixed options every time), run by an exploration
-policy (uniform random actions by default). A visit runs ``visit_length`` steps of that
-environment, continuing its episode where the previous visit left it and resetting it
-when it terminates or is truncated; every reset inside a visit is a segment start
-(``Episode.starts``), so no temporal derivative spans two episodes. Each row is the
-environment's rendered state, converted to gray (ITU-R BT.601 luma), resized to
-``frame_shape`` (:func:`to_frame`) and scaled to [0, 1]. The context-state of a row is
-its step within the environment's episode (0 at a reset), capped at ``n_states - 1``.
-A context's source is its environment id: the analysis has no ground truth for them.
+environments: context ``i`` is environment ``envs[i]`` (optionally reset with a fixed seed
+or fixed options every time), run by an exploration policy (uniform random actions by
+default). A visit runs ``visit_length`` steps of that environment, continuing its episode
+where the previous visit left it and resetting it when it terminates or is truncated; every
+reset inside a visit is a segment start (``Episode.starts``), so no temporal derivative spans
+two episodes. The context-state of a row is its step within the environment's episode (0 at
+a reset), capped at ``n_states - 1``. A context's source is its environment id as written:
+the analysis has no ground truth for them.
+
+An id may come from any package that registers gymnasium environments when imported: name
+the package in ``imports`` (``imports = ["neurogym"]``) or prefix the id with it as gymnasium
+does (``"neurogym:PerceptualDecisionMaking-v0"``). The modules are imported when the world is
+built, never when its parameters are read (:mod:`.gym_ids`).
+
+What a row shows (``observation``):
+
+* ``"render"`` (the default): the environment's ``rgb_array`` render, converted to gray
+  (ITU-R BT.601 luma), resized to ``frame_shape`` (:func:`to_frame`) and scaled to [0, 1];
+  environments are made with ``render_mode="rgb_array"``.
+* ``"vector"``: the observation itself, flattened (``gymnasium.spaces.flatten``: a ``Box``
+  row-major, a ``Discrete`` one-hot, a ``Dict`` or ``Tuple`` joined) and scaled to [0, 1] per
+  dimension by the bounds of the flattened observation space, ``(x - low) / (high - low)``
+  (:class:`VectorScale`). A bound that is infinite, or at least float32's largest value (the
+  bound some environments give an unbounded dimension, as gymnasium's CartPole did before 1.0), is
+  replaced by the declared ``observation_range = [low, high]``, and values outside the bounds
+  are clipped to [0, 1]; an environment with such a dimension and no ``observation_range`` is
+  refused. A dimension whose two bounds are equal (a constant) is 0. A fixed scaling, not a running one, so that a frame's value means the same
+  observation from a run's first step to its last. No ``render_mode`` is passed; frames are
+  (1, size) rows and ``frame_shape`` is not used. Every environment must have observations of
+  one size; a non-finite observation is an error.
 
 Per run (:meth:`GymWorld.reset`), the world's generator draws for each context in order
 the seed of its environment's first reset and the seed of its action space; after the
@@ -26,14 +46,18 @@ from dataclasses import dataclass
 
 import gymnasium
 import numpy as np
+from gymnasium.envs.registration import load_env_creator
 
 from ..config import ConfigError, ParamSpec, check_params, describe, extra, param, spec_param
 from .base import Episode, World, register_world
+from .gym_ids import check_ids, import_ids
 from .rewards import Rewards, check_rewards, rewards_param
 
-__all__ = ["GymParams", "GymWorld", "random_policy", "to_frame"]
+__all__ = ["GymParams", "GymWorld", "VectorScale", "random_policy", "to_frame"]
 
 _LUMA = np.array([0.299, 0.587, 0.114])
+#: a bound at least this large in magnitude stands for "unbounded" (float32's largest value)
+UNBOUNDED = float(np.finfo(np.float32).max)
 
 
 def to_frame(rgb: np.ndarray, shape: Sequence[int]) -> np.ndarray:
@@ -57,6 +81,48 @@ def to_frame(rgb: np.ndarray, shape: Sequence[int]) -> np.ndarray:
     return np.clip((img @ _LUMA).ravel() / 255.0, 0.0, 1.0)
 
 
+class VectorScale:
+    """The scaling of a vector observation to [0, 1] (module docstring: ``observation = "vector"``).
+
+    ``space``: the environment's observation space (flattenable); ``declared``: the
+    ``(low, high)`` of its unbounded dimensions, or None. ``where``, ``env``: the parameter
+    class and the environment id, named by the errors (ValueError, or ConfigError naming
+    ``observation_range``).
+    """
+
+    def __init__(self, space: gymnasium.spaces.Space, declared: Sequence[float] | None, *, where: str, env: str):
+        if not space.is_np_flattenable:
+            raise ValueError(f"gymnasium environment {env!r}: observation = 'vector' needs an observation space that "
+                             f"flattens to a vector (Box, Discrete, MultiDiscrete, MultiBinary, Dict or Tuple of them); "
+                             f"got {space}")
+        self.space, self.env = space, env
+        flat = gymnasium.spaces.flatten_space(space)
+        low, high = flat.low.astype(np.float64).ravel(), flat.high.astype(np.float64).ravel()
+        open_low, open_high = ~(np.abs(low) < UNBOUNDED), ~(np.abs(high) < UNBOUNDED)
+        if (open_low | open_high).any():
+            if declared is None:
+                raise ConfigError(where, "observation_range", f"[low, high] for the {int((open_low | open_high).sum())} "
+                                  f"unbounded dimension(s) of the observation of {env!r} (of {low.size})", "none")
+            low, high = np.where(open_low, declared[0], low), np.where(open_high, declared[1], high)
+            if not (high > low)[open_low | open_high].all():
+                raise ConfigError(where, "observation_range", f"a range whose low is below every finite upper bound "
+                                  f"and whose high is above every finite lower bound of {env!r}'s observation",
+                                  describe(list(declared)))
+        self.low, self.span = low, np.where(high > low, high - low, np.inf)  # a constant dimension: 0 throughout
+
+    @property
+    def size(self) -> int:
+        """The number of values of a flattened observation."""
+        return self.low.size
+
+    def __call__(self, observation) -> np.ndarray:
+        """``observation`` flattened and scaled to [0, 1]; a ValueError if it is not finite."""
+        x = np.asarray(gymnasium.spaces.flatten(self.space, observation), dtype=np.float64).ravel()
+        if not np.isfinite(x).all():
+            raise ValueError(f"gymnasium environment {self.env!r} returned a non-finite observation: {x.tolist()}")
+        return np.clip((x - self.low) / self.span, 0.0, 1.0)
+
+
 def random_policy(env: gymnasium.Env, observation) -> object:
     """The default exploration policy: a uniform random action from the env's (seeded) action space."""
     return env.action_space.sample()
@@ -70,6 +136,7 @@ def _draws_with_pygame(env_id: str) -> bool:
 
 _ID = ParamSpec(str)
 _IDS = ParamSpec.sequence(_ID, min_length=1)
+_OBSERVATIONS = ("render", "vector")
 
 
 @dataclass(frozen=True)
@@ -78,16 +145,26 @@ class GymParams:
 
     The per-context lists (``context_names``, ``reset_seeds``, ``reset_options``, ``rewards``:
     :mod:`.rewards`) have one item per environment of ``envs``; every id must be registered
-    with gymnasium.
+    with gymnasium, now or once the modules of ``imports`` and of the ids' ``module:`` prefixes
+    are imported (when the world is built: :mod:`.gym_ids`).
     """
 
     envs: tuple[str, ...] = spec_param(("CartPole-v1", "Pendulum-v1", "Acrobot-v1"), _IDS,
-                                       doc="the gymnasium environment id of each context")
+                                       doc="the gymnasium environment id of each context ('module:id': import module "
+                                       "first)")
+    imports: tuple[str, ...] | None = spec_param(
+        None, ParamSpec.sequence(_ID, min_length=1, optional=True),
+        doc="modules to import when the world is built, whose import registers environment ids (e.g. neurogym)")
     context_names: tuple[str, ...] | None = spec_param(
         None, ParamSpec.sequence(_ID, min_length=1, optional=True), doc="distinct names; default the ids")
     visit_length: int = param(100, int, low=1, doc="frames (environment steps) per visit")
     frame_shape: tuple[int, int] = spec_param((20, 20), ParamSpec.sequence(ParamSpec(int, low=1), length=2),
-                                              doc="(height, width) in pixels")
+                                              doc="(height, width) in pixels of a rendered frame")
+    observation: str = param("render", str, choices=_OBSERVATIONS,
+                             doc="what a frame shows: the rgb_array render, or the observation vector")
+    observation_range: tuple[float, float] | None = spec_param(
+        None, ParamSpec.sequence(ParamSpec(float), length=2, optional=True),
+        doc="observation = 'vector': the [low, high] that scales a dimension whose space bound is unbounded")
     n_states: int = param(20, int, low=1, doc="context-states: the step in the environment's episode, capped")
     max_episode_steps: int | None = param(None, int, low=1, optional=True,
                                           doc="time limit of the environments' episodes; default each one's own")
@@ -102,10 +179,14 @@ class GymParams:
     def __post_init__(self):
         check_params(self)
         where, n = type(self).__name__, len(self.envs)
-        for i, env_id in enumerate(self.envs):
-            if env_id not in gymnasium.registry:
-                raise ConfigError(where, f"envs[{i}]", "a registered gymnasium environment id (e.g. 'CartPole-v1')",
-                                  describe(env_id))
+        check_ids(self.envs, self.imports, where)
+        if self.observation_range is not None:
+            if self.observation != "vector":
+                raise ConfigError(where, "observation_range", "no range unless observation = 'vector'",
+                                  describe(list(self.observation_range)))
+            if not self.observation_range[0] < self.observation_range[1]:
+                raise ConfigError(where, "observation_range", "[low, high] with low < high",
+                                  describe(list(self.observation_range)))
         for key in ("context_names", "reset_seeds", "reset_options"):
             value = getattr(self, key)
             if value is not None and len(value) != n:
@@ -132,8 +213,9 @@ class GymWorld(World):
     Parameters as :class:`GymParams` (or ``params=``), plus ``policy``, a function
     ``(env, observation) -> action`` (default :func:`random_policy`; the world seeds each
     environment's action space per run, so a policy drawing from it is reproducible).
-    Environments are made with ``render_mode="rgb_array"``; one that cannot render so is
-    an error. Frames, context-states and seeding: the module docstring.
+    With ``observation="render"`` environments are made with ``render_mode="rgb_array"``;
+    one that cannot render so is an error. Building the world imports the modules its
+    parameters name. Frames, context-states and seeding: the module docstring.
     """
 
     Params = GymParams
@@ -142,9 +224,12 @@ class GymWorld(World):
         self,
         envs: Sequence[str] = GymParams.envs,
         *,
+        imports: Sequence[str] | None = None,
         context_names: Sequence[str] | None = None,
         visit_length: int = 100,
         frame_shape: Sequence[int] = (20, 20),
+        observation: str = "render",
+        observation_range: Sequence[float] | None = None,
         n_states: int = 20,
         max_episode_steps: int | None = None,
         reset_seeds: Sequence[int] | None = None,
@@ -154,27 +239,35 @@ class GymWorld(World):
         params: GymParams | None = None,
     ) -> None:
         if params is None:
-            params = GymParams(envs=envs, context_names=context_names, visit_length=visit_length,
-                               frame_shape=frame_shape, n_states=n_states, max_episode_steps=max_episode_steps,
-                               reset_seeds=reset_seeds, reset_options=reset_options, rewards=rewards)
+            params = GymParams(envs=envs, imports=imports, context_names=context_names, visit_length=visit_length,
+                               frame_shape=frame_shape, observation=observation, observation_range=observation_range,
+                               n_states=n_states, max_episode_steps=max_episode_steps, reset_seeds=reset_seeds,
+                               reset_options=reset_options, rewards=rewards)
         p = self.params = params
         self.rewards = Rewards.of(p.rewards)
         self.context_names = p.context_names or _default_names(p.envs)
         self.source_names = p.envs
-        self.n_states, self.frame_shape = p.n_states, p.frame_shape
+        self.n_states = p.n_states
         self.visit_length = self.max_frames = p.visit_length
         self.policy = policy
-        if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
-            os.environ.setdefault("SDL_VIDEODRIVER", "dummy")  # headless: pygame renders off screen, quietly
-        if any(_draws_with_pygame(env_id) for env_id in p.envs):
-            with extra("gym", "a gym world of gymnasium's own environments"):
-                import pygame  # noqa: F401
-        self.envs = [gymnasium.make(env_id, render_mode="rgb_array", max_episode_steps=p.max_episode_steps)
-                     for env_id in p.envs]
-        for env_id, env in zip(p.envs, self.envs):
-            if env.render_mode != "rgb_array":
-                self.close()
-                raise ValueError(f"gymnasium environment {env_id!r} cannot render rgb_array frames")
+        ids = import_ids(p.envs, p.imports, type(p).__name__)
+        self.envs: list[gymnasium.Env] = []
+        try:
+            if p.observation == "render":
+                self.frame_shape, self._scales = p.frame_shape, None
+                self._make_rendering(ids)
+            else:
+                self.envs = [gymnasium.make(env_id, max_episode_steps=p.max_episode_steps) for env_id in ids]
+                self._scales = [VectorScale(env.observation_space, p.observation_range, where=type(p).__name__,
+                                            env=name) for env, name in zip(self.envs, p.envs)]
+                sizes = {name: scale.size for name, scale in zip(p.envs, self._scales)}
+                if len(set(sizes.values())) > 1:
+                    raise ValueError(f"observation = 'vector' needs observations of one size in every environment; "
+                                     f"got sizes {sizes}")
+                self.frame_shape = (1, self._scales[0].size)
+        except BaseException:
+            self.close()
+            raise
         n = self.n_contexts
         self._fixed_seeds = [s if s >= 0 else None for s in p.reset_seeds] if p.reset_seeds else [None] * n
         self._options = [dict(o) or None for o in p.reset_options] if p.reset_options else [None] * n
@@ -182,6 +275,28 @@ class GymWorld(World):
         self._observations: list = [None] * n
         self._steps = [0] * n
         self._ended = [True] * n
+
+    def _make_rendering(self, ids: Sequence[str]) -> None:
+        """Make the environments of ``ids`` with ``render_mode="rgb_array"`` (into :attr:`envs`)."""
+        p = self.params
+        for i, env_id in enumerate(ids):
+            entry = gymnasium.spec(env_id).entry_point
+            metadata = getattr(load_env_creator(entry) if isinstance(entry, str) else entry, "metadata", None)
+            modes = metadata.get("render_modes", []) if isinstance(metadata, dict) else None  # none declared: none
+            if isinstance(modes, (list, tuple)) and "rgb_array" not in modes:
+                raise ConfigError(type(p).__name__, f"envs[{i}]", "an environment that renders rgb_array frames "
+                                  f"(its render modes: {list(modes)}); for its observation vectors, "
+                                  "observation = 'vector'", describe(p.envs[i]))
+        if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
+            os.environ.setdefault("SDL_VIDEODRIVER", "dummy")  # headless: pygame renders off screen, quietly
+        if any(_draws_with_pygame(env_id) for env_id in ids):
+            with extra("gym", "a gym world of gymnasium's own environments"):
+                import pygame  # noqa: F401
+        for env_id in ids:
+            self.envs.append(gymnasium.make(env_id, render_mode="rgb_array", max_episode_steps=p.max_episode_steps))
+        for name, env in zip(p.envs, self.envs):
+            if env.render_mode != "rgb_array":
+                raise ValueError(f"gymnasium environment {name!r} cannot render rgb_array frames")
 
     def close(self) -> None:
         """Close every environment."""
@@ -215,6 +330,9 @@ class GymWorld(World):
                 self._observations[context], _, terminated, truncated, _ = env.step(action)
                 self._steps[context] += 1
                 self._ended[context] = terminated or truncated
-            frames[t] = to_frame(env.render(), self.frame_shape)
+            if self._scales is None:
+                frames[t] = to_frame(env.render(), self.frame_shape)
+            else:
+                frames[t] = self._scales[context](self._observations[context])
             states[t] = min(self._steps[context], self.n_states - 1)
         return Episode(frames=frames, states=states, context=context, starts=np.array(starts, dtype=np.int64))

@@ -7,7 +7,8 @@ disengages and explores, and returns to the phasic mode when utility rises again
 frames are the synthetic world's (:mod:`.synthetic`: each context shows a source through
 a random mixing); block k of ``block_visits`` consecutive visits (counted over every
 context, from the run's start) pays ``blocks[k][c]`` for a visit of context c; after the
-last block, the last block's rewards go on.
+last block, the last block's rewards go on. Without ``blocks``, one block pays 1.0 for a visit
+of each context (so that the world builds from its defaults, whatever its contexts).
 """
 
 from __future__ import annotations
@@ -29,8 +30,9 @@ _BLOCK = ParamSpec.sequence(ParamSpec(float), min_length=1)
 class RewardBlocksParams(SyntheticParams):
     """:class:`~.synthetic.SyntheticParams` and the blocks' rewards (``[world]``, ``type = "reward_blocks"``)."""
 
-    blocks: tuple = spec_param(((1.0,),), ParamSpec.sequence(_BLOCK, min_length=1),
-                               doc="per block, the reward of a visit of each context (reward units)")
+    blocks: tuple | None = spec_param(None, ParamSpec.sequence(_BLOCK, min_length=1, optional=True),
+                                      doc="per block, the reward of a visit of each context (reward units); "
+                                      "default one block paying 1.0 for each context")
     block_visits: int = param(500, int, low=1, doc="visits per block (over every context)")
 
     def __post_init__(self):
@@ -38,6 +40,8 @@ class RewardBlocksParams(SyntheticParams):
         where, n = type(self).__name__, len(self.contexts)
         if self.rewards is not None:
             raise ConfigError(where, "rewards", "no rewards table (the blocks set the rewards)", "a rewards table")
+        if self.blocks is None:
+            object.__setattr__(self, "blocks", ((1.0,) * n,))
         for k, block in enumerate(self.blocks):
             if len(block) != n:
                 raise ConfigError(where, f"blocks[{k}]", f"{n} rewards (one per context)", describe(list(block)))

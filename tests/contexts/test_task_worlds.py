@@ -1,6 +1,7 @@
 """The worlds of the canonical tasks (docs/validation.md): vigilance trials, conditioning trials and
 rewards that change by blocks of visits; their frames, their draws and their one-line errors."""
 
+import gymnasium
 import numpy as np
 import pytest
 from gymnasium.utils.env_checker import check_env
@@ -49,6 +50,20 @@ def test_reward_blocks_pay_by_visits_over_every_context():
     assert rewards == [1.0, 0.2, 1.0, 0.0, 0.5, 0.0, 0.5]  # the last block goes on
     world.reset(seed=0, context=1)  # the first visit is the block's first
     assert world.visits(1, 4).reward == pytest.approx(0.2 * 2 + 0.5 * 2)  # four visits that span two blocks
+
+
+def test_reward_blocks_default_to_one_block_paying_one_per_context():
+    """Without ``blocks`` every visit of every context pays 1.0 (one block), whatever the contexts."""
+    for table in ({"type": "reward_blocks"}, {"type": "reward_blocks", "contexts": ["S-A", "S-B", "S-C"]}):
+        world = build_world({**table, "visit_length": 5, "frame_shape": [3, 3], "block_visits": 2})
+        n = world.n_contexts
+        assert world.params.blocks == ((1.0,) * n,)
+        first, _ = world.reset(seed=0, context=0)
+        assert [first.reward] + [world.step(c % n)[0].reward for c in range(7)] == [1.0] * 8
+    env = gymnasium.make("neurocur/RewardBlocks-v0")  # every parameter its default: the paper's five contexts
+    assert env.unwrapped.world.params.blocks == ((1.0,) * 5,)
+    _, info = env.reset(seed=1)
+    assert env.step(3)[1] == 1.0
 
 
 @pytest.mark.parametrize("table, match", [
