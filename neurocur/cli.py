@@ -202,7 +202,15 @@ def _cmd_run(args) -> int:
     from neurocur.analysis import narrow, order_tables
 
     print(f"results: {out}")
-    print(narrow(order_tables(out, conditions=list(exp.conditions), tables=tables)))
+    from neurocur.analysis.figures.sets import task_report
+
+    report = task_report(out, tables=tables)
+    if report is not None:  # a canonical task: its own statistics, not the module-learning summary
+        from neurocur.analysis.stats.validation import over_runs_text
+
+        print(over_runs_text(report))
+    else:
+        print(narrow(order_tables(out, conditions=list(exp.conditions), tables=tables)))
     return 0
 
 

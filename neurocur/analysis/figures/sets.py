@@ -38,7 +38,7 @@ from .neuro import fig_efficiency
 from .style import save_figures
 from .sweeps import fig_sweep_efficiency
 
-__all__ = ["FIGURE_SETS", "FigureSet", "StandardFigures", "figure_set", "write_all"]
+__all__ = ["FIGURE_SETS", "FigureSet", "StandardFigures", "figure_set", "task_report", "write_all"]
 
 #: The figure set of each world type.
 FIGURE_SETS = Registry("figure set", "neurocur.figure_sets")
@@ -53,6 +53,13 @@ class FigureSet:
 
     def tables(self, results: Results) -> dict[str, pd.DataFrame]:
         return {}
+
+    def report(self, results: Results) -> pd.DataFrame | None:
+        """The task's own statistics over runs, condition by condition, for a world whose task is not
+        module learning (a canonical task: :func:`~neurocur.analysis.stats.validation.over_runs`):
+        ``neurocur run`` prints it in place of the module-learning summary, and :func:`write_all`
+        writes it as ``statistics.csv``. None by default: the folder's summary is the module-learning one."""
+        return None
 
 
 @FIGURE_SETS.register("synthetic")
@@ -95,16 +102,26 @@ def figure_set(results: Results) -> FigureSet:
     return StandardFigures()
 
 
+def task_report(results_dir: str | Path, *, tables: tuple[pd.DataFrame, pd.DataFrame] | None = None
+                ) -> pd.DataFrame | None:
+    """:meth:`FigureSet.report` of a results folder's figure set (None for a module-learning
+    world); ``tables``: the folder's ``(episodes, modules)`` when already loaded."""
+    results = Results.load(results_dir, tables=tables)
+    return figure_set(results).report(results)
+
+
 def write_all(results_dir: str | Path, out_dir: str | Path | None = None, *, dpi: int = 120) -> list[Path]:
     """Draw every figure of a results folder (its world type's :class:`FigureSet`) and save them
     as PNG in ``out_dir`` (default ``results_dir/figures``), and the tables they show as CSV
-    (:meth:`FigureSet.tables`). Returns the written paths."""
+    (:meth:`FigureSet.tables`), with the task's statistics over runs as ``statistics.csv`` when
+    the set has them (:meth:`FigureSet.report`). Returns the written paths."""
     results = Results.load(results_dir)
     out = Path(results_dir) / "figures" if out_dir is None else Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     figures = figure_set(results)
     written = []
-    for name, table in figures.tables(results).items():
+    report = figures.report(results)
+    for name, table in {**figures.tables(results), **({} if report is None else {"statistics": report})}.items():
         table.to_csv(out / f"{name}.csv", index=False)
         written.append(out / f"{name}.csv")
     return written + save_figures(figures.draw(results), out, dpi)
