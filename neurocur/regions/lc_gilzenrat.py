@@ -157,7 +157,7 @@ def simulate(p: GilzenratParams, inputs: np.ndarray, noise: np.ndarray, state: n
     """Integrate ``len(inputs)`` steps from ``state`` (default :func:`initial_state`) with the input
     rows (I_1, I_2) and the noise increments ``noise`` (T, 3); returns the trace (T, 9), the state
     (:data:`STATE`) after each step, and the final state. ``drug``: a function applied to each
-    released gain (the NE) before the units read it."""
+    released gain (the NE) before the units read it; a gain it would make negative is released as 0."""
     s = initial_state(p) if state is None else np.array(state, dtype=float)
     inputs, noise = np.ascontiguousarray(inputs, dtype=float), np.ascontiguousarray(noise, dtype=float)
     trace = np.empty((len(inputs), len(STATE)))
@@ -167,7 +167,7 @@ def simulate(p: GilzenratParams, inputs: np.ndarray, noise: np.ndarray, state: n
     else:
         for t in range(len(inputs)):
             u = decision_lc_step(s, inputs[t, 0], inputs[t, 1], noise[t, 0], noise[t, 1], vec)
-            response_step(s, drug(p.gain_base + p.gain_scale * u), noise[t, 2], vec)
+            response_step(s, max(0.0, drug(p.gain_base + p.gain_scale * u)), noise[t, 2], vec)
             trace[t] = s
     return trace, s
 

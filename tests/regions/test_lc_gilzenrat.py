@@ -13,7 +13,7 @@ from neurocur.config import ConfigError
 from neurocur.contexts.base import Episode
 from neurocur.contexts.vigilance import VigilanceWorld
 from neurocur.regions.lc_gilzenrat import STATE, GilzenratLC, GilzenratParams, initial_state, simulate
-from neurocur.regions.pharmacology import Clamp
+from neurocur.regions.pharmacology import Clamp, Scale
 
 
 def _episode(target: bool, length=300, onset=100, duration=100) -> Episode:
@@ -65,6 +65,14 @@ def test_a_clamped_gain_is_what_every_unit_reads():
                                rtol=0, atol=1e-14)
     np.testing.assert_allclose(t[1:, STATE.index("f1")], 1 / (1 + np.exp(-2.0 * t[1:, STATE.index("x1")])),
                                rtol=0, atol=1e-14)
+
+
+def test_a_drug_never_releases_a_negative_gain():
+    lc = _region(noise=0.0)
+    lc.drugs = (Clamp(level=-1.0), Scale(factor=2.0))
+    lc.step(_episode(True))
+    assert np.all(lc.trace[:, STATE.index("gain")] == 0.0)
+    np.testing.assert_allclose(lc.trace[:, STATE.index("f3")], 0.5, rtol=0, atol=1e-15)  # logistic at gain 0
 
 
 @pytest.mark.parametrize("mode", [0.95, 0.55])
