@@ -244,24 +244,20 @@ def _cmd_run(args) -> int:
 
     exp = load_experiment(args.experiment, sets=args.sets, runs=args.runs, steps=args.steps, seed=args.seed)
     out = Path(args.out) if args.out else Path("results") / exp.name
-    tables, report = None, ""
+    tables = None
 
     def summarise(folder: Path) -> None:  # under the folder's lock, once the runs are done
         from neurocur.analysis import write_summary
         from neurocur.results import ResultsStore
 
-        nonlocal tables, report
+        nonlocal tables
         tables = ResultsStore(folder).load()
         write_summary(folder, tables=tables)
         if any(condition.world_class.figures_after_run for condition in exp.conditions.values()):
             from neurocur.analysis.figures import write_all  # a small task's figures (docs/validation.md)
-            from neurocur.analysis.figures.sets import figure_set
-            from neurocur.analysis.results import Results
 
             for path in write_all(folder):
                 print(path)
-            results = Results.load(folder)
-            report = figure_set(results).report(results)  # the task's own statistics, if it has them
 
     run_experiment(exp, out, conditions=args.condition, progress=args.progress, max_memory=args.max_memory,
                    accept_code_change=args.accept_code_change, executor=executor, finish=summarise,
@@ -269,8 +265,13 @@ def _cmd_run(args) -> int:
     from neurocur.analysis import narrow, order_tables, verdict_text
 
     print(f"results: {out}")
-    if report:  # a task of its own (a figure set's report): its statistics, not the module-learning summary
-        print(report)
+    from neurocur.analysis.figures.sets import task_report
+
+    report = task_report(out, tables=tables)
+    if report is not None:  # a canonical task: its own statistics, not the module-learning summary
+        from neurocur.analysis.stats.validation import over_runs_text
+
+        print(over_runs_text(report))
     else:
         print(narrow(order_tables(out, conditions=list(exp.conditions), tables=tables)))
         print(verdict_text(out, conditions=list(exp.conditions), tables=tables))

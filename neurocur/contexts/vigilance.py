@@ -1,17 +1,17 @@
-"""A target-detection (vigilance) task for the FitzHugh-Nagumo LC (Gilzenrat et al. 2002).
+"""A target-detection (vigilance) task for the LC model of Gilzenrat et al. (2002).
 
 Not in the paper. Gilzenrat, Holmes, Rajkowski, Aston-Jones & Cohen (2002, Neural
 Networks 15:647) model the monkeys' visual discrimination (vigilance) task of Rajkowski
 et al. (1994) and Usher et al. (1999, Science 283:549): stimuli come one per trial, a
 rare target among frequent distractors; the animal responds to targets only. Here one
-visit is one trial of ``trial_length`` time steps (one frame per Euler step of the LC,
-:mod:`neurocur.regions.lc_fhn_trial`). A frame holds the input to the two pathways of
-the decision layer (:mod:`neurocur.regions.vigilance`): column 0 the target pathway,
-column 1 the distractor pathway. From ``onset`` for ``duration`` steps a target gives
-(1, ``crosstalk``) and a distractor (``crosstalk``, 1): the stimuli are similar, so each
-drives the other pathway in part; every other frame is (0, 0). The world draws each
-trial's stimulus (a target with probability ``target_probability``); the states are the
-trial's time steps. One context ("vigilance"): the task has no choice of context.
+visit is one trial of ``trial_length`` time steps (one frame per Euler step of the model,
+:mod:`neurocur.regions.lc_gilzenrat`). A frame holds the input layer of the decision
+layer: column 0 the target pathway, column 1 the distractor pathway. From ``onset`` for
+``duration`` steps a target gives (1, ``crosstalk``) and a distractor (``crosstalk``, 1);
+every other frame is (0, 0). ``crosstalk`` is 0 in ``gilzenrat2002``, whose decision layer
+has the crosstalk in its weights. The world draws each trial's stimulus (a target with
+probability ``target_probability``); the states are the trial's time steps. One context
+("vigilance"): the task has no choice of context.
 """
 
 from __future__ import annotations

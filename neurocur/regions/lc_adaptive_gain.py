@@ -5,9 +5,15 @@ Annu Rev Neurosci 28:403, section "Utility-based control of LC mode") propose th
 integrates the utility of the current task on a short and a long timescale: when both
 are high it stays in the phasic mode (high gain: exploit, stay engaged); when utility
 falls, in particular the short-term utility below the long-term one, it moves to the
-tonic mode (low gain: explore, disengage). Their combination rule,
-engagement = [1 - logistic(disengagement)] x logistic(long-term utility), is also the
-PRODUCT operation of PsyNeuLink's DualAdaptiveIntegrator (the AGTControlMechanism).
+tonic mode (low gain: explore, disengage). Their combination,
+engagement = [1 - logistic(disengagement)] x logistic(long-term utility), is read here with the
+disengagement l - s, the long-term minus the short-term utility. That is a different rule from
+PsyNeuLink's DualAdaptiveIntegrator (the function of its AGTControlMechanism, the Cohen lab's
+implementation), whose PRODUCT is [1 - logistic(g_s s - b_s)] x logistic(g_l l - b_l), the first
+factor of the short-term average alone, falling as it rises; and whose code updates each average
+as (1 - previous) x rate + previous x input (the arguments of its EWMA filter swapped), not
+previous + rate x (input - previous) (docs/validation.md, section 2;
+tests/regions/test_gilzenrat_reference.py).
 Here the utility is the dopamine the LC receives (learning progress, with VTA's boredom
 value on familiar episodes), and the gain is the inverse temperature of the softmax
 decision of :mod:`.lc_softmax`.

@@ -35,9 +35,9 @@ from .pfc import DISENGAGE, ENGAGE
 
 @dataclass(frozen=True)
 class FHNUnitParams:
-    """The FitzHugh-Nagumo unit's parameters (Gilzenrat et al. 2002), shared by the LC over an
-    episode's sub-steps (:class:`FHNLCParams`) and over a trial's time steps
-    (:class:`~neurocur.regions.lc_fhn_trial.FHNTrialParams`)."""
+    """The FitzHugh-Nagumo unit's parameters (Gilzenrat et al. 2002) of the LC over an episode's
+    sub-steps (:class:`FHNLCParams`). Gilzenrat et al.'s own model of their task, with their
+    parameters, is :mod:`.lc_gilzenrat`."""
 
     mode: float = param(1.0, float, low=0.0, high=1.0, doc="C: 1 phasic mode, lower values tonic mode")
     baseline: float = param(-0.5, float, doc="d, the recovery's level as C falls (a.u. of v)")

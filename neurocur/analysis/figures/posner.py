@@ -11,6 +11,7 @@ from matplotlib.figure import Figure
 from neurocur.analysis.results import Results
 from neurocur.analysis.stats.posner import posner_by_validity, posner_per_run, posner_summary, with_blocks
 
+from ..stats.validation import over_runs
 from .sets import FIGURE_SETS, FigureSet
 from .style import figure, style
 
@@ -92,11 +93,7 @@ class PosnerFigures(FigureSet):
         tables = self.tables(results)
         return {"validation": fig_posner(results.episodes, tables["validation_by_validity"], tables["validation"])}
 
-    def report(self, results: Results) -> str:
-        tables = self.tables(results)
-        by_validity = tables["validation_by_validity"].groupby(["condition", "validity"], sort=False)[
-            ["ach", "expected_ach", "validity_effect", "accuracy_effect", "on_cue"]].mean()
-        return ("Yu & Dayan 2005, per condition (mean over runs):\n"
-                + posner_summary(tables["validation"]).to_string(float_format=lambda v: f"{v:.3f}")
-                + "\n\nper validity, second half of the blocks (mean over runs):\n"
-                + by_validity.to_string(float_format=lambda v: f"{v:.3f}"))
+    def report(self, results: Results) -> pd.DataFrame:
+        """Each condition's per-run statistics over runs (:func:`~neurocur.analysis.stats.validation.over_runs`);
+        the per-validity table is ``validation_by_validity.csv``."""
+        return over_runs(self.tables(results)["validation"])

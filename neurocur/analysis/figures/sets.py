@@ -45,7 +45,8 @@ from .neuro import fig_efficiency
 from .style import caption_of, save_figures
 from .sweeps import fig_sweep_efficiency
 
-__all__ = ["FIGURE_SETS", "INDEX", "FigureSet", "StandardFigures", "figure_set", "write_figures", "write_all"]
+__all__ = ["FIGURE_SETS", "INDEX", "FigureSet", "StandardFigures", "figure_set", "task_report", "write_figures",
+           "write_all"]
 
 #: The file ``write_all`` writes beside the figures: one row per PNG (file, paper_figure, what_it_shows).
 INDEX = "index.csv"
@@ -69,8 +70,12 @@ class FigureSet:
     def tables(self, results: Results) -> dict[str, pd.DataFrame]:
         return {}
 
-    def report(self, results: Results) -> str:
-        return ""
+    def report(self, results: Results) -> pd.DataFrame | None:
+        """The task's own statistics over runs, condition by condition, for a world whose task is not
+        module learning (a canonical task: :func:`~neurocur.analysis.stats.validation.over_runs`):
+        ``neurocur run`` prints it in place of the module-learning summary, and :func:`write_all`
+        writes it as ``statistics.csv``. None by default: the folder's summary is the module-learning one."""
+        return None
 
     def notes(self, results: Results) -> list[str]:
         """Lines to print after the figures: a paper figure this set does not draw and how to get it."""
@@ -129,11 +134,20 @@ def figure_set(results: Results) -> FigureSet:
     return StandardFigures()
 
 
+def task_report(results_dir: str | Path, *, tables: tuple[pd.DataFrame, pd.DataFrame] | None = None
+                ) -> pd.DataFrame | None:
+    """:meth:`FigureSet.report` of a results folder's figure set (None for a module-learning
+    world); ``tables``: the folder's ``(episodes, modules)`` when already loaded."""
+    results = Results.load(results_dir, tables=tables)
+    return figure_set(results).report(results)
+
+
 def write_figures(results_dir: str | Path, out_dir: str | Path | None = None, *,
                   dpi: int = 120) -> tuple[list[Path], list[str]]:
     """Draw every figure of a results folder (its world type's :class:`FigureSet`) and save them
     as PNG in ``out_dir`` (default ``results_dir/figures``), the tables they show as CSV
-    (:meth:`FigureSet.tables`) and :data:`INDEX`: a row per PNG saved, its ``file``, the
+    (:meth:`FigureSet.tables`), the task's statistics over runs as ``statistics.csv`` when the set
+    has them (:meth:`FigureSet.report`), and :data:`INDEX`: a row per PNG saved, its ``file``, the
     ``paper_figure`` it reproduces and ``what_it_shows`` (the caption each figure carries,
     :func:`~neurocur.analysis.figures.style.caption_of`). Returns the written paths and the set's
     :meth:`~FigureSet.notes`."""
@@ -142,7 +156,8 @@ def write_figures(results_dir: str | Path, out_dir: str | Path | None = None, *,
     out.mkdir(parents=True, exist_ok=True)
     figures = figure_set(results)
     written = []
-    for name, table in figures.tables(results).items():
+    report = figures.report(results)
+    for name, table in {**figures.tables(results), **({} if report is None else {"statistics": report})}.items():
         atomic_text(out / f"{name}.csv", table.to_csv(index=False))
         written.append(out / f"{name}.csv")
     drawn = figures.draw(results)

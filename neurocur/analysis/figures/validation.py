@@ -12,7 +12,13 @@ import pandas as pd
 from matplotlib.figure import Figure
 
 from neurocur.analysis.results import Results
-from neurocur.analysis.stats.validation import blocks_per_run, conditioning_per_run, disengaged, vigilance_per_run
+from neurocur.analysis.stats.validation import (
+    blocks_per_run,
+    conditioning_per_run,
+    disengaged,
+    over_runs,
+    vigilance_per_run,
+)
 from neurocur.contexts.reward_blocks import RewardBlocksParams
 
 from .sets import FIGURE_SETS, FigureSet
@@ -34,7 +40,7 @@ def fig_vigilance(episodes: pd.DataFrame, per_run: pd.DataFrame):
             means = [per_run.loc[per_run["condition"] == c, column].mean() for c in conditions]
             axes[0, 0].bar(x + (i - 1) * 0.27, means, width=0.27, label=label)
         axes[0, 0].set_xticks(x, conditions)
-        axes[0, 0].set_ylabel("LC firing rate, clip(v, 0, 1)")
+        axes[0, 0].set_ylabel("LC activity h(v) = C v + (1 - C) d")
         axes[0, 0].set_title("LC response (Gilzenrat et al. 2002)")
         axes[0, 0].legend(fontsize=8)
         ax = axes[0, 1]
@@ -143,6 +149,9 @@ class VigilanceFigures(FigureSet):
     def draw(self, results: Results) -> dict[str, Figure]:
         return {"validation": fig_vigilance(results.episodes, self.tables(results)["validation"])}
 
+    def report(self, results: Results) -> pd.DataFrame:
+        return over_runs(self.tables(results)["validation"])
+
 
 @FIGURE_SETS.register("conditioning")
 class ConditioningFigures(FigureSet):
@@ -153,6 +162,9 @@ class ConditioningFigures(FigureSet):
 
     def draw(self, results: Results) -> dict[str, Figure]:
         return {"validation": fig_conditioning(results.episodes)}
+
+    def report(self, results: Results) -> pd.DataFrame:
+        return over_runs(self.tables(results)["validation"])
 
 
 @FIGURE_SETS.register("reward_blocks")
@@ -171,3 +183,6 @@ class RewardBlocksFigures(FigureSet):
 
     def draw(self, results: Results) -> dict[str, Figure]:
         return {"validation": fig_blocks(results.episodes, self._block_visits(results))}
+
+    def report(self, results: Results) -> pd.DataFrame:
+        return over_runs(self.tables(results)["validation"], by=("condition", "block"))

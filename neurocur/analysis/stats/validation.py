@@ -10,6 +10,8 @@
 - ``reward_blocks`` worlds (``adaptive_gain_2005``; Aston-Jones & Cohen 2005, Annu Rev Neurosci
   28:403): :func:`blocks_per_run` (per block of visits: the reward, the LC's tonic drive and
   gain, the share of disengage decisions);
+- every canonical task: :func:`over_runs`, the per-run statistics' mean, standard deviation and
+  range over runs, condition by condition (``neurocur run`` prints it; ``statistics.csv``);
 - a synthetic world with a swap (the NE-plasticity hypothesis run): :func:`relearning_per_run`
   and :func:`relearning_test`.
 """
@@ -24,7 +26,7 @@ from statsmodels.stats.multitest import multipletests
 from .bootstrap import paired_bootstrap_ci
 from .significance import mcnemar_exact, wilcoxon_signed_rank
 
-__all__ = ["d_prime", "vigilance_per_run", "conditioning_per_run", "blocks_per_run", "disengaged",
+__all__ = ["d_prime", "over_runs", "over_runs_text", "vigilance_per_run", "conditioning_per_run", "blocks_per_run", "disengaged",
            "relearning_per_run", "relearning_test"]
 
 
@@ -34,6 +36,42 @@ def d_prime(hits: int, n_targets: int, false_alarms: int, n_distractors: int) ->
     hit = (hits + 0.5) / (n_targets + 1)
     fa = (false_alarms + 0.5) / (n_distractors + 1)
     return float(norm.ppf(hit) - norm.ppf(fa))
+
+
+def over_runs(per_run: pd.DataFrame, by: tuple[str, ...] = ("condition",)) -> pd.DataFrame:
+    """The per-run table of a canonical task (one row per condition and run, and per ``by`` group
+    beyond the condition, e.g. a block) summarised over runs: one row per group and statistic (every
+    numeric column but ``run`` and ``by``), with ``runs``, ``mean``, ``sd`` (ddof 1; NaN for one
+    run), ``min`` and ``max``; NaN values (a statistic a run could not measure) are left out."""
+    by = list(by)
+    columns = [c for c in per_run.columns if c not in {"run", *by} and pd.api.types.is_numeric_dtype(per_run[c])]
+    rows = []
+    for key, group in per_run.groupby(by, sort=False):
+        key = key if isinstance(key, tuple) else (key,)
+        for column in columns:
+            values = group[column].astype(float).dropna()
+            rows.append({**dict(zip(by, key)), "statistic": column, "runs": len(values),
+                         "mean": float(values.mean()) if len(values) else np.nan,
+                         "sd": float(values.std(ddof=1)) if len(values) > 1 else np.nan,
+                         "min": float(values.min()) if len(values) else np.nan,
+                         "max": float(values.max()) if len(values) else np.nan})
+    return pd.DataFrame(rows, columns=[*by, "statistic", "runs", "mean", "sd", "min", "max"])
+
+
+def over_runs_text(table: pd.DataFrame) -> str:
+    """:func:`over_runs`'s table for the terminal: a row per statistic (and group beyond the
+    condition), a column per condition, each cell the mean and, over several runs, the range."""
+    groups = [c for c in table.columns[:table.columns.get_loc("statistic")] if c != "condition"]
+
+    def cell(row) -> str:
+        if not np.isfinite(row["mean"]):
+            return "n/a"
+        return f"{row['mean']:.3g}" + (f" ({row['min']:.3g} to {row['max']:.3g})" if row["runs"] > 1 else "")
+
+    cells = table.assign(cell=table.apply(cell, axis=1))
+    wide = cells.pivot_table(index=[*groups, "statistic"], columns="condition", values="cell", aggfunc="first",
+                             sort=False)
+    return wide[list(dict.fromkeys(table["condition"]))].to_string()
 
 
 def _runs(episodes: pd.DataFrame):
