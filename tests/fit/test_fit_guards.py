@@ -14,7 +14,7 @@ import pandas as pd
 import pytest
 
 from neurocur.cli import main
-from neurocur.experiments import load_experiment, run_experiment
+from neurocur.experiments import load_experiment
 from neurocur.fit.recovery import simulate
 
 NAMES = ("easy", "medium", "hard", "impossible")
@@ -34,15 +34,6 @@ def table():
                                    "decision": [NAMES[c] for c in episodes["next_context"]],
                                    "error": episodes["error"]}))
     return pd.concat(parts, ignore_index=True)
-
-
-@pytest.fixture(scope="module")
-def folder(tmp_path_factory):
-    """A results folder of one short free-choice run."""
-    out = tmp_path_factory.mktemp("results") / "free_choice"
-    run_experiment(load_experiment("free_choice", runs=1, steps=60), out, jobs=1, conditions=["learning_progress"],
-                   progress=False)
-    return out
 
 
 def _one_line_error(capsys, status: int, *words: str) -> str:

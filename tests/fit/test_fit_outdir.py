@@ -13,22 +13,13 @@ import pandas as pd
 import pytest
 
 from neurocur.cli import main
-from neurocur.experiments import load_experiment, run_experiment
+from neurocur.experiments import load_experiment
 from neurocur.fit.recovery import simulate
 
 FIT = ["--experiment", "free_choice", "--condition", "learning_progress", "--fit", "LC.gain",
        "--bounds", "LC.gain=0:60", "--starts", "1"]
 RECOVER = ["recover", "free_choice", "--condition", "learning_progress", "--fit", "LC.gain", "--bounds",
            "LC.gain=2:40", "--signal", "HPC=error", "--datasets", "3", "--episodes", "30", "--starts", "1"]
-
-
-@pytest.fixture(scope="module")
-def folder(tmp_path_factory):
-    """A results folder of one short free-choice run."""
-    out = tmp_path_factory.mktemp("results") / "free_choice"
-    run_experiment(load_experiment("free_choice", runs=1, steps=60), out, jobs=1, conditions=["learning_progress"],
-                   progress=False)
-    return out
 
 
 def _table(path, seed: int, n: int = 40):
