@@ -67,6 +67,15 @@ class OptionsWorld(World):
         world._recorded = (np.asarray(choices, dtype=np.int64), np.asarray(outcomes, dtype=np.float64))
         return world
 
+    @property
+    def session(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """The recorded trials this world replays, ``(choices, outcomes)`` (copies), or None for a world
+        that draws its outcomes: a model that uses the whole session (Ten et al. 2021's rescaling,
+        :mod:`neurocur.regions.ten2021`) reads it here."""
+        if self._recorded is None:
+            return None
+        return self._recorded[0].copy(), self._recorded[1].copy()
+
     def begin(self) -> None:
         """Start a run without visiting an option (the next visit is trial 0)."""
         self._trial = 0
