@@ -74,6 +74,16 @@ def _trial_table(p: argparse.ArgumentParser) -> None:
                    help="a trial table's integer choice codes start at 1 (never guessed)")
 
 
+def _hierarchical(p: argparse.ArgumentParser, what: str) -> None:
+    """The hierarchical fit's options (:mod:`neurocur.fit.hierarchical`)."""
+    p.add_argument("--hierarchical", action="store_true",
+                   help=f"{what} by empirical-Bayes EM under a group prior fitted to all data sets (Huys et al. 2011; "
+                   "at least 2 data sets)")
+    p.add_argument("--em-iterations", type=_count(1, "a number of E-steps of at least 1"), metavar="N",
+                   help="with --hierarchical: the most E-steps of the EM (default 200); a fit that has not converged "
+                   "by then is written with a warning")
+
+
 def _parser(sub, name: str, help: str, description: str, example: str) -> argparse.ArgumentParser:
     """A subcommand's parser: its one-line ``help``, its ``description`` and one example after it."""
     return sub.add_parser(name, help=help, description=description, epilog=f"example:\n  {example}\n",
@@ -94,13 +104,16 @@ def add_parsers(sub) -> None:
         "decision; or a results folder, whose runs are the data sets) through the experiment condition's "
         "circuit and fit the --fit parameters by maximum likelihood, per data set and pooled, with 95 % "
         "profile-likelihood intervals (--ci bootstrap: parametric-bootstrap intervals per data set, none for "
-        "the pooled fit, the replicates in OUT/bootstrap.csv). Writes OUT/fit.csv and OUT/summary.json.",
+        "the pooled fit, the replicates in OUT/bootstrap.csv). Writes OUT/fit.csv and OUT/summary.json. With "
+        "--hierarchical: each data set's MAP under a group prior fitted to all (fit.csv, with its Laplace "
+        "interval; no pooled row), the group's parameters (OUT/group.csv) and its iBIC (summary.json).",
         "neurocur fit results/free_choice --experiment free_choice --condition learning_progress --fit LC.gain "
         "--bounds LC.gain=0:60 --signal HPC=error --out results/fit")
     _data(fit)
     _common(fit, keys_required=False)
     _intervals(fit)
     _trial_table(fit)
+    _hierarchical(fit, "fit each data set")
     recover = _parser(
         sub, "recover",
         "parameter (and model) recovery of an experiment's circuit (docs/fitting.md)",
@@ -125,7 +138,9 @@ def add_parsers(sub) -> None:
         "Fit every --models condition to every data set of DATA (each on the --fit keys it has) and score it "
         "by AIC, BIC, the split-half held-out log-likelihood and leave-one-data-set-out cross-validation; "
         "random-effects Bayesian model selection on -BIC/2 gives each model's expected frequency and "
-        "(protected) exceedance probability. Writes OUT/compare.csv, OUT/bms.csv and OUT/comparison.png.",
+        "(protected) exceedance probability. Writes OUT/compare.csv, OUT/bms.csv and OUT/comparison.png. With "
+        "--hierarchical: every model fitted hierarchically, ranked by iBIC (OUT/hierarchical.csv), BMS on each data "
+        "set's Laplace log evidence under the model's group prior (OUT/compare.csv, OUT/bms.csv; no figure).",
         "neurocur compare choices.csv --experiment free_choice --models learning_progress random --fit "
         "learning_progress:LC.gain --bounds LC.gain=0:60 --signal HPC=error --out results/compare")
     _data(compare)
@@ -136,6 +151,7 @@ def add_parsers(sub) -> None:
     compare.add_argument("--no-loo", action="store_true",
                          help="skip the leave-one-data-set-out cross-validation (one pooled fit per data set)")
     _trial_table(compare)
+    _hierarchical(compare, "fit every model")
     sbi = _parser(
         sub, "sbi",
         "simulation-based inference (neural posterior estimation) of parameters without a likelihood "

@@ -34,6 +34,7 @@ import math
 
 import pandas as pd
 
+from ..config import ConfigError
 from .outdir import FitInterrupted, fit_output
 
 __all__ = ["COMMANDS", "parse_bounds"]
@@ -93,7 +94,10 @@ def _cmd_fit(args) -> int:
     args.keys = fit_keys(condition, args.keys)
     check_bound_keys(dict(args.bounds), args.keys)
     bounds = default_bounds(condition, args.keys, dict(args.bounds))
+    _check_hierarchical(args)
     data, found = _checked_data(args, experiment, [condition], args.decision, args.signal)
+    if args.hierarchical:
+        return _fit_hierarchical(args, experiment, condition, bounds, data, found)
     with fit_output(args.out or f"results/fit-{experiment.name}", "fit", _arguments(args),
                     inputs=[args.data]) as out:
         for line in found["lines"]:
@@ -133,6 +137,62 @@ def _cmd_fit(args) -> int:
                                            for key, v in f.estimate.items()) + f"  (log L = {f.loglik:.2f})")
     print(out.root / "fit.csv")
     return 0
+
+
+def _check_hierarchical(args, data=None) -> None:
+    """Refuse in one line what a hierarchical fit cannot honour: bootstrap intervals, a single data set
+    (``data``, once read), ``--em-iterations`` or ``--no-loo`` without it, ``--no-loo`` with it."""
+    if not args.hierarchical:
+        if args.em_iterations is not None:
+            raise ConfigError("--em-iterations", None, "--hierarchical with it (the E-steps of a hierarchical fit)",
+                              "no --hierarchical")
+        return
+    if getattr(args, "ci", "profile") == "bootstrap":
+        raise ConfigError("--hierarchical", "--ci", "profile (a hierarchical fit's intervals are its Laplace posterior's; "
+                          "a bootstrap of the group is not implemented)", "bootstrap")
+    if getattr(args, "no_loo", False):
+        raise ConfigError("--hierarchical", "--no-loo", "no --no-loo (a hierarchical comparison has no "
+                          "leave-one-data-set-out fits)", "--no-loo")
+    if data is not None and len(data) < 2:
+        raise ConfigError(args.data, None, "at least 2 data sets for --hierarchical (a group prior is fitted to "
+                          "several subjects)", f"{len(data)} data set")
+
+
+def _fit_hierarchical(args, experiment, condition, bounds, data, found) -> int:
+    """``fit --hierarchical``: fit.csv (each data set's MAP and Laplace interval), group.csv, summary.json."""
+    from .hierarchical import MAX_ITER, fit_hierarchical
+    from .models import data_summary
+    from .study import make_replays
+
+    _check_hierarchical(args, data)
+    with fit_output(args.out or f"results/fit-{experiment.name}", "fit", _arguments(args),
+                    inputs=[args.data]) as out:
+        for line in found["lines"]:
+            out.warn(line)
+        replays = make_replays(experiment, condition, data, args.keys, decision=args.decision, signal=args.signal)
+        fit = fit_hierarchical(replays, bounds, names=[r.behaviour.name for r in replays], seed=args.seed,
+                               starts=args.starts, max_iter=args.em_iterations or MAX_ITER)
+        _warn_unconverged(out, condition.name, fit)
+        out.write_csv("fit.csv", fit.subjects)
+        out.write_csv("group.csv", fit.group)
+        summary = {"experiment": experiment.name, "condition": condition.name, "fitted": list(args.keys),
+                   "bounds": {key: list(v) for key, v in bounds.items()},
+                   "intervals": "hierarchical: each data set's Laplace posterior under the fitted group prior",
+                   **fit.summary(), "warnings": list(out.manifest["warnings"]),
+                   "ignored_columns": found["ignored_columns"], "unseen_contexts": found["unseen_contexts"],
+                   **data_summary(data, columns=args.columns, one_based=args.one_based)}
+        out.write_text("summary.json", json.dumps(summary, indent=2, allow_nan=True) + "\n")
+    print(fit.group[["param", "mean", "sd", "ci_low", "ci_high"]].to_string(index=False))
+    print(f"iBIC = {fit.ibic:.2f} (Laplace {fit.ibic_laplace:.2f}), {fit.iterations} E-steps"
+          + ("" if fit.converged else ", not converged"))
+    print(out.root / "fit.csv")
+    return 0
+
+
+def _warn_unconverged(out, model: str, fit) -> None:
+    if not fit.converged:
+        out.warn(f"{model}: the hierarchical EM did not converge within {fit.iterations} E-steps (--em-iterations): "
+                 "its group parameters, MAPs and iBIC are those of the last E-step")
 
 
 def _cmd_recover(args) -> int:
@@ -221,7 +281,10 @@ def _cmd_compare(args) -> int:
     experiment, _ = condition_of(args.experiment, None)
     models, bounds_of = model_bounds(experiment, args.models, model_keys(experiment, args.models, args.keys),
                                      dict(args.bounds))
+    _check_hierarchical(args)
     data, found = _checked_data(args, experiment, list(models.values()), args.decision, args.signal)
+    if args.hierarchical:
+        return _compare_hierarchical(args, experiment, models, bounds_of, data, found)
     with fit_output(args.out or f"results/compare-{experiment.name}", "compare", _arguments(args),
                     inputs=[args.data]) as out:
         for line in found["lines"]:
@@ -234,6 +297,31 @@ def _cmd_compare(args) -> int:
         out.write_csv("bms.csv", selection)
         out.write_figure("comparison.png", comparison_figure(table, selection))
     print(totals(table, selection).round(3).to_string())
+    print(out.root)
+    return 0
+
+
+def _compare_hierarchical(args, experiment, models, bounds_of, data, found) -> int:
+    """``compare --hierarchical``: compare.csv (per data set and model), bms.csv, hierarchical.csv (per model)."""
+    from .compare import bms_table, compare_hierarchical
+    from .hierarchical import MAX_ITER
+
+    _check_hierarchical(args, data)
+    with fit_output(args.out or f"results/compare-{experiment.name}", "compare", _arguments(args),
+                    inputs=[args.data]) as out:
+        for line in found["lines"]:
+            out.warn(line)
+        table, ranked, fits = compare_hierarchical(
+            experiment, data, models, bounds_of, decision=args.decision, signal=args.signal, starts=args.starts,
+            seed=args.seed, max_iter=args.em_iterations or MAX_ITER, progress=_partial(out, "compare"))
+        for name, fit in fits.items():
+            _warn_unconverged(out, name, fit)
+        selection = bms_table(table, "log_evidence")
+        _finish(out, "compare", table)
+        out.write_csv("bms.csv", selection)
+        out.write_csv("hierarchical.csv", ranked)
+    print(ranked.join(selection.set_index("model"), on="model").sort_values("ibic", kind="stable")
+          .round(3).to_string(index=False))
     print(out.root)
     return 0
 
