@@ -82,6 +82,9 @@ def _hierarchical(p: argparse.ArgumentParser, what: str) -> None:
     p.add_argument("--em-iterations", type=_count(1, "a number of E-steps of at least 1"), metavar="N",
                    help="with --hierarchical: the most E-steps of the EM (default 200); a fit that has not converged "
                    "by then is written with a warning")
+    p.add_argument("--evidence-samples", type=_count(2, "a number of samples of at least 2"), metavar="N",
+                   help="with --hierarchical: draws from the group prior for the sampled evidence and iBIC (default "
+                   "2000; each costs a likelihood per data set)")
 
 
 def _parser(sub, name: str, help: str, description: str, example: str) -> argparse.ArgumentParser:

@@ -9,6 +9,15 @@ fits together; ``warnings`` (every warning line printed); ``ignored_columns`` (n
 the fit did not read: a signal given without ``--signal``); ``unseen_contexts`` (the world's contexts that
 no data set visits); ``not_identified`` (per fit with any, the keys the data do not identify within the
 bounds, :func:`neurocur.fit.mle.weak_keys`); then each fit's (``fits``, each with its ``not_identified``).
+With ``--hierarchical`` (:mod:`neurocur.fit.hierarchical`; at least 2 data sets, profile intervals only)
+``fit.csv`` holds each data set's MAP under the fitted group prior and its Laplace posterior's 95 % interval
+(no pooled row), ``DIR/group.csv`` the group's ``param, mean, sd, ci_low, ci_high`` on the parameters' own scale
+(then ``kind, mu, sigma, mu_se`` on the unbounded one), and ``summary.json`` the fit's
+:meth:`~neurocur.fit.hierarchical.HierarchicalFit.summary` (``ibic``, ``ibic_laplace``, ``iterations``,
+``converged``: false, and a warning, when ``--em-iterations`` stopped it) instead of the per-data-set scores;
+``compare --hierarchical`` writes ``compare.csv`` (per data set and model: ``loglik`` at the MAP, ``n_params``,
+``n_obs``, the Laplace ``log_evidence`` under the model's group prior), ``bms.csv`` (BMS on those log evidences)
+and ``hierarchical.csv`` (per model: ``ibic, laplace_ibic``, the evidences, ``iterations, converged``), no figure.
 ``recover EXPERIMENT --fit KEY ...`` writes ``recovery.csv``, ``recovery_summary.csv`` and ``recovery.png``;
 with ``--models C1 C2 ...`` also ``model_recovery.csv``, ``confusion_{aic,bic,heldout}.csv`` and
 ``confusion.png`` (while it runs, the tables so far are ``recovery.partial.csv`` and
@@ -141,11 +150,12 @@ def _cmd_fit(args) -> int:
 
 def _check_hierarchical(args, data=None) -> None:
     """Refuse in one line what a hierarchical fit cannot honour: bootstrap intervals, a single data set
-    (``data``, once read), ``--em-iterations`` or ``--no-loo`` without it, ``--no-loo`` with it."""
+    (``data``, once read), ``--no-loo``; and its options without ``--hierarchical``."""
     if not args.hierarchical:
-        if args.em_iterations is not None:
-            raise ConfigError("--em-iterations", None, "--hierarchical with it (the E-steps of a hierarchical fit)",
-                              "no --hierarchical")
+        for flag, value in (("--em-iterations", args.em_iterations), ("--evidence-samples", args.evidence_samples)):
+            if value is not None:
+                raise ConfigError(flag, None, "--hierarchical with it (an option of the hierarchical fit)",
+                                  "no --hierarchical")
         return
     if getattr(args, "ci", "profile") == "bootstrap":
         raise ConfigError("--hierarchical", "--ci", "profile (a hierarchical fit's intervals are its Laplace posterior's; "
@@ -160,7 +170,7 @@ def _check_hierarchical(args, data=None) -> None:
 
 def _fit_hierarchical(args, experiment, condition, bounds, data, found) -> int:
     """``fit --hierarchical``: fit.csv (each data set's MAP and Laplace interval), group.csv, summary.json."""
-    from .hierarchical import MAX_ITER, fit_hierarchical
+    from .hierarchical import MAX_ITER, N_SAMPLES, fit_hierarchical
     from .models import data_summary
     from .study import make_replays
 
@@ -171,7 +181,8 @@ def _fit_hierarchical(args, experiment, condition, bounds, data, found) -> int:
             out.warn(line)
         replays = make_replays(experiment, condition, data, args.keys, decision=args.decision, signal=args.signal)
         fit = fit_hierarchical(replays, bounds, names=[r.behaviour.name for r in replays], seed=args.seed,
-                               starts=args.starts, max_iter=args.em_iterations or MAX_ITER)
+                               starts=args.starts, max_iter=args.em_iterations or MAX_ITER,
+                               n_samples=args.evidence_samples or N_SAMPLES)
         _warn_unconverged(out, condition.name, fit)
         out.write_csv("fit.csv", fit.subjects)
         out.write_csv("group.csv", fit.group)
@@ -304,7 +315,7 @@ def _cmd_compare(args) -> int:
 def _compare_hierarchical(args, experiment, models, bounds_of, data, found) -> int:
     """``compare --hierarchical``: compare.csv (per data set and model), bms.csv, hierarchical.csv (per model)."""
     from .compare import bms_table, compare_hierarchical
-    from .hierarchical import MAX_ITER
+    from .hierarchical import MAX_ITER, N_SAMPLES
 
     _check_hierarchical(args, data)
     with fit_output(args.out or f"results/compare-{experiment.name}", "compare", _arguments(args),
@@ -313,7 +324,8 @@ def _compare_hierarchical(args, experiment, models, bounds_of, data, found) -> i
             out.warn(line)
         table, ranked, fits = compare_hierarchical(
             experiment, data, models, bounds_of, decision=args.decision, signal=args.signal, starts=args.starts,
-            seed=args.seed, max_iter=args.em_iterations or MAX_ITER, progress=_partial(out, "compare"))
+            seed=args.seed, max_iter=args.em_iterations or MAX_ITER, n_samples=args.evidence_samples or N_SAMPLES,
+            progress=_partial(out, "compare"))
         for name, fit in fits.items():
             _warn_unconverged(out, name, fit)
         selection = bms_table(table, "log_evidence")

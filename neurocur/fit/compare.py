@@ -28,7 +28,7 @@ import pandas as pd
 
 from ..analysis.figures.style import figure
 from .bms import bms
-from .hierarchical import fit_hierarchical
+from .hierarchical import MAX_ITER, N_SAMPLES, fit_hierarchical
 from .mle import fit_ml
 from .study import make_replays
 
@@ -70,8 +70,8 @@ def compare_models(experiment, data: Sequence, models: Mapping[str, object],
 
 def compare_hierarchical(experiment, data: Sequence, models: Mapping[str, object],
                          bounds: Mapping[str, Mapping[str, tuple[float, float]]], *, decision: str = "LC",
-                         signal: tuple[str, str] | None = None, starts: int = 3, seed: int = 0, max_iter: int = 200,
-                         progress=None) -> tuple[pd.DataFrame, pd.DataFrame, dict]:
+                         signal: tuple[str, str] | None = None, starts: int = 3, seed: int = 0, max_iter: int = MAX_ITER,
+                         n_samples: int = N_SAMPLES, progress=None) -> tuple[pd.DataFrame, pd.DataFrame, dict]:
     """Every model fitted hierarchically to all of ``data`` (:func:`~neurocur.fit.hierarchical.fit_hierarchical`,
     each data set a subject replayed with its own seed). Returns rows ``dataset, model, loglik, n_params, n_obs,
     log_evidence`` (the data set's log-likelihood at its MAP, its number of parameters and observations, its
@@ -83,7 +83,7 @@ def compare_hierarchical(experiment, data: Sequence, models: Mapping[str, object
     for name, condition in models.items():
         replays = make_replays(experiment, condition, data, list(bounds[name]), decision=decision, signal=signal)
         fit = fit_hierarchical(replays, bounds[name], names=[r.behaviour.name for r in replays], seed=seed,
-                               starts=starts, max_iter=max_iter)
+                               starts=starts, max_iter=max_iter, n_samples=n_samples)
         fits[name] = fit
         for replay, evidence in zip(replays, fit.subject_log_evidence):
             estimate = fit.subjects[fit.subjects["dataset"] == replay.behaviour.name]

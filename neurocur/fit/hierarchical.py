@@ -72,6 +72,8 @@ STEP_GRAD, STEP_HESS = 1e-5, 1e-3
 NODES = 61
 #: the most E-steps by default (``max_iter``; ``--em-iterations``)
 MAX_ITER = 200
+#: draws from the group prior for the sampled evidence by default (``n_samples``; ``--evidence-samples``)
+N_SAMPLES = 2000
 
 
 @dataclass
@@ -156,7 +158,7 @@ def _evaluator(subject, keys: list):
 
 def fit_hierarchical(subjects, bounds: Mapping[str, tuple[float, float]], *, n_obs: Sequence[int] | None = None,
                      vectorised: bool = False, names: Sequence[str] | None = None, seed: int = 0, starts: int = 3,
-                     max_iter: int = MAX_ITER, tol: float = 1e-4, n_samples: int = 2000,
+                     max_iter: int = MAX_ITER, tol: float = 1e-4, n_samples: int = N_SAMPLES,
                      level: float = 0.95) -> HierarchicalFit:
     """Group and per-subject parameters of ``subjects`` (module docstring). A subject is a replay (or a
     :class:`Subject`: anything with ``loglik(list of {key: value})`` and ``n_obs``, as ``fit_ml`` takes)

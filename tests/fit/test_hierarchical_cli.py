@@ -20,8 +20,9 @@ from neurocur.fit.study import condition_of, default_bounds, make_replays
 
 P_REWARD = (0.7, 0.3)
 SUBJECTS, TRIALS = 12, 60
-#: the EM's cap and starts in these tests (small: the data are small and the machine is shared)
-E_STEPS, STARTS, SEED = 4, 2, 3
+#: the EM's cap, starts and the sampled evidence's draws in these tests (small: the machine is shared; each draw
+#: costs a replay of every subject at its learning rate)
+E_STEPS, STARTS, SEED, SAMPLES = 4, 2, 3, 200
 BOUNDS = {"PFC.alpha": (0.0, 1.0), "LC.beta": (0.0, 50.0)}
 
 
@@ -61,7 +62,7 @@ def table(tmp_path_factory):
 
 
 OPTIONS = ["--columns", "subject=subjID", "--one-based", "--em-iterations", str(E_STEPS), "--starts", str(STARTS),
-           "--seed", str(SEED)]
+           "--seed", str(SEED), "--evidence-samples", str(SAMPLES)]
 
 
 @pytest.fixture(scope="module")
@@ -74,7 +75,7 @@ def fitted(table, tmp_path_factory):
     data = load_fit_data(path, condition, columns=["subject=subjID"], one_based=True)
     replays = make_replays(experiment, condition, data, list(BOUNDS))
     library = fit_hierarchical(replays, default_bounds(condition, list(BOUNDS), {}), names=[d.name for d in data],
-                               seed=SEED, starts=STARTS, max_iter=E_STEPS)
+                               seed=SEED, starts=STARTS, max_iter=E_STEPS, n_samples=SAMPLES)
     return out, library
 
 
@@ -161,6 +162,7 @@ def test_compare_hierarchical_picks_the_generating_model(table, fitted, tmp_path
 @pytest.mark.parametrize("argv, message", [
     (["fit", "--hierarchical", "--ci", "bootstrap"], "--hierarchical: key '--ci': expected profile"),
     (["fit", "--em-iterations", "3"], "--em-iterations: expected --hierarchical"),
+    (["compare", "--models", "delta", "--evidence-samples", "30"], "--evidence-samples: expected --hierarchical"),
     (["compare", "--models", "delta", "delta_posneg", "--hierarchical", "--no-loo"], "key '--no-loo'"),
 ])
 def test_refusals(table, tmp_path, capsys, argv, message):
