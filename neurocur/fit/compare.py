@@ -9,8 +9,14 @@ subjects. Random-effects Bayesian model selection (:func:`bms_table`) on the log
 -BIC / 2 (Stephan et al. 2009, Rigoux et al. 2014; :mod:`neurocur.fit.bms`) gives each model's
 expected frequency, exceedance and protected exceedance probability.
 
-The tables are tidy, one row per data set and model (:func:`compare_models`) and one per model
-(:func:`bms_table`); :func:`comparison_figure` draws them.
+Hierarchically (:func:`compare_hierarchical`, Huys et al. 2011; :mod:`neurocur.fit.hierarchical`):
+every model fitted to all data sets at once by empirical-Bayes EM, ranked by its integrated BIC
+(sampled, and by Laplace), and random-effects BMS on each data set's Laplace log evidence under the
+model's fitted group prior, log p(D_i | mu, sigma) (``bms_table(table, "log_evidence")``).
+
+The tables are tidy, one row per data set and model (:func:`compare_models`, :func:`compare_hierarchical`)
+and one per model (:func:`bms_table`, :func:`compare_hierarchical`'s second); :func:`comparison_figure`
+draws the first kind.
 """
 
 from __future__ import annotations
@@ -22,10 +28,11 @@ import pandas as pd
 
 from ..analysis.figures.style import figure
 from .bms import bms
+from .hierarchical import MAX_ITER, N_SAMPLES, fit_hierarchical
 from .mle import fit_ml
 from .study import make_replays
 
-__all__ = ["bms_table", "compare_models", "comparison_figure", "score", "totals"]
+__all__ = ["bms_table", "compare_hierarchical", "compare_models", "comparison_figure", "score", "totals"]
 
 
 def score(replay, bounds: Mapping[str, tuple[float, float]], *, starts: int, seed: int) -> dict:
@@ -61,11 +68,44 @@ def compare_models(experiment, data: Sequence, models: Mapping[str, object],
     return pd.DataFrame(rows)
 
 
-def bms_table(table: pd.DataFrame) -> pd.DataFrame:
+def compare_hierarchical(experiment, data: Sequence, models: Mapping[str, object],
+                         bounds: Mapping[str, Mapping[str, tuple[float, float]]], *, decision: str = "LC",
+                         signal: tuple[str, str] | None = None, starts: int = 3, seed: int = 0, max_iter: int = MAX_ITER,
+                         n_samples: int = N_SAMPLES, progress=None) -> tuple[pd.DataFrame, pd.DataFrame, dict]:
+    """Every model fitted hierarchically to all of ``data`` (:func:`~neurocur.fit.hierarchical.fit_hierarchical`,
+    each data set a subject replayed with its own seed). Returns rows ``dataset, model, loglik, n_params, n_obs,
+    log_evidence`` (the data set's log-likelihood at its MAP, its number of parameters and observations, its
+    Laplace log evidence under the model's group prior); rows ``model, ibic, laplace_ibic, log_evidence,
+    log_evidence_mcse, log_evidence_laplace, n_params, n_obs, iterations, converged`` (``n_params``: the group's,
+    a mu and a sigma per fitted parameter); and the fits by model. ``progress(first table so far)`` after each
+    model."""
+    rows, models_rows, fits = [], [], {}
+    for name, condition in models.items():
+        replays = make_replays(experiment, condition, data, list(bounds[name]), decision=decision, signal=signal)
+        fit = fit_hierarchical(replays, bounds[name], names=[r.behaviour.name for r in replays], seed=seed,
+                               starts=starts, max_iter=max_iter, n_samples=n_samples)
+        fits[name] = fit
+        for replay, evidence in zip(replays, fit.subject_log_evidence):
+            estimate = fit.subjects[fit.subjects["dataset"] == replay.behaviour.name]
+            rows.append({"dataset": replay.behaviour.name, "model": name,
+                         "loglik": replay.loglik(dict(zip(estimate["param"], estimate["estimate"].astype(float)))),
+                         "n_params": len(bounds[name]), "n_obs": replay.n_obs, "log_evidence": float(evidence)})
+        summary = fit.summary()
+        models_rows.append({"model": name, "ibic": fit.ibic, "laplace_ibic": fit.ibic_laplace,
+                            **{key: summary[key] for key in ("log_evidence", "log_evidence_mcse",
+                                                             "log_evidence_laplace", "n_params", "n_obs",
+                                                             "iterations", "converged")}})
+        if progress is not None:
+            progress(pd.DataFrame(rows))
+    return pd.DataFrame(rows), pd.DataFrame(models_rows), fits
+
+
+def bms_table(table: pd.DataFrame, evidence: str = "bic") -> pd.DataFrame:
     """Per model: ``expected`` frequency, exceedance ``xp``, protected exceedance ``pxp`` and the Bayesian omnibus
-    risk ``bor`` (the same on every row), from random-effects BMS on the log evidences -BIC / 2."""
-    wide = table.pivot(index="dataset", columns="model", values="bic")[list(dict.fromkeys(table["model"]))]
-    result = bms(-wide.to_numpy() / 2.0)
+    risk ``bor`` (the same on every row), from random-effects BMS on the log evidences: -BIC / 2 by default,
+    else the ``evidence`` column itself (a log evidence, e.g. :func:`compare_hierarchical`'s ``log_evidence``)."""
+    wide = table.pivot(index="dataset", columns="model", values=evidence)[list(dict.fromkeys(table["model"]))]
+    result = bms(-wide.to_numpy() / 2.0 if evidence == "bic" else wide.to_numpy())
     return pd.DataFrame({"model": wide.columns, "expected": result.expected, "xp": result.xp, "pxp": result.pxp,
                          "bor": result.bor})
 

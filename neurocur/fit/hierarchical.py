@@ -22,7 +22,9 @@ N(mu, diag(sigma^2)); theta_i = T(x_i) is what the subject's log-likelihood log 
   the last E-step is under the reported mu, sigma, so the subjects' table is the reported prior's.
 
 **Evidence.** log p(D | mu, sigma) = sum_i log integral L_i(T(x)) N(x; mu, sigma^2) dx, two ways:
-by Laplace, sum_i [log L_i(T(m_i)) + log N(m_i; mu, sigma^2) + (k/2) log 2 pi + (1/2) log det V_i];
+by Laplace, sum_i [log L_i(T(m_i)) + log N(m_i; mu, sigma^2) + (k/2) log 2 pi + (1/2) log det V_i]
+(the bracket is subject i's Laplace log evidence, ``subject_log_evidence``, what ``neurocur compare
+--hierarchical`` gives random-effects BMS);
 and by sampling, as Huys et al. do: ``n_samples`` x_s ~ N(mu, sigma^2) from a seeded Generator,
 the same for every subject, sum_i log mean_s L_i(T(x_s)); its Monte Carlo standard error by the
 delta method over the shared samples. The integrated BIC (Huys et al.'s iBIC) is
@@ -68,6 +70,10 @@ BOX = 30.0
 STEP_GRAD, STEP_HESS = 1e-5, 1e-3
 #: Gauss–Hermite nodes for the population's mean and sd on the own scale
 NODES = 61
+#: the most E-steps by default (``max_iter``; ``--em-iterations``)
+MAX_ITER = 200
+#: draws from the group prior for the sampled evidence by default (``n_samples``; ``--evidence-samples``)
+N_SAMPLES = 2000
 
 
 @dataclass
@@ -75,8 +81,10 @@ class HierarchicalFit:
     """A hierarchical fit: group ``mu``, ``sigma``, ``mu_se`` on the unbounded scale, the ``subjects``
     (``dataset, param, estimate, ci_low, ci_high``) and ``group`` (``param, mean, sd, ci_low, ci_high,
     kind, mu, sigma, mu_se``) tables, log p(D | mu, sigma) sampled (``log_evidence``, with its Monte
-    Carlo ``log_evidence_mcse`` over ``n_samples``) and by Laplace, and the EM's ``history`` (the
-    Laplace log evidence per E-step)."""
+    Carlo ``log_evidence_mcse`` over ``n_samples``) and by Laplace, the EM's ``history`` (the
+    Laplace log evidence per E-step), and each subject's term of the Laplace evidence under the reported
+    prior (``subject_log_evidence``, in the subjects' order; their log-likelihoods for a model without
+    free parameters)."""
 
     keys: list
     n_subjects: int
@@ -93,6 +101,7 @@ class HierarchicalFit:
     iterations: int
     converged: bool
     history: list
+    subject_log_evidence: np.ndarray
 
     @property
     def n_params(self) -> int:
@@ -149,7 +158,7 @@ def _evaluator(subject, keys: list):
 
 def fit_hierarchical(subjects, bounds: Mapping[str, tuple[float, float]], *, n_obs: Sequence[int] | None = None,
                      vectorised: bool = False, names: Sequence[str] | None = None, seed: int = 0, starts: int = 3,
-                     max_iter: int = 200, tol: float = 1e-4, n_samples: int = 2000,
+                     max_iter: int = MAX_ITER, tol: float = 1e-4, n_samples: int = N_SAMPLES,
                      level: float = 0.95) -> HierarchicalFit:
     """Group and per-subject parameters of ``subjects`` (module docstring). A subject is a replay (or a
     :class:`Subject`: anything with ``loglik(list of {key: value})`` and ``n_obs``, as ``fit_ml`` takes)
@@ -181,14 +190,15 @@ def fit_hierarchical(subjects, bounds: Mapping[str, tuple[float, float]], *, n_o
     fns = [_evaluator(s, keys) for s in subjects]
     k = len(keys)
     if k == 0:
-        ll = float(sum(_loglik(f, np.zeros((1, 0)), n)[0] for f, n in zip(fns, names)))
+        each = np.array([_loglik(f, np.zeros((1, 0)), n)[0] for f, n in zip(fns, names)])
+        ll = float(each.sum())
         empty = pd.DataFrame(columns=["dataset", "param", "estimate", "ci_low", "ci_high"])
         return HierarchicalFit([], len(subjects), np.zeros(0), np.zeros(0), np.zeros(0), empty, _group_table(
-            transforms, np.zeros(0), np.zeros(0), np.zeros(0), 0.0), ll, 0.0, ll, total, 0, 0, True, [])
+            transforms, np.zeros(0), np.zeros(0), np.zeros(0), 0.0), ll, 0.0, ll, total, 0, 0, True, [], each)
 
     design_seed, sample_seed = np.random.SeedSequence(seed).spawn(2)
     with threadpool_limits(limits=1, user_api="blas"):  # scipy's L-BFGS-B: many tiny BLAS calls
-        mu, var, maps, covs, history, converged = _em(fns, transforms, names, design_seed, starts, max_iter, tol)
+        mu, var, maps, covs, evidence, history, converged = _em(fns, transforms, names, design_seed, starts, max_iter, tol)
     mu_se = _mu_se(var, covs)
     z = float(special.ndtri(0.5 + level / 2))
     sd = np.sqrt(np.diagonal(covs, axis1=1, axis2=2))
@@ -200,11 +210,12 @@ def fit_hierarchical(subjects, bounds: Mapping[str, tuple[float, float]], *, n_o
     log_ev, mcse = _sampled_evidence(fns, transforms, mu, var, n_samples, sample_seed, names)
     return HierarchicalFit(keys, len(subjects), mu, np.sqrt(var), mu_se, pd.DataFrame(rows),
                            _group_table(transforms, mu, np.sqrt(var), mu_se, z), log_ev, mcse, history[-1],
-                           total, n_samples, len(history), converged, history)
+                           total, n_samples, len(history), converged, history, evidence)
 
 
 def _em(fns, transforms: Transforms, names, seed, starts: int, max_iter: int, tol: float):
-    """The EM iterations (module docstring): the last E-step is under the returned mu, var."""
+    """The EM iterations (module docstring): the last E-step, under the returned mu, var, gives the MAPs, their
+    covariances and the subjects' Laplace log evidences."""
     k = len(transforms)
     unit = stats.qmc.Sobol(k, rng=np.random.default_rng(seed)).random_base2(int(np.log2(DESIGN)))
     normal = special.ndtri(np.clip(unit, 1e-9, 1 - 1e-9))
@@ -217,16 +228,17 @@ def _em(fns, transforms: Transforms, names, seed, starts: int, max_iter: int, to
                                    starts, box, names[i]) for i, f in enumerate(fns)]
         maps = np.array([r[0] for r in results])
         covs = np.array([r[1] for r in results])
-        history.append(float(sum(r[2] for r in results)))
+        evidence = np.array([r[2] for r in results])
+        history.append(float(sum(evidence)))  # the same order of additions as before
         if previous is not None:
             moved = max(np.max(np.abs(mu - previous[0])), np.max(np.abs(np.sqrt(var) - np.sqrt(previous[1]))))
             if abs(history[-1] - history[-2]) < tol or moved < tol:
-                return mu, var, maps, covs, history, True
+                return mu, var, maps, covs, evidence, history, True
         if iteration < max_iter:
             previous = (mu, var)
             mu = maps.mean(axis=0)
             var = np.maximum(np.mean((maps - mu) ** 2 + np.diagonal(covs, axis1=1, axis2=2), axis=0), VAR_FLOOR)
-    return mu, var, maps, covs, history, False
+    return mu, var, maps, covs, evidence, history, False
 
 
 def _loglik(f, points: np.ndarray, name: str) -> np.ndarray:
