@@ -25,6 +25,8 @@ from typing import NoReturn
 
 import numpy as np
 
+from neurocur.config.argtypes import int_at_least
+
 EPILOG = """\
 examples:
   neurocur run synthetic                     the paper's synthetic experiment (25 runs x 3.5e5 steps)
@@ -97,22 +99,8 @@ def _wrap(line: str, width: int) -> list[str]:
     return parts
 
 
-def _int_at_least(low: int, expected: str):
-    """An argparse type: an integer >= ``low``; the error says ``expected``."""
-    def convert(text: str) -> int:
-        try:
-            value = int(text)
-        except ValueError:
-            value = None
-        if value is None or value < low:
-            raise argparse.ArgumentTypeError(f"expected {expected}, got {text!r}")
-        return value
-
-    return convert
-
-
-_positive_int = _int_at_least(1, "a positive integer")
-_seed = _int_at_least(0, "an integer >= 0")
+_positive_int = int_at_least(1, "a positive integer")
+_seed = int_at_least(0, "an integer >= 0")
 
 
 def _eta(text: str) -> float:
@@ -170,7 +158,7 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--max-memory", type=_memory, metavar="SIZE",
                      help="memory the workers may use together, e.g. 8G (default: what the machine has available); "
                      "estimated from each condition's first episode before any worker starts")
-    run.add_argument("--checkpoint-every", type=_int_at_least(0, "an integer >= 0"), metavar="N",
+    run.add_argument("--checkpoint-every", type=int_at_least(0, "an integer >= 0"), metavar="N",
                      help="save each run's state every N episodes into OUT/checkpoints/, so that a stopped run "
                      "continues from there (0: never; default: every 200 episodes for runs of 200000 steps or more)")
     run.add_argument("--save-agent", action="store_true",

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 
+from ..config.argtypes import int_at_least
 from .commands import COMMANDS, parse_bounds
 from .outdir import FitInterrupted
 
@@ -34,27 +35,14 @@ def _common(p: argparse.ArgumentParser, *, condition: bool = True, keys_required
     p.add_argument("--signal", type=_signal, metavar="REGION=COLUMN",
                    help="signal replay: REGION emits the data's per-episode COLUMN instead of computing it")
     p.add_argument("--decision", default="LC", metavar="REGION", help="the decision region (default LC)")
-    p.add_argument("--starts", type=_count(1, "a number of optimiser starts of at least 1"), default=5, metavar="N",
+    p.add_argument("--starts", type=int_at_least(1, "a number of optimiser starts of at least 1"), default=5, metavar="N",
                    help="optimiser starts per fit (default 5)")
-    p.add_argument("--seed", type=_count(0, "an integer >= 0"), default=0, metavar="N",
+    p.add_argument("--seed", type=int_at_least(0, "an integer >= 0"), default=0, metavar="N",
                    help="seed of the starts (default 0)")
     p.add_argument("--out", metavar="DIR", help="output folder")
 
 
-def _count(low: int, expected: str):
-    """An argparse type: an integer >= ``low``, checked before any folder is made; the error says ``expected``."""
-    def convert(text: str) -> int:
-        try:
-            value = int(text)
-        except ValueError:
-            value = None
-        if value is None or value < low:
-            raise argparse.ArgumentTypeError(f"expected {expected}, got {text!r}")
-        return value
-    return convert
-
-
-_replicates = _count(2, "a number of bootstrap replicates of at least 2")
+_replicates = int_at_least(2, "a number of bootstrap replicates of at least 2")
 
 
 def _intervals(p: argparse.ArgumentParser) -> None:
@@ -79,10 +67,10 @@ def _hierarchical(p: argparse.ArgumentParser, what: str) -> None:
     p.add_argument("--hierarchical", action="store_true",
                    help=f"{what} by empirical-Bayes EM under a group prior fitted to all data sets (Huys et al. 2011; "
                    "at least 2 data sets)")
-    p.add_argument("--em-iterations", type=_count(1, "a number of E-steps of at least 1"), metavar="N",
+    p.add_argument("--em-iterations", type=int_at_least(1, "a number of E-steps of at least 1"), metavar="N",
                    help="with --hierarchical: the most E-steps of the EM (default 200); a fit that has not converged "
                    "by then is written with a warning")
-    p.add_argument("--evidence-samples", type=_count(2, "a number of samples of at least 2"), metavar="N",
+    p.add_argument("--evidence-samples", type=int_at_least(2, "a number of samples of at least 2"), metavar="N",
                    help="with --hierarchical: draws from the group prior for the sampled evidence and iBIC (default "
                    "2000; each costs a likelihood per data set)")
 
@@ -128,9 +116,9 @@ def add_parsers(sub) -> None:
     recover.add_argument("experiment", metavar="EXPERIMENT", help="experiment TOML file or shipped name")
     _common(recover, keys_required=False)
     _intervals(recover)
-    recover.add_argument("--datasets", type=_count(3, "a number of data sets of at least 3 (Pearson r needs 3)"),
+    recover.add_argument("--datasets", type=int_at_least(3, "a number of data sets of at least 3 (Pearson r needs 3)"),
                          default=20, metavar="N", help="data sets (default 20; at least 3)")
-    recover.add_argument("--episodes", type=_count(2, "a number of episodes of at least 2"), default=250, metavar="N",
+    recover.add_argument("--episodes", type=int_at_least(2, "a number of episodes of at least 2"), default=250, metavar="N",
                          help="episodes per data set (default 250)")
     recover.add_argument("--models", nargs="+", metavar="CONDITION",
                          help="model recovery among these conditions (each fitted on the --fit keys it has)")
@@ -171,14 +159,14 @@ def add_parsers(sub) -> None:
     sbi.add_argument("--condition", metavar="NAME", help="the condition to simulate (default: the first)")
     sbi.add_argument("--prior", action="append", required=True, metavar="KEY=LOW:HIGH",
                      help="a parameter to infer and its uniform prior (repeatable), e.g. HPC.threshold=0.1:0.5")
-    sbi.add_argument("--simulations", type=int, required=True, metavar="N",
+    sbi.add_argument("--simulations", type=int_at_least(1, "a number of simulations of at least 1"), required=True, metavar="N",
                      help="training simulations: prior draws x --runs")
-    sbi.add_argument("--runs", type=int, default=5, metavar="R", help="runs at each prior draw (default 5)")
-    sbi.add_argument("--steps", type=int, metavar="N", help="frames per run (default: the experiment's)")
-    sbi.add_argument("--jobs", type=int, metavar="N", help="worker processes (default: all cores)")
+    sbi.add_argument("--runs", type=int_at_least(1, "a number of runs of at least 1"), default=5, metavar="R", help="runs at each prior draw (default 5)")
+    sbi.add_argument("--steps", type=int_at_least(1, "a number of frames of at least 1"), metavar="N", help="frames per run (default: the experiment's)")
+    sbi.add_argument("--jobs", type=int_at_least(1, "a number of workers of at least 1"), metavar="N", help="worker processes (default: all cores)")
     sbi.add_argument("--scheduler", metavar="ADDRESS", help="compute the runs on Dask: 'local' or tcp://HOST:PORT")
-    sbi.add_argument("--seed", type=int, default=0, metavar="N", help="seed of the draws, runs and training (default 0)")
+    sbi.add_argument("--seed", type=int_at_least(0, "an integer >= 0"), default=0, metavar="N", help="seed of the draws, runs and training (default 0)")
     sbi.add_argument("--data", metavar="DATA", help="a behaviour table (.csv, .parquet) or a results folder")
-    sbi.add_argument("--test", type=int, default=0, metavar="N", help="held-out simulations to check on (default 0)")
-    sbi.add_argument("--epochs", type=int, default=200, metavar="N", help="most training epochs (default 200)")
+    sbi.add_argument("--test", type=int_at_least(0, "a number of held-out simulations >= 0"), default=0, metavar="N", help="held-out simulations to check on (default 0)")
+    sbi.add_argument("--epochs", type=int_at_least(1, "a number of epochs of at least 1"), default=200, metavar="N", help="most training epochs (default 200)")
     sbi.add_argument("--out", metavar="DIR", help="output folder (default results/sbi-EXPERIMENT)")

@@ -88,6 +88,10 @@ def test_bounds_outside_the_domain_or_of_no_fitted_key_are_refused(tmp_path, tab
     (["fit", "x.csv", *FIT, "--starts", "-3"], "argument --starts: expected a number of optimiser starts of at least 1"),
     (["recover", "free_choice", "--fit", "LC.gain", "--datasets", "1"], "at least 3 (Pearson r needs 3), got '1'"),
     (["recover", "free_choice", "--fit", "LC.gain", "--datasets", "0"], "at least 3 (Pearson r needs 3), got '0'"),
+    (["sbi", "synthetic", "--prior", "HPC.threshold=0.1:0.5", "--simulations", "10", "--runs", "0"],
+     "argument --runs: expected a number of runs of at least 1, got '0'"),
+    (["sbi", "synthetic", "--prior", "HPC.threshold=0.1:0.5", "--simulations", "-4"],
+     "argument --simulations: expected a number of simulations of at least 1, got '-4'"),
 ])
 def test_counts_out_of_range_are_refused_by_the_parser(argv, message, capsys):
     with pytest.raises(SystemExit) as info:
