@@ -6,9 +6,10 @@ column) scaled to [0, 1], a vector Box, so that the wrapper's grid of 8 x 8 cont
 The agent: Q-learning with epsilon-greedy actions (ties broken at random) on the wrapped reward,
 the environment's plus the bonus. Four conditions, paired by seed: no bonus, count novelty
 (``vta.novelty``), surprise (``vta.surprise``) and learning progress (``vta.learning_progress``),
-each VTA model with its defaults, ``scale=0.1`` and blocks of 8 steps on the slow-feature path.
+each VTA model with its defaults and ``scale=0.1``; count novelty counts every step (``frames=1``,
+the only pass its counts path takes), the slow-feature path takes blocks of 8 steps.
 
-    PYTHONPATH=. python examples/rl_frozenlake.py                      # the comparison (docs/hypotheses.md, 11)
+    PYTHONPATH=. python examples/rl_frozenlake.py                      # the comparison (docs/hypotheses.md, 12)
     PYTHONPATH=. python examples/rl_frozenlake.py --seeds 2 --steps 3000   # a quick look
 """
 
@@ -24,7 +25,7 @@ from neurocur.rl import IntrinsicReward
 
 CONDITIONS = {"no bonus": None, "count novelty": "vta.novelty", "surprise": "vta.surprise",
               "learning progress": "vta.learning_progress"}
-SCALE, FRAMES = 0.1, 8
+SCALE, FRAMES = 0.1, 8   # FRAMES: steps per pass on the slow-feature path; count novelty counts every step
 
 
 class Coordinates(gym.ObservationWrapper):
@@ -43,7 +44,8 @@ def make_env(model: str | None):
     env = Coordinates(gym.make("FrozenLake-v1", map_name="8x8", is_slippery=False))
     if model is None:
         return env
-    return IntrinsicReward(env, model, scale=SCALE, frames=FRAMES, overrides={"EC.n_pca": 2})
+    frames = 1 if model == "vta.novelty" else FRAMES   # the counts path takes a pass per step only
+    return IntrinsicReward(env, model, scale=SCALE, frames=frames, overrides={"EC.n_pca": 2})
 
 
 def run(model: str | None, seed: int, steps: int, *, alpha=0.5, gamma=0.99, epsilon=0.1) -> dict:
