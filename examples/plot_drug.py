@@ -1,5 +1,5 @@
 """
-# A drug on noradrenaline: clamp the LC's tonic NE
+# Clamp tonic NE (a drug)
 
 Pharmacology is a lesion kind that works on any released neuromodulator: `clamp` fixes the
 level, `scale` multiplies it, `noise` adds Gaussian noise. Here the paper's ε-greedy LC has its

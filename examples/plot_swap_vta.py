@@ -1,5 +1,5 @@
 """
-# Swap the dopamine model: learning progress against novelty
+# Progress or novelty DA
 
 A circuit variant is a small TOML file that `extends` the full circuit and replaces one region;
 `vta_novelty` ships with the package. In Python the same swap is

@@ -1,5 +1,5 @@
 """
-# A sweep: one parameter across paired runs
+# Sweep one parameter
 
 An experiment file's `[sweep]` table, or `--set KEY=V1,V2` on the command line, runs every
 condition at every point, with run *i* seeded the same at every point, so points compare paired.
