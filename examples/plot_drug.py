@@ -1,10 +1,11 @@
 """
-# A drug on noradrenaline: clamp the LC's tonic NE
+# Clamp tonic NE (a drug)
 
 Pharmacology is a lesion kind that works on any released neuromodulator: `clamp` fixes the
 level, `scale` multiplies it, `noise` adds Gaussian noise. Here the paper's ε-greedy LC has its
 tonic NE (its drive to disengage, the exploration rate) clamped low and high; the agent's mean
-dwell per visit follows.
+dwell per visit follows. The bars show, for each clamped level, the episodes per visit (episodes
+between two context switches) of one run of 40 000 frames, seed 7.
 """
 
 import matplotlib.pyplot as plt

@@ -1,5 +1,5 @@
 """
-# Fit a circuit to choices: recover the softmax gain
+# Fit the softmax gain
 
 `neurocur.fit` scores observed decisions under a circuit (log P(decision | state, θ)) and fits θ
 by maximum likelihood. Here the shipped free-choice task (`free_choice`: four tasks of graded

@@ -1,10 +1,12 @@
 """
-# Swap the dopamine model: learning progress against novelty
+# Progress or novelty DA
 
 A circuit variant is a small TOML file that `extends` the full circuit and replaces one region;
 `vta_novelty` ships with the package. In Python the same swap is
 `circuit.replace("VTA", {"type": "vta.novelty"})`. Learning-progress dopamine (the paper's)
 reports the fall of the context's estimation error; count novelty reports 1/√(visits).
+The lines show each model's dopamine per episode over one run of 40 000 frames (seed 5), with
+the boredom reward (−100) left out so that the scale of the rest shows.
 """
 
 import matplotlib.pyplot as plt

@@ -1,10 +1,11 @@
 """
-# A sweep: one parameter across paired runs
+# Sweep one parameter
 
 An experiment file's `[sweep]` table, or `--set KEY=V1,V2` on the command line, runs every
 condition at every point, with run *i* seeded the same at every point, so points compare paired.
 Here the shipped synthetic experiment runs its curious condition at two values of the PFC's
-discount, 2 short runs per point, into a temporary results folder that the analysis then reads.
+discount, 2 short runs per point, into a temporary results folder that the analysis then reads. The bars show the modules stored per
+run (one colour per run) at each discount.
 """
 
 import tempfile
