@@ -1,10 +1,18 @@
 """Checks of every built page, run by ``mkdocs build`` as a hook (mkdocs.yml ``hooks:``).
 
+First, ``--strict`` with ``--quiet`` (the test command's ``mkdocs build --strict -q``) is made to
+fail on warnings: MkDocs 1.6's ``-q`` raises the ``mkdocs`` logger to ERROR, so warnings never
+reach the counter strict mode aborts on (mkdocs/mkdocs#4126) and a broken link or anchor passed.
+Under strict, ``on_config`` lowers the logger back to WARNING: a passing build has no warning to
+print, a failing one prints what failed.
+
 A page fails the build (a ``PluginError`` naming the page and what was found) when, outside code,
 
 - it shows a Sphinx role as literal text (``:func:`` before a code span): the docstrings' roles are
   translated at load time by ``sphinx_roles.py``, so a literal one is a role that translation does
   not see (a Markdown page, a gallery example's text) or a form it does not know;
+- its title (the browser's and the navigation's label) shows a backtick: Markdown is not rendered
+  there, so a gallery example's title must be plain text;
 - (API pages) it shows a numpy section heading ("Parameters" over its dashed underline) as a
   Markdown heading or as text, a section mkdocstrings did not parse, or a Parameters/Attributes table row with an empty description (the
   text of ``name : description`` read as the type: numpy style wants the description on the next,
@@ -13,6 +21,7 @@ A page fails the build (a ``PluginError`` naming the page and what was found) wh
 
 from __future__ import annotations
 
+import logging
 import re
 
 from mkdocs.exceptions import PluginError
@@ -21,6 +30,7 @@ LITERAL_ROLE = re.compile(r":(?:py:)?(?:func|class|meth|mod|data|attr|obj|exc|co
 _SECTIONS = r"(?:Parameters|Other Parameters|Attributes|Returns|Yields|Receives|Raises|Warns|See Also)"
 # Markdown reads an unparsed "Parameters" over its dashes as a heading; dashes too short for that stay text
 UNPARSED_SECTION = re.compile(rf"<h[1-6][^>]*>\s*{_SECTIONS}\s*<a class=\"headerlink\"|\b{_SECTIONS}\s+-{{3,}}")
+_TITLE = re.compile(r"<title>(?P<title>.*?)</title>", re.DOTALL)
 _CODE = re.compile(r"<(pre|code)\b[^>]*>.*?</\1>", re.DOTALL)
 _SECTION_TABLE = re.compile(
     r'<span class="doc-section-title">(?P<title>[^<]+):</span></p>\s*<table>(?P<table>.*?)</table>', re.DOTALL
@@ -55,11 +65,20 @@ def unrendered_sections(html: str) -> list[str]:
 def check_page(html: str, src_uri: str) -> None:
     """Raise ``PluginError`` naming ``src_uri`` when its built ``html`` fails a check."""
     problems = [f"literal role: ...{snippet}..." for snippet in literal_roles(html)]
+    if (title := _TITLE.search(html)) and "`" in title["title"]:
+        problems.append(f"backticks in the title {title['title'].strip()!r}")
     if src_uri.startswith("api/"):
         problems += unrendered_sections(html)
     if problems:
         more = f" (and {len(problems) - 3} more)" if len(problems) > 3 else ""
         raise PluginError(f"{src_uri}: {'; '.join(problems[:3])}{more}")
+
+
+def on_config(config, **kwargs):
+    mkdocs_log = logging.getLogger("mkdocs")
+    if config.strict and mkdocs_log.getEffectiveLevel() > logging.WARNING:
+        mkdocs_log.setLevel(logging.WARNING)
+    return config
 
 
 def on_post_page(output: str, page, config, **kwargs) -> str:

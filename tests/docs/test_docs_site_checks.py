@@ -2,12 +2,15 @@
 
 The pages are hand-made from what the site showed before the checks existed (a role left literal,
 a numpy "Parameters" section read as a Markdown heading over a run-on paragraph, a ``name :
-description`` line read as a type) and from what mkdocstrings emits for a parsed section.
+description`` line read as a type) and from what mkdocstrings emits for a parsed section; and a
+two-page site built as the test command builds it, ``mkdocs build --strict -q``.
 """
 
 from __future__ import annotations
 
 import importlib.util
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -61,6 +64,13 @@ def test_an_unrendered_section_fails_an_api_page(html, found):
     hooks.check_page(html, "guide.md")  # a guide's own "Parameters" heading is its business
 
 
+def test_backticks_in_a_title_fail_the_page():
+    page = "<html><head><title>PPO (needs ``neurocur[rl]``). - neurocur</title></head><body></body></html>"
+    with pytest.raises(PluginError, match=r"rl_ppo/index\.md: backticks in the title"):
+        hooks.check_page(page, "generated/gallery/rl_ppo/index.md")
+    hooks.check_page(page.replace("``neurocur[rl]``", "neurocur[rl]"), "generated/gallery/rl_ppo/index.md")
+
+
 def test_on_post_page_returns_the_page_or_raises():
     class Page:
         class file:
@@ -69,3 +79,29 @@ def test_on_post_page_returns_the_page_or_raises():
     assert hooks.on_post_page(LINKED, page=Page, config={}) == LINKED
     with pytest.raises(PluginError):
         hooks.on_post_page(LITERAL, page=Page, config={})
+
+
+def _build(tmp_path, index: str) -> subprocess.CompletedProcess:
+    """``mkdocs build --strict -q`` (the test command's form) of a two-page site with the hooks."""
+    (tmp_path / "docs").mkdir(exist_ok=True)
+    (tmp_path / "docs" / "index.md").write_text(index, encoding="utf-8")
+    (tmp_path / "docs" / "other.md").write_text("# Other\n\n## A heading\n", encoding="utf-8")
+    (tmp_path / "mkdocs.yml").write_text(
+        f"site_name: t\nvalidation:\n  anchors: warn\nhooks:\n  - {EXT}\n", encoding="utf-8")
+    return subprocess.run([sys.executable, "-m", "mkdocs", "build", "--strict", "-q"], cwd=tmp_path,
+                          capture_output=True, text=True, timeout=120)
+
+
+@pytest.mark.parametrize(("index", "error"), [
+    ("# Home\n\n[there](other.md#a-heading)\n", None),
+    ("# Home\n\n[there](other.md#no-such-heading)\n", "does not contain an anchor '#no-such-heading'"),
+    ("# Home\n\n[there](missing.md)\n", "'missing.md', but the target is not found"),
+    ("# Home\n\nSee :func:`fit_ml`.\n", "index.md: literal role"),
+])
+def test_a_quiet_strict_build_fails_on_warnings_and_checks(tmp_path, index, error):
+    # without the hooks' on_config, -q hid the two warnings and the build passed
+    build = _build(tmp_path, index)
+    if error is None:
+        assert build.returncode == 0, build.stderr
+    else:
+        assert build.returncode == 1 and error in build.stderr, build.stderr
