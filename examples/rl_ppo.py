@@ -1,4 +1,7 @@
-"""stable-baselines3's PPO with a neurocur VTA model as its curiosity bonus (needs ``neurocur[rl]``).
+"""
+# PPO with a curiosity bonus
+
+stable-baselines3's PPO with a neurocur VTA model as its curiosity bonus (needs ``neurocur[rl]``).
 
     pip install "neurocur[rl]"
     PYTHONPATH=. python examples/rl_ppo.py [--model vta.novelty] [--env MountainCar-v0] [--steps 20000] [--scale 0.1] [--threads 1]
@@ -27,7 +30,8 @@ def main(argv=None) -> None:
         from stable_baselines3 import PPO
         from stable_baselines3.common.env_util import make_vec_env
 
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(
+        description="stable-baselines3's PPO with a neurocur VTA model as its curiosity bonus.")
     parser.add_argument("--model", default="vta.novelty", help="a VTA model, or 'none' for no bonus")
     parser.add_argument("--env", default="MountainCar-v0")
     parser.add_argument("--steps", type=int, default=20_000)
