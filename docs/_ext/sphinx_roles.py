@@ -14,9 +14,12 @@ the package has loaded (``on_package``: every module is known), each docstring's
   becomes code text.
 
 A target is looked up as Sphinx's Python domain does: in the docstring's own class or module, then in
-each enclosing package, then as a full path; a name still not found (or one written with a leading
-dot, Sphinx's "search" form) resolves when exactly one object's path ends with it. The text shown
-is the target as written, its last component after ``~``, or the title of ``title <target>``.
+each enclosing package, then as a full path (through imports and inherited members, with griffe's
+member lookup). A name still not found resolves when exactly one object's path ends with it: the
+one under the longest prefix that exists (``neurocur.experiments.load_experiment``, exported
+lazily; a module since moved into a subpackage), else anywhere in the package (a leading dot,
+Sphinx's "search" form, a class member named from elsewhere). The text shown is the target as
+written without a leading dot, its last component after ``~``, or the title of ``title <target>``.
 Roles inside fenced code blocks are left alone. The site's build hook (``hooks.py``) fails on any
 role left literal in the built pages.
 """
