@@ -1,9 +1,12 @@
-"""stable-baselines3's PPO with a neurocur VTA model as its curiosity bonus (needs ``neurocur[rl]``).
+"""
+# PPO with a curiosity bonus
+
+stable-baselines3's PPO with a neurocur VTA model as its curiosity bonus (needs ``neurocur[rl]``).
 
     pip install "neurocur[rl]"
     PYTHONPATH=. python examples/rl_ppo.py [--model vta.novelty] [--env MountainCar-v0] [--steps 20000] [--scale 0.1] [--threads 1]
 
-Each of PPO's environments is wrapped in :class:`neurocur.rl.IntrinsicReward` (each with its own
+Each of PPO's environments is wrapped in [`neurocur.rl.IntrinsicReward`][neurocur.rl.wrappers.IntrinsicReward] (each with its own
 memory; stable-baselines3 vectorises single environments itself), PPO learns on the wrapped
 reward, and the learned policy is then run deterministically on the bare environment for 10
 episodes, whose mean return (the environment's reward alone) is printed. A demonstration of the
@@ -27,7 +30,8 @@ def main(argv=None) -> None:
         from stable_baselines3 import PPO
         from stable_baselines3.common.env_util import make_vec_env
 
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(
+        description="stable-baselines3's PPO with a neurocur VTA model as its curiosity bonus.")
     parser.add_argument("--model", default="vta.novelty", help="a VTA model, or 'none' for no bonus")
     parser.add_argument("--env", default="MountainCar-v0")
     parser.add_argument("--steps", type=int, default=20_000)

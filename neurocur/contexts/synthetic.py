@@ -188,6 +188,8 @@ class SyntheticWorld(World):
         A :class:`SyntheticParams` instead of the keyword arguments (an experiment file's
         ``[world]`` table becomes one); the keyword arguments are checked by it too.
 
+    Notes
+    -----
     After :meth:`reset`, :meth:`source_of`, :meth:`source_signal` and
     :meth:`context_frames` expose the run's hidden sources for analysis.
     """

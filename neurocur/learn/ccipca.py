@@ -114,21 +114,30 @@ class CCIPCA(Estimator):
 
     Parameters
     ----------
-    n_components : K, the number of leading components estimated.
-    amnesic : ``"reference"`` (the default: :data:`REFERENCE_SCHEDULE`, the IncSFA author's code's),
+    n_components
+        K, the number of leading components estimated.
+    amnesic
+        ``"reference"`` (the default: :data:`REFERENCE_SCHEDULE`, the IncSFA author's code's),
         a constant amnesic parameter l ≥ 0, or an :class:`AmnesicSchedule`.
-    mean_rate : ``"cumulative"`` (the default: the mean is the average of all samples, as in the
+    mean_rate
+        ``"cumulative"`` (the default: the mean is the average of all samples, as in the
         IncSFA author's code) or ``"amnesic"`` (the mean follows CCIPCA's rate η(t)).
-    var_fraction : if set, only the leading components explaining this fraction of the
+    var_fraction
+        if set, only the leading components explaining this fraction of the
         total variance are active (e.g. 0.98, the paper's iCub setting).
-    eig_cutoff : components with eigenvalue below ``eig_cutoff`` × the largest are inactive.
-    orthonormalize : every this many samples the directions are made orthonormal again
+    eig_cutoff
+        components with eigenvalue below ``eig_cutoff`` × the largest are inactive.
+    orthonormalize
+        every this many samples the directions are made orthonormal again
         by Gram–Schmidt, leading component first (``_kernels.orthonormalize``); 0, the
         default, never does (Algorithm 2 as published). Algorithm 2 keeps them
         orthogonal only approximately; with two nearly equal eigenvalues a later
         component can drift onto an earlier one and the whitening becomes invalid.
-    random_state : seed of the initial directions.
+    random_state
+        seed of the initial directions.
 
+    Notes
+    -----
     Attributes (after ``fit`` or ``partial_fit``): ``n_features_in_`` (D); ``mean_`` (D,);
     ``eigenvalues_`` (K,) and ``components_`` (K, D), sorted by descending eigenvalue;
     ``n_active_``; ``total_variance_`` (trace of the covariance estimate);

@@ -68,31 +68,45 @@ class IncSFA(Estimator):
 
     Parameters
     ----------
-    n_components : J, the number of slow features (J ≤ K).
-    n_pca : K, the number of CCIPCA components used for whitening (K ≤ input dims); ``None``
+    n_components
+        J, the number of slow features (J ≤ K).
+    n_pca
+        K, the number of CCIPCA components used for whitening (K ≤ input dims); ``None``
         (the default) whitens min(3, input dims), so that 2-feature data fit too.
-    amnesic : CCIPCA's amnesic parameter: ``"reference"`` (the default, the author's schedule),
+    amnesic
+        CCIPCA's amnesic parameter: ``"reference"`` (the default, the author's schedule),
         a constant l or an ``AmnesicSchedule``.
-    mean_rate : ``"cumulative"`` (the default, the average of all samples) or ``"amnesic"``
+    mean_rate
+        ``"cumulative"`` (the default, the average of all samples) or ``"amnesic"``
         (the mean follows CCIPCA's rate); see ``CCIPCA``.
-    derivative : ``"successive"`` (the default: z(t) − z(t−1), each sample whitened at its own
+    derivative
+        ``"successive"`` (the default: z(t) − z(t−1), each sample whitened at its own
         time) or ``"current"`` (Sᵀ(x(t) − x(t−1)) with the current S).
-    var_fraction, eig_cutoff : which whitened components are active (see ``CCIPCA``).
-    orthonormalize : re-orthonormalise the CCIPCA directions every this many samples
+    var_fraction, eig_cutoff
+        which whitened components are active (see ``CCIPCA``).
+    orthonormalize
+        re-orthonormalise the CCIPCA directions every this many samples
         (see ``CCIPCA``); 0, the default, never does (Algorithm 2 as published).
-    mca_rate : CIMCA's learning rate η in (0, 0.5].
-    mca_rates : ``"reference"`` (the default, the author's code: vector j at η/(1.5 (1 + 1.2 j))),
+    mca_rate
+        CIMCA's learning rate η in (0, 0.5].
+    mca_rates
+        ``"reference"`` (the default, the author's code: vector j at η/(1.5 (1 + 1.2 j))),
         ``"decreasing"`` (the slowest feature's vector at η, the others as in ``"reference"``)
         or ``"equal"`` (the paper's eq 16: every vector at η; the EC region's default, so the
         reproduction runs the paper's rule); :func:`~neurocur.learn.mca.component_rates`.
-    gamma : CIMCA's lateral weight: ``"reference"`` (the default, the author's γ = 1.2 · 0.2/η,
+    gamma
+        CIMCA's lateral weight: ``"reference"`` (the default, the author's γ = 1.2 · 0.2/η,
         4.8 at η = 0.05), a number > 0 (4 is safe for whitened input) or "auto".
-    random_state : seed of the initial CCIPCA directions and CIMCA vectors.
-    dtype : ``"float64"`` (the default: exact, reproducible to the bit) or ``"float32"``
+    random_state
+        seed of the initial CCIPCA directions and CIMCA vectors.
+    dtype
+        ``"float64"`` (the default: exact, reproducible to the bit) or ``"float32"``
         (CCIPCA's directions in float32 and fast-math loops: about three times as fast
         on 7500-pixel frames, results equal to float64 only to within round-off that
         grows over a run).
 
+    Notes
+    -----
     ``fit(X)`` learns ``X`` as one episode on a fresh state; ``partial_fit`` continues
     the learned state with another episode; ``score`` is the negative slowness.
 

@@ -91,17 +91,24 @@ class MCA(Estimator):
 
     Parameters
     ----------
-    n_components : J, the number of minor components.
-    learning_rate : η in (0, 0.5].
-    component_rates : ``"reference"`` (the default: the IncSFA author's code, every vector at
+    n_components
+        J, the number of minor components.
+    learning_rate
+        η in (0, 0.5].
+    component_rates
+        ``"reference"`` (the default: the IncSFA author's code, every vector at
         η/(1.5 (1 + 1.2 i))), ``"decreasing"`` (the first vector at η, the later ones as in
         ``"reference"``) or ``"equal"`` (the paper's eq 16: every vector at η); :func:`component_rates`.
-    gamma : the lateral weight γ > λ_1, ``"reference"`` (γ = 1.2 · 0.2/η, the IncSFA author's
+    gamma
+        the lateral weight γ > λ_1, ``"reference"`` (γ = 1.2 · 0.2/η, the IncSFA author's
         code's, for whitened input) or ``"auto"`` (the default). A given γ is
         checked against the online estimate λ̂_1 after each ``partial_fit``: if γ ≤ λ̂_1
         the call is undone and raises ``ValueError``.
-    random_state : seed of the initial vectors.
+    random_state
+        seed of the initial vectors.
 
+    Notes
+    -----
     CIMCA is not scale-free: it converges at a rate set by η times the eigenvalues, and
     needs η λ_1 < 0.5 (eq 20), so the input's scale matters (whitened input, as in IncSFA,
     has λ_1 ≤ 4 for its derivative).

@@ -60,21 +60,32 @@ class ROCBank:
 
     Parameters
     ----------
-    n_states : number of context-states ``M`` (eq 11).
-    n_features : dimension of the clustered samples (the number of slow features J).
-    max_clusters : ξ > 1, the maximum number of clusters per state.
-    amnesic : φ in [0, 1], the per-update weight leak.
-    width : σ > 0 of the Gaussian RESPONSE (see the module docstring).
+    n_states
+        number of context-states ``M`` (eq 11).
+    n_features
+        dimension of the clustered samples (the number of slow features J).
+    max_clusters
+        ξ > 1, the maximum number of clusters per state.
+    amnesic
+        φ in [0, 1], the per-update weight leak.
+    width
+        σ > 0 of the Gaussian RESPONSE (see the module docstring).
 
     Attributes
     ----------
-    centers_ : (n_states, max_clusters, n_features) float64; slots ``>= n_clusters_[s]``
+    centers_
+        (n_states, max_clusters, n_features) float64; slots ``>= n_clusters_[s]``
         are unused.
-    weights_ : (n_states, max_clusters) float64.
-    n_clusters_ : (n_states,) int64, clusters in use per state.
-    latest_ : (n_states,) int64, the slot of each state's latest-sample cluster (-1 before
+    weights_
+        (n_states, max_clusters) float64.
+    n_clusters_
+        (n_states,) int64, clusters in use per state.
+    latest_
+        (n_states,) int64, the slot of each state's latest-sample cluster (-1 before
         the state's first sample).
 
+    Notes
+    -----
     The parameters are dataclass fields, stored checked and coerced (ints, floats);
     ``prune``'s ``min_weight`` is checked by :data:`MIN_WEIGHT`.
     """
