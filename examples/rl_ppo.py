@@ -82,7 +82,8 @@ def main(argv=None) -> None:
     with extra("rl", "examples/rl_ppo.py"):
         import torch
 
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(
+        description="stable-baselines3's PPO with a neurocur VTA model as its curiosity bonus.")
     parser.add_argument("--model", default="vta.novelty", help="a VTA model, or 'none' for no bonus")
     parser.add_argument("--env", default="MountainCar-v0")
     parser.add_argument("--steps", type=int, default=20_000)
