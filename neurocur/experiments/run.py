@@ -19,6 +19,7 @@ from collections.abc import Sequence
 import numpy as np
 import pandas as pd
 
+from neurocur.config import ConfigError
 from neurocur.contract import MODULE_COLUMNS
 from neurocur.results import RunResult
 from neurocur.results.agents import agent_state
@@ -101,7 +102,9 @@ def dry_run(condition: Condition, seed: np.random.SeedSequence) -> int:
 
     The episode runs twice: first to check it and to load the compiled kernels (whose
     loading ``tracemalloc`` would slow down severalfold), then under ``tracemalloc``, which
-    sees numpy's arrays. A ValueError names the condition and keeps the region's message.
+    sees numpy's arrays. A ValueError names the condition and keeps the region's message; a
+    ConfigError of the world's parameters (checked again at build, e.g. a module that does not
+    import) is raised as it is, for the caller to name the experiment file.
     """
     try:
         _first_episode(condition, seed)
@@ -117,6 +120,10 @@ def dry_run(condition: Condition, seed: np.random.SeedSequence) -> int:
         finally:
             if not tracing:
                 tracemalloc.stop()
+    except ConfigError as exc:
+        if exc.source == type(condition.world_params).__name__:  # the world's parameters: the caller names the file
+            raise
+        raise ValueError(f"condition {condition.name!r}: {exc}") from None
     except ValueError as exc:
         raise ValueError(f"condition {condition.name!r}: {exc}") from None
 

@@ -30,12 +30,13 @@ import os
 import signal
 import sys
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
 
-from neurocur.config import path_values
+from neurocur.config import ConfigError, join_key, path_values
 from neurocur.results import ResultsStore
 from neurocur.results.lock import describe_holder
 
@@ -160,8 +161,12 @@ def _preflight(exp: Experiment, todo: Pending, jobs: int, max_memory: int | None
     workers' estimated memory exceeds ``max_memory`` or the memory available."""
     first = todo.first_of_each()
     for c in {json.dumps(c.world, sort_keys=True): c for c, _ in first.values()}.values():
-        c.world_class.prepare(c.world_params)
-    peaks = {name: dry_run(c, exp.run_seed(i)) for name, (c, i) in first.items()}
+        with _world_errors(exp, c):
+            c.world_class.prepare(c.world_params)
+    peaks = {}
+    for name, (c, i) in first.items():
+        with _world_errors(exp, c):
+            peaks[name] = dry_run(c, exp.run_seed(i))
     name, peak = max(peaks.items(), key=lambda item: item[1])
     limit = max_memory if max_memory is not None else available_memory()
     per_worker = WORKER_BASE + peak
@@ -170,6 +175,19 @@ def _preflight(exp: Experiment, todo: Pending, jobs: int, max_memory: int | None
         raise ValueError(f"the runs would need about {_size(jobs * per_worker)} of memory ({jobs} worker"
                          f"{'s' if jobs > 1 else ''} x {_size(per_worker)}, estimated from the first episode of "
                          f"condition {name!r}), more {where} ({_size(limit)}); use fewer --jobs or smaller settings")
+
+
+@contextmanager
+def _world_errors(exp: Experiment, condition) -> Iterator[None]:
+    """Report a ConfigError of ``condition``'s world parameters that only building the world finds
+    (a module of ``world.imports`` that does not import) from the experiment file, as ``world.KEY``."""
+    try:
+        yield
+    except ConfigError as exc:
+        if exc.source != type(condition.world_params).__name__:
+            raise
+        raise ConfigError(exp.path or "<python>", join_key("world", exc.key), exc.expected,
+                          f"{exc.got} (condition {condition.name!r})") from None
 
 
 def available_memory() -> int | None:

@@ -36,10 +36,11 @@ import pandas as pd
 
 from ..results.lock import LOCK, locked
 from ..results.safeio import atomic_bytes, atomic_text
+from ..results.store import FIT_MANIFEST
 
 __all__ = ["MANIFEST", "FitInterrupted", "FitOutput", "check_out", "fit_output", "spreadsheet_safe"]
 
-MANIFEST = "manifest.json"
+MANIFEST = FIT_MANIFEST  # the name the results store looks for to refuse runs into a fit's folder
 #: what makes a folder a results folder (neurocur.results.store's layout)
 _RESULTS_CONFIG, _RESULTS_RUNS = "config.toml", "runs"
 _FORMULA = ("=", "+", "-", "@", "\t", "\r")

@@ -70,6 +70,8 @@ __all__ = ["ResultsError", "ResultsStore", "RunResult", "load", "run_dirs"]
 CONFIG = "config.toml"
 SUMMARY = "summary.json"
 PARTIAL = ".partial"
+#: the manifest a fit's output folder carries (:mod:`neurocur.fit.outdir`), which runs must not mix with
+FIT_MANIFEST = "manifest.json"
 CHECKPOINTS = "checkpoints"
 RUN_TABLES = ("episodes", "modules")
 _HEADER = """Resolved experiment written by neurocur; do not edit (resuming into this folder compares it).
@@ -167,6 +169,9 @@ class ResultsStore:
         code = code_fingerprint()
         existing = self.config()
         if existing is None:
+            if (self.root / FIT_MANIFEST).is_file():
+                raise ResultsError(f"{self.root} is the output folder of a fit ({FIT_MANIFEST}), not a results "
+                                   "folder; use another --out folder")
             if any(self._scan()):
                 raise ResultsError(f"{self.root} holds runs but no {CONFIG}, so nothing tells which experiment "
                                    f"they belong to; restore its {CONFIG}, or use another --out folder")

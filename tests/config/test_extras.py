@@ -85,7 +85,8 @@ def test_base_install_pulls_in_no_heavy_package():
     ({"rl"}, {"stable-baselines3", "torch"}),
     ({"fit"}, {"sbi", "torch"}),
     ({"all"}, {"mujoco", "icub-models", "distributed", "pygame-ce", "stable-baselines3", "sbi"}),
-    ({"test"}, {"mujoco", "icub-models", "distributed", "pygame-ce", "sbi", "torch", "pytest", "mkdocs", "import-linter"}),
+    ({"test"}, {"mujoco", "icub-models", "distributed", "pygame-ce", "sbi", "torch", "stable-baselines3", "pytest", "mkdocs",
+                "import-linter"}),
 ])
 def test_each_extra_installs_its_packages(extras, wanted):
     names, _ = closure(extras)

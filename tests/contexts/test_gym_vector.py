@@ -220,9 +220,9 @@ def test_an_experiment_file_of_a_vector_world_runs_and_writes_results(tmp_path, 
 @pytest.mark.parametrize("imports, message", [
     ('["gym vector"]', "walks.toml: key 'world.imports[0]': expected a module name (dotted Python identifiers, "
                        "e.g. 'neurogym'), got 'gym vector' (str)"),
-    ('["no_such_module_x"]', "condition 'default': GymParams: key 'imports[0]': expected a module that imports "
+    ('["no_such_module_x"]', "walks.toml: key 'world.imports[0]': expected a module that imports "
                              "(installed, or on PYTHONPATH), got 'no_such_module_x', whose import raised "
-                             "ModuleNotFoundError: No module named 'no_such_module_x'"),
+                             "ModuleNotFoundError: No module named 'no_such_module_x' (condition 'default')"),
 ])
 def test_an_experiment_file_whose_module_does_not_import_exits_2_with_one_line(imports, message, tmp_path, capsys):
     path, out = tmp_path / "walks.toml", tmp_path / "out"

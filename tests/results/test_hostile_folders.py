@@ -291,3 +291,15 @@ def test_a_folder_written_before_table_digests_is_read_and_its_steps_still_check
     path.write_text(json.dumps({**json.loads(path.read_text()), "steps": 2000}))
     with pytest.raises(ResultsError, match="key 'steps'"):
         load(folder)
+
+
+def test_runs_into_a_fits_output_folder_are_refused_and_leave_it_as_it_was(tmp_path):
+    fit_folder = tmp_path / "fit"
+    fit_folder.mkdir()
+    (fit_folder / "manifest.json").write_text('{"command": "fit", "complete": true, "files": {}}')
+    (fit_folder / "fit.csv").write_text("param,value\n")
+    before = sorted(p.name for p in fit_folder.iterdir())
+    with pytest.raises(ResultsError, match=r"is the output folder of a fit \(manifest.json\), not a results folder"):
+        run_experiment(load_experiment(SYNTHETIC, runs=1, steps=2000), fit_folder, jobs=1, conditions=["curious"],
+                       progress=False)
+    assert sorted(p.name for p in fit_folder.iterdir()) == before
