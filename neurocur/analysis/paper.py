@@ -2,7 +2,7 @@
 
 The one copy of them in the package: the order table
 (:func:`neurocur.analysis.report.order_table`), the reproduction study's table
-(:mod:`neurocur.analysis.reproduction`) and the iCub figures (:mod:`neurocur.analysis.icub`)
+(:mod:`neurocur.analysis.reproduction`) and the iCub figures (:mod:`neurocur.analysis.figures.icub`)
 set these beside their own results. The keys of :data:`SYNTHETIC_CURIOUS`,
 :data:`SYNTHETIC_RANDOM` and :data:`ICUB_CURIOUS` are the row labels of the order table.
 Counts are "runs out of 25" (synthetic, section 4.1.2) or "out of 15" (iCub, section 4.2.2).

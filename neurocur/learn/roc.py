@@ -16,7 +16,7 @@ Algorithm 3 literally, sample by sample, in one compiled call per block:
 4. all weights leak by the factor ``(1 − φ)`` (``amnesic`` = φ).
 
 So after ξ samples a state always holds its latest sample as a weight-0 cluster (the
-"latest-sample cluster", :attr:`ROCBank.latest_`) next to ξ − 1 amnesic weighted means.
+"latest-sample cluster", ``ROCBank.latest_``) next to ξ − 1 amnesic weighted means.
 
 RESPONSE. The paper does not define it. We use the Gaussian kernel
 

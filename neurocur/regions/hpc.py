@@ -260,7 +260,7 @@ class HPCROC(Region):
         return np.where(self._known, self._frame_err, np.nan)[:, None]
 
     def products(self, events):
-        """``"modules"``: one row per stored module (:data:`neurocur.recording.MODULE_COLUMNS`)."""
+        """``"modules"``: one row per stored module (:data:`neurocur.contract.MODULE_COLUMNS`)."""
         columns = [c.name for c in MODULE_COLUMNS]
         stored = events[events["event"] == "module_stored"]
         if stored.empty:
