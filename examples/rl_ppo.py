@@ -6,7 +6,7 @@ stable-baselines3's PPO with a neurocur VTA model as its curiosity bonus (needs 
     pip install "neurocur[rl]"
     PYTHONPATH=. python examples/rl_ppo.py [--model vta.novelty] [--env MountainCar-v0] [--steps 20000] [--scale 0.1] [--threads 1]
 
-Each of PPO's environments is wrapped in :class:`neurocur.rl.IntrinsicReward` (each with its own
+Each of PPO's environments is wrapped in `neurocur.rl.IntrinsicReward` (each with its own
 memory; stable-baselines3 vectorises single environments itself), PPO learns on the wrapped
 reward, and the learned policy is then run deterministically on the bare environment for 10
 episodes, whose mean return (the environment's reward alone) is printed. A demonstration of the
