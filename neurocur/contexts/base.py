@@ -309,6 +309,16 @@ class World(ABC):
     Params: ClassVar[type | None] = None
 
     @classmethod
+    def pays_reward(cls, params) -> bool:
+        """Whether a run of this world with ``params`` can pay a nonzero extrinsic reward (what a VTA that
+        reads it needs; :func:`neurocur.experiments.build` refuses such a VTA in a world that pays none).
+        Here: the ``rewards`` table (:mod:`.rewards`) has a nonzero entry; a world whose parameters have
+        no ``rewards`` pays by its own rules and is taken to pay unless it overrides this."""
+        if not hasattr(params, "rewards"):
+            return True
+        return any(v != 0 for entry in params.rewards or () for v in (entry if isinstance(entry, tuple) else (entry,)))
+
+    @classmethod
     def from_params(cls, params) -> World:
         """The world of a :attr:`Params` instance: ``cls(params=params)`` (a world built otherwise overrides it)."""
         if cls.Params is None:

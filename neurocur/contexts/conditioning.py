@@ -61,6 +61,11 @@ class ConditioningWorld(World):
     context_names = ("conditioning",)
     source_names = ("cue-reward",)
 
+    @classmethod
+    def pays_reward(cls, params) -> bool:
+        """Whether some trial delivers its reward: a nonzero ``reward`` not always omitted."""
+        return params.reward != 0 and params.omission_probability < 1
+
     def __init__(self, params: ConditioningParams | None = None, **kwargs) -> None:
         self.params = p = params if params is not None else ConditioningParams(**kwargs)
         self.n_states = self.max_frames = p.trial_length

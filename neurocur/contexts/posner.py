@@ -85,6 +85,11 @@ class PosnerWorld(World):
     context_names = ("posner",)
     source_names = ("cue-target",)
 
+    @classmethod
+    def pays_reward(cls, params) -> bool:
+        """Never: the task's feedback is the target's side, not a reward."""
+        return False
+
     def __init__(self, params: PosnerParams | None = None, **kwargs) -> None:
         self.params = p = params if params is not None else PosnerParams(**kwargs)
         self.frame_shape = (1, 2 * p.cues + 2)

@@ -55,6 +55,11 @@ class RewardBlocksWorld(SyntheticWorld):
 
     Params = RewardBlocksParams
 
+    @classmethod
+    def pays_reward(cls, params) -> bool:
+        """Whether some block pays a nonzero reward for some context."""
+        return any(v != 0 for block in params.blocks for v in block)
+
     def _reset(self) -> None:
         super()._reset()
         self.visit_count = 0

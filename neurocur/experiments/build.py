@@ -24,7 +24,7 @@ from .conditions import Condition, Experiment
 from .expand import Plan
 from .resolve import Entry, Resolved
 
-__all__ = ["build", "condition_world", "load_circuit"]
+__all__ = ["build", "check_reward_paid", "condition_world", "load_circuit"]
 
 
 def build(resolved: Resolved, plans: list[Plan]) -> Experiment:
@@ -40,8 +40,23 @@ def build(resolved: Resolved, plans: list[Plan]) -> Experiment:
                                   "a REGION.param of the condition's circuit", repr(key))
         conditions[plan.label] = Condition(plan.label, plan.condition.circuit, plan.params, world, circuit,
                                            world_params, plan.condition.description, plan.point, plan.condition.fit)
+        check_reward_paid(conditions[plan.label], plan.condition.source, plan.condition.name)
     return Experiment(name=resolved.name, path=resolved.path, description=resolved.description, runs=resolved.runs,
                       steps=resolved.steps, seed=resolved.seed, conditions=conditions, control=resolved.control)
+
+
+def check_reward_paid(condition: Condition, source, name: str) -> None:
+    """Refuse a condition whose circuit has a region that makes its output from the world's extrinsic
+    reward (:meth:`~neurocur.regions.Region.reads_reward`: ``vta.td``, ``vta.mixture`` with a nonzero
+    weight, ...) when its world pays none (:meth:`~neurocur.contexts.World.pays_reward`): such a run
+    is silently degenerate (TD's DA is 0 on every episode, the decisions are ties). One line naming
+    ``source``, ``world.rewards`` and the condition."""
+    readers = [f"{n} ({spec.type_name})" for n, spec in condition.circuit.specs.items() if spec.cls.reads_reward(spec.params)]
+    if readers and not condition.world_class.pays_reward(condition.world_params):
+        raise ConfigError(source, "world.rewards",
+                          f"a world that pays an extrinsic reward (a nonzero entry; or a world type that pays, "
+                          f"e.g. reward_blocks), since conditions.{name} has {', '.join(readers)}, which reads it",
+                          "a world whose every visit pays 0")
 
 
 def condition_world(layers: tuple[Entry, ...], source: Path):

@@ -113,6 +113,12 @@ class Region:
     #: using, emitting or recording it.
     modulator: ClassVar[str] = ""
 
+    @classmethod
+    def reads_reward(cls, params) -> bool:
+        """Whether this region, with ``params``, makes its output from the world's extrinsic reward, so
+        that in a world paying none it is degenerate (an experiment refuses it; docs/regions.md, VTA)."""
+        return False
+
     def __init__(self, name: str = "", params=None, **kwargs):
         if params is not None and kwargs:
             raise ValueError("pass either a Params object or keyword parameters, not both")

@@ -183,7 +183,7 @@ class HPCROC(Region):
             e = e if responds else np.nan
             if e < min_err or (e == e and min_err != min_err):
                 min_err, gating = e, m
-        familiar = bool(p.gating and min_err < p.threshold)
+        familiar = bool(p.gating and min_err < p.threshold and self.retrieval_allowed())
         if not familiar:
             gating = -1
         self.gated[c, episode.states] = familiar
@@ -211,6 +211,11 @@ class HPCROC(Region):
         self._rec = (familiar, gating, ctx_err, ep_err, min_err, learned)
         reward_error = float(ctx_err if p.reward_error == "context" else ep_err)
         return familiar, learned, reward_error, progress
+
+    def retrieval_allowed(self) -> bool:
+        """Whether a frozen module below threshold may gate this episode (always here; a variant
+        whose retrieval is gated by another signal, :class:`~neurocur.regions.hpc_ach.HPCACh`, overrides it)."""
+        return True
 
     def _keep_outputs(self, episode, y: np.ndarray) -> None:
         """Keep each visited state's outputs and derivatives (no derivative across a start)."""

@@ -49,6 +49,11 @@ class MixtureVTA(VTARole):
 
     Params = MixtureParams
 
+    @classmethod
+    def reads_reward(cls, params) -> bool:
+        """Unless the extrinsic reward's share ``w`` is 0."""
+        return params.weight > 0
+
     def __init__(self, name: str = "", params=None, **kwargs):
         super().__init__(name, params, **kwargs)
         cls = INTRINSIC[self.params.intrinsic]

@@ -39,6 +39,10 @@ class TDVTA(VTARole):
 
     Params = TDParams
 
+    @classmethod
+    def reads_reward(cls, params) -> bool:
+        return True
+
     def reset(self, rng) -> None:
         super().reset(rng)
         self.value = np.zeros(self.n_contexts)
@@ -94,6 +98,10 @@ class TDTrialVTA(Region):
 
     Params = TDTrialParams
     modulator = "da"
+
+    @classmethod
+    def reads_reward(cls, params) -> bool:
+        return True
     inputs = (
         Signal("episode", "Episode", (), "one trial: cue, reward delivered, reward due (T, 3)"),
         Signal("reward", "float64", (), "the reward the world paid for the trial"),

@@ -15,7 +15,7 @@ from neurocur.experiments import load_experiment, run_experiment
 from neurocur.learn.omega import omega
 
 CONDITIONS = ["learning_progress", "state_progress", "abs_learning_progress", "surprise", "content_novelty",
-              "count_novelty", "td", "random_switching"]
+              "count_novelty", "no_dopamine", "random_switching"]
 
 
 def test_the_shipped_world_spans_easy_to_unlearnable():

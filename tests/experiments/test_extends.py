@@ -11,7 +11,7 @@ from neurocur.experiments import load_experiment
 
 #: the hypothesis runs and sweeps whose conditions must run synthetic.toml's chosen reading
 EXTENDING = ("lc_softmax", "inverted_u_ne", "noisy_tv", "goldilocks", "sweep_pfc", "dopamine_dose", "gating_boredom",
-             "lc_models", "ne_plasticity", "fit_curiosity")
+             "lc_models", "ne_plasticity", "fit_curiosity", "ach_gating")
 
 
 def write(folder, name, text):
