@@ -326,11 +326,19 @@ def pca_reduce(episodes, var_fraction: float = 0.98) -> list[np.ndarray]:
 
 
 def omega_episodes(episodes, eta: float = 0.01, *, var_fraction: float = 0.98, rank_tol: float = 1e-10) -> float:
-    """Ω (eqs 15, 40) of a set of episodes, the derivative taken within episodes only.
+    """Ω (eqs 15, 40) of a set of episodes, the derivative taken within episodes only: the Ω of
+    :func:`omega_and_dims`."""
+    return omega_and_dims(episodes, eta, var_fraction=var_fraction, rank_tol=rank_tol)[0]
 
-    The episodes are reduced by :func:`pca_reduce`, then :func:`~neurocur.learn.omega.omega`
-    whitens them together and differences inside each episode.
+
+def omega_and_dims(episodes, eta: float = 0.01, *, var_fraction: float = 0.98,
+                   rank_tol: float = 1e-10) -> tuple[float, int]:
+    """Ω (eqs 15, 40) of a set of episodes and the PCA dimensions it was measured in.
+
+    The episodes are reduced by :func:`pca_reduce` to the dimensions that keep ``var_fraction``
+    of the variance (the paper's 98 %: "typically between 10 and 15", section 4.2.1), then
+    :func:`~neurocur.learn.omega.omega` whitens them together and differences inside each episode.
     """
     reduced = pca_reduce(episodes, var_fraction)
     starts = np.cumsum([0] + [len(r) for r in reduced[:-1]])
-    return omega(np.concatenate(reduced), eta, rank_tol=rank_tol, starts=starts)
+    return omega(np.concatenate(reduced), eta, rank_tol=rank_tol, starts=starts), reduced[0].shape[1]

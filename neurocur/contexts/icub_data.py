@@ -53,6 +53,8 @@ class EpisodeParams:
     frame_time: float = param(0.08, float, low=0.0, low_open=True,
                               doc="simulated seconds between two frames (one babbling action per frame)")
     settle_time: float = param(0.3, float, low=0.0, doc="simulated seconds to let the scene settle first")
+    steps_per_frame: int = param(1, int, low=1, doc="babbling actions (of frame_time each) between two observed "
+                                 "frames: the camera's frame rate against the arm's control rate")
 
     def __post_init__(self):
         check_params(self)
@@ -132,12 +134,13 @@ class _Simulation:
         mj.mj_forward(m, d)
         for _ in range(self.settle_steps):
             mj.mj_step(m, d)
-        moves = rng.choice(np.array([-1, 1]), size=p.max_frames)
+        k = p.steps_per_frame  # frame t > 0 follows the actions moves[(t - 1) k + 1 .. t k]
+        moves = rng.choice(np.array([-1, 1]), size=p.max_frames * k)
         frames, states, positions = [], [], []
         contact, length = -1, p.max_frames
         for t in range(p.max_frames):
-            if t > 0:
-                state = _reflect(state + moves[t], len(self.angles))
+            for move in moves[(t - 1) * k + 1 : t * k + 1] if t > 0 else ():
+                state = _reflect(state + move, len(self.angles))
                 d.ctrl[0] = self.angles[state]
                 for _ in range(self.substeps):
                     mj.mj_step(m, d)
@@ -237,14 +240,21 @@ def default_cache_dir() -> Path:
     return (Path(root) if root else Path.home() / ".cache" / "neurocur") / "icub"
 
 
+#: fields added after the cache's first format, with their defaults: at its default such a field is
+#: left out of the key, so that a data set made before it existed keeps its key and cache file
+_LATER_FIELDS = {"arm": "primitive", "arm_contrast": 1.0, "steps_per_frame": 1}
+
+
+def _key_fields(params) -> dict:
+    """Every field of ``params`` (a scene or a protocol) but those of :data:`_LATER_FIELDS` at their defaults."""
+    return {k: v for k, v in asdict(params).items() if k not in _LATER_FIELDS or v != _LATER_FIELDS[k]}
+
+
 def _scene_key(scene: SceneParams) -> dict:
-    """The scene's part of the cache key: every field, but ``arm`` only when it is not the
-    default (the default's key, and so its cache file, are those from before the field existed);
-    the iCub's arm adds the version of the package its meshes come from."""
-    fields = asdict(scene)
-    if fields["arm"] == "primitive":
-        del fields["arm"]
-    else:
+    """The scene's part of the cache key (:func:`_key_fields`); the iCub's arm adds the version of
+    the package its meshes come from."""
+    fields = _key_fields(scene)
+    if scene.arm != "primitive":
         from importlib.metadata import version
 
         fields["icub_models"] = version("icub-models")
@@ -258,7 +268,7 @@ def cache_key(scene: SceneParams, protocol: EpisodeParams, n_episodes: int, seed
         "mujoco": _mujoco().__version__,
         "frame_shape": FRAME_SHAPE,
         "scene": _scene_key(scene),
-        "protocol": asdict(protocol),
+        "protocol": _key_fields(protocol),
         "n_episodes": n_episodes,
         "seed": seed,
     }

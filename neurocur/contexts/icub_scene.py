@@ -85,6 +85,9 @@ class SceneParams:
     #: how the arm looks: "primitive" (capsules and spheres) or "icub" (the iCub's own meshes,
     #: from the icub extra); the arm's physics is the same either way
     arm: str = param("primitive", str, choices=ARMS)
+    #: the robot's shade against the table: its materials (shell, joint, hand) are the table's colour
+    #: plus this fraction of their own colour's difference from it (1: as listed; 0: the table's)
+    arm_contrast: float = param(1.0, float, low=0.0, high=1.0)
 
     def __post_init__(self):
         check_params(self)
@@ -102,6 +105,18 @@ class SceneParams:
         a = np.deg2rad(self.object_angle)
         reach = (self.reach if obj == "topple" else self.ball_reach) + radial_offset
         return np.array(self.shoulder[:2]) + reach * np.array([np.cos(a), np.sin(a)])
+
+
+#: the table's colour, and the robot's materials at full contrast (``arm_contrast = 1``)
+TABLE_RGB = (0.42, 0.32, 0.22)
+ROBOT_RGB = {"shell": (0.88, 0.88, 0.86), "joint": (0.25, 0.25, 0.28), "hand": (0.55, 0.55, 0.6)}
+
+
+def _robot_materials(contrast: float) -> str:
+    """The robot's materials, each ``TABLE_RGB + contrast * (its colour - TABLE_RGB)``."""
+    table = np.array(TABLE_RGB)
+    return "".join(f'\n    <material name="{name}" rgba="{_vec(table + contrast * (np.array(rgb) - table))} 1"/>'
+                   for name, rgb in ROBOT_RGB.items())
 
 
 def _vec(v) -> str:
@@ -204,12 +219,9 @@ def scene_xml(obj: str, params: SceneParams | None = None, *, height: int = 75, 
     <headlight ambient="0.45 0.45 0.45" diffuse="0.5 0.5 0.5" specular="0 0 0"/>
   </visual>
   <asset>
-    <material name="table" rgba="0.42 0.32 0.22 1"/>
+    <material name="table" rgba="{_vec(TABLE_RGB)} 1"/>
     <material name="floor" rgba="0.2 0.2 0.22 1"/>
-    <material name="wall" rgba="0.62 0.64 0.66 1"/>
-    <material name="shell" rgba="0.88 0.88 0.86 1"/>
-    <material name="joint" rgba="0.25 0.25 0.28 1"/>
-    <material name="hand" rgba="0.55 0.55 0.6 1"/>
+    <material name="wall" rgba="0.62 0.64 0.66 1"/>{_robot_materials(p.arm_contrast)}
     <material name="cup" rgba="0.95 0.95 0.92 1"/>
     <material name="inside" rgba="0.35 0.3 0.25 1"/>
     <material name="stripe" rgba="0.15 0.3 0.75 1"/>

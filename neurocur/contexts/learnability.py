@@ -6,8 +6,9 @@
 * a synthetic context whose source is redrawn every epoch (S-D, noise, re-sampled files):
   Ω of ``draws`` fresh draws joined, and each draw's Ω
   (:meth:`~.synthetic.SyntheticWorld.omega`);
-* an episodic (iCub) context: Ω of its cached episodes, derivatives within episodes
-  (:func:`~.icub.omega_episodes`).
+* an episodic (iCub) context: Ω of its cached episodes, derivatives within episodes, and the
+  PCA dimensions that keep 98 % of their variance, where Ω is measured (column ``pca_dims``,
+  :func:`~.icub.omega_and_dims`; empty for a synthetic context, which is not reduced).
 
 The ``level`` column orders the contexts by learnability for analyses against it (the
 Goldilocks curve, :mod:`neurocur.analysis.stats.goldilocks`): the dense rank of Ω, where a
@@ -29,7 +30,7 @@ from .base import World
 __all__ = ["LEARNABILITY_COLUMNS", "learnability"]
 
 LEARNABILITY_COLUMNS = ("context", "context_name", "source", "redrawn", "omega", "omega_draw_mean",
-                        "omega_draw_min", "omega_draw_max", "level")
+                        "omega_draw_min", "omega_draw_max", "pca_dims", "level")
 
 
 def learnability(world: World, eta: float = 0.05, *, draws: int = 10, seed=0,
@@ -44,21 +45,22 @@ def learnability(world: World, eta: float = 0.05, *, draws: int = 10, seed=0,
         if name not in world.context_names:
             raise ValueError(f"unknown context {name!r}; expected one of {', '.join(world.context_names)}")
         index = world.context_names.index(name)
-        redrawn = False
+        redrawn, dims = False, None
         if hasattr(world, "redraws"):  # synthetic: one frame sequence per context (or per draw)
             value, per_draw = world.omega(index, eta, draws=draws, seed=seed)
             redrawn = world.redraws(index)
         elif hasattr(world, "episodes"):  # episodic (iCub): derivatives within episodes only
-            from .icub import omega_episodes
+            from .icub import omega_and_dims
 
-            value = omega_episodes(world.episodes(index), eta)
+            value, dims = omega_and_dims(world.episodes(index), eta)
             per_draw = np.array([value])
         else:
             raise ValueError(f"Omega needs the frames of each context; {type(world).__name__} does not expose them")
         rows.append({"context": index, "context_name": name, "source": world.source_names[index],
                      "redrawn": redrawn, "omega": value, "omega_draw_mean": per_draw.mean(),
-                     "omega_draw_min": per_draw.min(), "omega_draw_max": per_draw.max()})
+                     "omega_draw_min": per_draw.min(), "omega_draw_max": per_draw.max(), "pca_dims": dims})
     table = pd.DataFrame(rows, columns=LEARNABILITY_COLUMNS[:-1])
+    table["pca_dims"] = table["pca_dims"].astype("Int64")
     cost = table["omega"].where(~table["redrawn"], 1.0)
     table["level"] = cost.rank(method="dense").astype(np.int64)
     return table

@@ -275,7 +275,7 @@ def test_the_icub_arm_without_its_package_names_the_extra(monkeypatch):
 
 def test_the_default_arm_keeps_the_cache_key_it_had_before_the_option():
     scene = SceneParams()
-    assert icub_data._scene_key(scene) == {k: v for k, v in asdict(scene).items() if k != "arm"}
+    assert icub_data._scene_key(scene) == {k: v for k, v in asdict(scene).items() if k not in ("arm", "arm_contrast")}
     icub_key = icub_data._scene_key(SceneParams(arm="icub"))
     assert icub_key["arm"] == "icub" and "icub_models" in icub_key
     assert "mesh" not in scene_xml("topple") and "mesh" not in scene_xml("roll")
@@ -324,3 +324,70 @@ def test_the_icub_arm_moves_the_object_bit_for_bit_as_the_primitive_arm(tmp_path
         assert np.array_equal(a.states, b.states)
         changed = a.frames != b.frames
         assert 0.01 < changed.mean() < 0.5  # the arm's pixels, not the whole image
+
+
+# ---------------------------------------------------------------- the input parameters of the declared search
+
+
+def test_new_fields_at_their_defaults_keep_the_default_cache_key():
+    scene, protocol = SceneParams(), EpisodeParams()
+    assert icub_data._key_fields(protocol) == {k: v for k, v in asdict(protocol).items() if k != "steps_per_frame"}
+    assert "arm_contrast" not in icub_data._scene_key(scene)
+    key = icub_data.cache_key(scene, protocol, 70, 0)
+    assert icub_data.cache_key(SceneParams(arm_contrast=0.5), protocol, 70, 0) != key
+    assert icub_data.cache_key(scene, EpisodeParams(steps_per_frame=2), 70, 0) != key
+
+
+def test_arm_contrast_moves_the_robots_colours_towards_the_tables():
+    from neurocur.contexts.icub_scene import ROBOT_RGB, TABLE_RGB
+
+    xml = scene_xml("topple", SceneParams(arm_contrast=0.25))
+    for name, rgb in ROBOT_RGB.items():
+        expected = [t + 0.25 * (c - t) for c, t in zip(rgb, TABLE_RGB)]
+        line = next(s for s in xml.splitlines() if f'material name="{name}"' in s)
+        got = [float(x) for x in line.split('rgba="')[1].split('"')[0].split()[:3]]
+        np.testing.assert_allclose(got, expected, atol=1e-6)
+    with pytest.raises(ConfigError, match="arm_contrast"):
+        SceneParams(arm_contrast=1.5)
+
+
+def _arm_frames(scene=None, protocol=None):
+    """The frames and states of the first topple episode of a scene, before the hand touches the cup."""
+    sim = icub_data._Simulation("topple", scene or SceneParams(), protocol or EpisodeParams())
+    try:
+        frames, states, _, contact = sim.play(np.random.default_rng(3))
+    finally:
+        sim.close()
+    return frames[:contact].astype(float), states[:contact]
+
+
+@needs_gl
+def test_a_low_arm_contrast_shrinks_the_arms_change_in_the_frames():
+    sharp, states = _arm_frames()
+    faint, faint_states = _arm_frames(SceneParams(arm_contrast=0.3))
+    np.testing.assert_array_equal(states, faint_states)  # the same walk: only the look differs
+    change = [np.abs(np.diff(f, axis=0)).mean() for f in (sharp, faint)]
+    assert 0.2 < change[1] / change[0] < 0.6  # the arm's pixel changes scale about with the contrast
+
+
+@needs_gl
+def test_steps_per_frame_takes_that_many_babbling_steps_between_frames():
+    _, one = _arm_frames()
+    _, two = _arm_frames(protocol=EpisodeParams(steps_per_frame=2))
+    assert set(np.abs(np.diff(one))) == {1}
+    assert set(np.abs(np.diff(two))) <= {0, 2} and 2 in set(np.abs(np.diff(two)))
+
+
+@needs_gl
+def test_omega_experiment_icub_prints_omega_and_the_pca_dimensions(tmp_path, capsys):
+    from neurocur.cli import main
+
+    sets = ["world.n_episodes=4", f"world.cache_dir={tmp_path}", "world.n_jobs=1"]
+    assert main(["omega", "--experiment", "icub", "--eta", "0.01", "--set", *sets]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    world = ICubWorld(n_episodes=4, seed=0, cache_dir=tmp_path)
+    for c, (name, line) in enumerate(zip(OBJECTS, lines)):
+        dims = icub.pca_reduce(world.episodes(c), 0.98)[0].shape[1]
+        assert line.split()[:2] == [name, name]
+        assert f"Omega = {omega_episodes(world.episodes(c), 0.01):.5f}" in line
+        assert line.endswith(f"(PCA to 98 % of the variance: {dims} dims)")
