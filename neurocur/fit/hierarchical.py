@@ -63,6 +63,7 @@ from ..config import ConfigError
 from ..config.checks import check_positive_int
 from .mle import DESIGN, IMPOSSIBLE
 from .transforms import Transforms
+from .workers import SubjectWorkers
 
 __all__ = ["HierarchicalFit", "Subject", "fit_hierarchical"]
 
@@ -165,12 +166,13 @@ def _evaluator(subject, keys: list):
 def fit_hierarchical(subjects, bounds: Mapping[str, tuple[float, float]], *, n_obs: Sequence[int] | None = None,
                      vectorised: bool = False, names: Sequence[str] | None = None, seed: int = 0, starts: int = 3,
                      max_iter: int = MAX_ITER, tol: float = 1e-4, n_samples: int = N_SAMPLES,
-                     level: float = 0.95, accelerate: bool = True) -> HierarchicalFit:
+                     level: float = 0.95, accelerate: bool = True, workers: int = 1) -> HierarchicalFit:
     """Group and per-subject parameters of ``subjects`` (module docstring). A subject is a replay (or a
     :class:`Subject`: anything with ``loglik(list of {key: value})`` and ``n_obs``, as ``fit_ml`` takes)
     or a callable of the own-scale vector (k,) in ``bounds``' order (``vectorised``: of an (m, k) array),
     whose number of observations ``n_obs`` gives. ``bounds``: ``{key: (low, high)}``, -inf/inf for none;
-    none at all evaluates a model without free parameters. ``accelerate``: SQUAREM on the EM (else plain EM)."""
+    none at all evaluates a model without free parameters. ``accelerate``: SQUAREM on the EM (else plain EM);
+    ``workers``: processes for the subjects' MAPs (the same fit for any number, :mod:`neurocur.fit.workers`)."""
     transforms = Transforms(bounds)
     keys = transforms.keys
     subjects = list(subjects)
@@ -205,7 +207,7 @@ def fit_hierarchical(subjects, bounds: Mapping[str, tuple[float, float]], *, n_o
     design_seed, sample_seed = np.random.SeedSequence(seed).spawn(2)
     with threadpool_limits(limits=1, user_api="blas"):  # scipy's L-BFGS-B: many tiny BLAS calls
         mu, var, maps, covs, evidence, history, converged = _em(fns, transforms, names, design_seed, starts, max_iter, tol,
-                                                                     accelerate)
+                                                                     accelerate, workers)
     mu_se = _mu_se(var, covs)
     z = float(special.ndtri(0.5 + level / 2))
     sd = np.sqrt(np.diagonal(covs, axis1=1, axis2=2))
@@ -220,25 +222,35 @@ def fit_hierarchical(subjects, bounds: Mapping[str, tuple[float, float]], *, n_o
                            total, n_samples, len(history), converged, history, evidence)
 
 
-def _em(fns, transforms: Transforms, names, seed, starts: int, max_iter: int, tol: float, accelerate: bool):
-    """The EM iterations (module docstring), accelerated by SQUAREM unless not ``accelerate``: the last
-    E-step, under the returned mu, var, gives the MAPs, their covariances and the subjects' Laplace log
-    evidences."""
+def _em(fns, transforms: Transforms, names, seed, starts: int, max_iter: int, tol: float, accelerate: bool,
+        workers: int):
+    """The EM iterations (module docstring), accelerated by SQUAREM unless not ``accelerate``, each E-step's
+    subjects in ``workers`` processes (:class:`~neurocur.fit.workers.SubjectWorkers`): the last E-step, under
+    the returned mu, var, gives the MAPs, their covariances and the subjects' Laplace log evidences."""
     k = len(transforms)
     unit = stats.qmc.Sobol(k, rng=np.random.default_rng(seed)).random_base2(int(np.log2(DESIGN)))
     normal = special.ndtri(np.clip(unit, 1e-9, 1 - 1e-9))
     box = [(-BOX, BOX) if kind != "identity" else (None, None) for kind in transforms.kinds]
     history: list[float] = []
 
-    def e_step(mu, var, warm):  # the MAPs, covariances and Laplace log evidences under N(mu, var)
-        design = np.vstack([mu, mu + np.sqrt(var) * normal])
-        results = [_posterior_mode(f, transforms, mu, var, design, None if warm is None else warm[i],
-                                   starts, box, names[i]) for i, f in enumerate(fns)]
-        step = (mu, var, np.array([r[0] for r in results]), np.array([r[1] for r in results]),
-                np.array([r[2] for r in results]))
-        history.append(float(sum(step[4])))  # the same order of additions as before
-        return step
+    def mode(i, mu, var, design, warm):
+        return _posterior_mode(fns[i], transforms, mu, var, design, warm, starts, box, names[i])
 
+    with SubjectWorkers(mode, len(fns), workers) as pool:
+        def e_step(mu, var, warm):  # the MAPs, covariances and Laplace log evidences under N(mu, var)
+            design = np.vstack([mu, mu + np.sqrt(var) * normal])
+            results = pool.map((mu, var, design), [None] * len(fns) if warm is None else list(warm))
+            step = (mu, var, np.array([r[0] for r in results]), np.array([r[1] for r in results]),
+                    np.array([r[2] for r in results]))
+            history.append(float(sum(step[4])))  # the same order of additions as before
+            return step
+
+        return _iterate(e_step, history, k, max_iter, tol, accelerate)
+
+
+def _iterate(e_step, history: list, k: int, max_iter: int, tol: float, accelerate: bool):
+    """EM from the first prior, plain or by SQUAREM, with ``e_step(mu, var, warm MAPs)`` appending each
+    E-step's Laplace log evidence to ``history``."""
     here = e_step(np.zeros(k), np.full(k, INIT_SD**2), None)
     step_max = 1.0
     while len(history) < max_iter:

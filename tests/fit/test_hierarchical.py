@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pandas as pd
 import pytest
 from scipy import integrate, special, stats
 
@@ -217,6 +218,23 @@ def test_the_accelerated_em_reaches_the_plain_em_fixed_point_in_fewer_e_steps():
     np.testing.assert_allclose(fast.sigma, plain.sigma, atol=2e-6)
     np.testing.assert_allclose(fast.subjects["estimate"], plain.subjects["estimate"], rtol=1e-5)
     assert fast.iterations < 0.6 * plain.iterations, (fast.iterations, plain.iterations)
+
+
+def test_a_seed_gives_the_same_fit_for_any_number_of_workers():
+    _, data = delta_group(7, 40, seed=3)
+    bounds = MODELS["delta"][0]
+    one, *more = (fit_hierarchical(subjects_of("delta", data), bounds, seed=2, max_iter=8, n_samples=50, workers=w)
+                  for w in (1, 2, 3))
+    for fit in more:
+        assert fit.history == one.history and fit.log_evidence == one.log_evidence
+        assert np.array_equal(fit.mu, one.mu) and np.array_equal(fit.sigma, one.sigma)
+        pd.testing.assert_frame_equal(fit.subjects, one.subjects, check_exact=True)
+    # a subject's refusal in a worker reaches the caller as the same one line
+    bad = subjects_of("delta", data)[:3] + [Subject(lambda p: np.full(len(p), np.nan), 40, list(bounds), vectorised=True)]
+    with pytest.raises(ConfigError, match=r"^s3: key 'loglik': expected a log-likelihood that is finite or -inf"):
+        fit_hierarchical(bad, bounds, workers=2)
+    with pytest.raises(ConfigError, match="key 'workers': expected a number of worker processes >= 1"):
+        fit_hierarchical(subjects_of("delta", data), bounds, workers=0)
 
 
 def test_replays_are_subjects_as_for_fit_ml():
