@@ -24,8 +24,8 @@ N(mu, diag(sigma^2)); theta_i = T(x_i) is what the subject's log-likelihood log 
 - **Acceleration** (``accelerate``, the default): EM converges linearly, slowly where a parameter's
   missing information is large (a weakly identified lapse rate took more than 200 E-steps on 400
   subjects). SQUAREM (Varadhan & Roland 2008, Scand J Stat 35:335, scheme S3) extrapolates the
-  fixed-point map along two EM steps on (mu, log sigma) (:func:`_em`); it changes EM's path, not its
-  fixed point, since EM stops only on a plain step. Each subject's MAP starts from its previous one.
+  fixed-point map along two EM steps on (mu, log sigma) (:mod:`neurocur.fit.squarem`); it changes
+  EM's path, not its fixed point, since EM stops only on a plain step. Each subject's MAP starts from its previous one.
 
 **Evidence.** log p(D | mu, sigma) = sum_i log integral L_i(T(x)) N(x; mu, sigma^2) dx, two ways:
 by Laplace, sum_i [log L_i(T(m_i)) + log N(m_i; mu, sigma^2) + (k/2) log 2 pi + (1/2) log det V_i]
@@ -62,6 +62,7 @@ from threadpoolctl import threadpool_limits
 from ..config import ConfigError
 from ..config.checks import check_positive_int
 from .mle import DESIGN, IMPOSSIBLE
+from .squarem import iterate
 from .transforms import Transforms
 from .workers import SubjectWorkers
 
@@ -245,58 +246,7 @@ def _em(fns, transforms: Transforms, names, seed, starts: int, max_iter: int, to
             history.append(float(sum(step[4])))  # the same order of additions as before
             return step
 
-        return _iterate(e_step, history, k, max_iter, tol, accelerate)
-
-
-def _iterate(e_step, history: list, k: int, max_iter: int, tol: float, accelerate: bool):
-    """EM from the first prior, plain or by SQUAREM, with ``e_step(mu, var, warm MAPs)`` appending each
-    E-step's Laplace log evidence to ``history``."""
-    here = e_step(np.zeros(k), np.full(k, INIT_SD**2), None)
-    step_max = 1.0
-    while len(history) < max_iter:
-        mu, var, maps, covs, evidence = here
-        after = e_step(*_m_step(maps, covs), maps)
-        moved = max(np.max(np.abs(after[0] - mu)), np.max(np.abs(np.sqrt(after[1]) - np.sqrt(var))))
-        if abs(history[-1] - history[-2]) < tol or moved < tol:
-            return (*after, history, True)
-        if not accelerate or len(history) == max_iter:
-            here = after
-            continue
-        # SQUAREM (Varadhan & Roland 2008, scheme S3) on p = (mu, log sigma): two EM steps p0 -> p1 -> p2
-        # give r = p1 - p0 and v = p2 - 2 p1 + p0; the next point is p0 + 2 a r + a^2 v with
-        # a = |r| / |v| within [1, step_max] (a = 1 is p2, plain EM); step_max grows fourfold after a step
-        # at it, and shrinks back when the point it gave has no E-step (a subject without a maximum there),
-        # which is then p2's. No objective guards the step (the Laplace evidence is not EM's objective):
-        # EM stops only on a plain EM step, so acceleration changes the path, not the fixed point.
-        p0, p1 = _packed(mu, var), _packed(after[0], after[1])
-        p2 = _packed(*_m_step(after[2], after[3]))
-        r, v = p1 - p0, p2 - 2 * p1 + p0
-        a = float(np.clip(np.sqrt(r @ r / (v @ v)) if v @ v > 0 else step_max, 1.0, step_max))
-        here = None
-        if a > 1.0:
-            try:
-                here = e_step(*_unpacked(p0 + 2 * a * r + a**2 * v, k), after[2])
-            except ConfigError:
-                step_max = max(1.0, step_max / 4) if a == step_max else step_max
-        if here is None:
-            here = e_step(*_unpacked(p2, k), after[2]) if len(history) < max_iter else after
-        if a == step_max:
-            step_max *= 4
-    return (*here, history, False)
-
-
-def _m_step(maps: np.ndarray, covs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """mu = mean_i m_i, var = mean_i ((m_i - mu)^2 + diag V_i), at least :data:`VAR_FLOOR`."""
-    mu = maps.mean(axis=0)
-    return mu, np.maximum(np.mean((maps - mu) ** 2 + np.diagonal(covs, axis1=1, axis2=2), axis=0), VAR_FLOOR)
-
-
-def _packed(mu: np.ndarray, var: np.ndarray) -> np.ndarray:
-    return np.concatenate([mu, 0.5 * np.log(var)])
-
-
-def _unpacked(p: np.ndarray, k: int) -> tuple[np.ndarray, np.ndarray]:
-    return p[:k], np.maximum(np.exp(2 * p[k:]), VAR_FLOOR)
+        return iterate(e_step, history, (np.zeros(k), np.full(k, INIT_SD**2)), VAR_FLOOR, max_iter, tol, accelerate)
 
 
 def _loglik(f, points: np.ndarray, name: str) -> np.ndarray:
