@@ -29,6 +29,9 @@ class ConfigError(ValueError):
         where = f"{self.source}: key '{key}'" if key else self.source
         super().__init__(f"{where}: expected {expected}, got {got}")
 
+    def __reduce__(self):  # pickled as its four parts (a worker process raises it to its parent)
+        return type(self), (self.source, self.key, self.expected, self.got)
+
     def relocated(self, source=None, prefix: str | None = None) -> ConfigError:
         """The same error reported from another file and/or under a key prefix."""
         key = join_key(prefix, self.key) if prefix else self.key

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pandas as pd
 import pytest
 from scipy import integrate, special, stats
 
@@ -190,6 +191,50 @@ def test_the_integrated_bic_picks_the_generating_model():
     # the nested dual-rate model fits at least as well but pays 2 log N for each of its extra mu and sigma
     assert fits["dual"].log_evidence > fits["delta"].log_evidence - 3.0
     print(ibic)
+
+
+def em_residual(fit, bounds, level=0.95):
+    """One plain M-step from the fit's subjects' table (each MAP and its Laplace variance, read back from its
+    interval on the unbounded scale): how far it moves mu and sigma from the reported ones."""
+    t = Transforms(bounds)
+    wide = lambda column: fit.subjects.pivot(index="dataset", columns="param", values=column)[t.keys].to_numpy()  # noqa: E731
+    maps = t.to_unbounded(wide("estimate"))
+    var = ((t.to_unbounded(wide("ci_high")) - maps) / stats.norm.ppf(0.5 + level / 2)) ** 2
+    mu = maps.mean(axis=0)
+    sigma = np.sqrt(np.mean((maps - mu) ** 2 + var, axis=0))
+    return max(np.max(np.abs(mu - fit.mu)), np.max(np.abs(sigma - fit.sigma)))
+
+
+def test_the_accelerated_em_reaches_the_plain_em_fixed_point_in_fewer_e_steps():
+    """SQUAREM changes EM's path, not its fixed point: both stop where one more plain M-step from the reported
+    subjects' table leaves mu and sigma where they are, and agree there to the E-step's optimiser tolerance."""
+    _, data = delta_group(10, 60, seed=0)
+    bounds = MODELS["delta"][0]
+    fast, plain = (fit_hierarchical(subjects_of("delta", data), bounds, tol=1e-10, max_iter=1000, n_samples=10,
+                                    accelerate=a) for a in (True, False))
+    assert fast.converged and plain.converged
+    assert em_residual(fast, bounds) < 1e-6 and em_residual(plain, bounds) < 1e-6
+    np.testing.assert_allclose(fast.mu, plain.mu, atol=2e-6)
+    np.testing.assert_allclose(fast.sigma, plain.sigma, atol=2e-6)
+    np.testing.assert_allclose(fast.subjects["estimate"], plain.subjects["estimate"], rtol=1e-5)
+    assert fast.iterations < 0.6 * plain.iterations, (fast.iterations, plain.iterations)
+
+
+def test_a_seed_gives_the_same_fit_for_any_number_of_workers():
+    _, data = delta_group(7, 40, seed=3)
+    bounds = MODELS["delta"][0]
+    one, *more = (fit_hierarchical(subjects_of("delta", data), bounds, seed=2, max_iter=8, n_samples=50, workers=w)
+                  for w in (1, 2, 3))
+    for fit in more:
+        assert fit.history == one.history and fit.log_evidence == one.log_evidence
+        assert np.array_equal(fit.mu, one.mu) and np.array_equal(fit.sigma, one.sigma)
+        pd.testing.assert_frame_equal(fit.subjects, one.subjects, check_exact=True)
+    # a subject's refusal in a worker reaches the caller as the same one line
+    bad = subjects_of("delta", data)[:3] + [Subject(lambda p: np.full(len(p), np.nan), 40, list(bounds), vectorised=True)]
+    with pytest.raises(ConfigError, match=r"^s3: key 'loglik': expected a log-likelihood that is finite or -inf"):
+        fit_hierarchical(bad, bounds, workers=2)
+    with pytest.raises(ConfigError, match="key 'workers': expected a number of worker processes >= 1"):
+        fit_hierarchical(subjects_of("delta", data), bounds, workers=0)
 
 
 def test_replays_are_subjects_as_for_fit_ml():
