@@ -170,11 +170,13 @@ def model_bounds(models: Sequence[str] = MODELS) -> dict[str, dict[str, tuple[fl
 
 
 def coefficients(maps: pd.DataFrame, names: Sequence[str]) -> np.ndarray:
-    """(subjects, len(FEATURES)) coefficient vectors from rows ``subject, param, estimate`` (0 where absent)."""
+    """(subjects, len(FEATURES)) coefficient vectors of the subjects ``names`` from rows ``subject, param, estimate``
+    (0 where absent; rows of other subjects are not read)."""
     coefs = np.zeros((len(names), len(FEATURES)))
     index = {name: i for i, name in enumerate(names)}
     for row in maps.itertuples():
-        coefs[index[str(row.subject)], FEATURES.index(KEYS[row.param])] = row.estimate
+        if str(row.subject) in index:
+            coefs[index[str(row.subject)], FEATURES.index(KEYS[row.param])] = row.estimate
     return coefs
 
 

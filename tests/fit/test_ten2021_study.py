@@ -21,7 +21,7 @@ from neurocur.fit.ten2021_checks import (
     recovery_summary,
     true_coefficients,
 )
-from neurocur.fit.ten2021_models import MODELS, model_bounds, session_features, simulate_sessions
+from neurocur.fit.ten2021_models import MODELS, coefficients, model_bounds, session_features, simulate_sessions
 from neurocur.fit.ten2021_study import lp_verdict, main, mastered
 from neurocur.fit.trials import trials_from_table
 
@@ -209,3 +209,9 @@ def test_the_command_on_simulated_files(tmp_path):
     assert (ppc["low"] <= ppc["high"]).all() and ppc["p"].between(0, 1).all()
     with pytest.raises(SystemExit):  # --fits is needed
         main(["ppc", *files, "--out", str(tmp_path / "q")])
+
+
+def test_coefficients_read_the_named_subjects_only():
+    maps = pd.DataFrame({"subject": ["a", "b", "c", "b"], "param": ["PFC.pc", "PFC.lp", "LC.kappa", "PFC.plays"],
+                         "estimate": [1.0, 2.0, 3.0, 4.0]})
+    np.testing.assert_array_equal(coefficients(maps, ["b", "a"]), [[0, 2, 4, 0], [1, 0, 0, 0]])
