@@ -192,6 +192,33 @@ def test_the_integrated_bic_picks_the_generating_model():
     print(ibic)
 
 
+def em_residual(fit, bounds, level=0.95):
+    """One plain M-step from the fit's subjects' table (each MAP and its Laplace variance, read back from its
+    interval on the unbounded scale): how far it moves mu and sigma from the reported ones."""
+    t = Transforms(bounds)
+    wide = lambda column: fit.subjects.pivot(index="dataset", columns="param", values=column)[t.keys].to_numpy()  # noqa: E731
+    maps = t.to_unbounded(wide("estimate"))
+    var = ((t.to_unbounded(wide("ci_high")) - maps) / stats.norm.ppf(0.5 + level / 2)) ** 2
+    mu = maps.mean(axis=0)
+    sigma = np.sqrt(np.mean((maps - mu) ** 2 + var, axis=0))
+    return max(np.max(np.abs(mu - fit.mu)), np.max(np.abs(sigma - fit.sigma)))
+
+
+def test_the_accelerated_em_reaches_the_plain_em_fixed_point_in_fewer_e_steps():
+    """SQUAREM changes EM's path, not its fixed point: both stop where one more plain M-step from the reported
+    subjects' table leaves mu and sigma where they are, and agree there to the E-step's optimiser tolerance."""
+    _, data = delta_group(10, 60, seed=0)
+    bounds = MODELS["delta"][0]
+    fast, plain = (fit_hierarchical(subjects_of("delta", data), bounds, tol=1e-10, max_iter=1000, n_samples=10,
+                                    accelerate=a) for a in (True, False))
+    assert fast.converged and plain.converged
+    assert em_residual(fast, bounds) < 1e-6 and em_residual(plain, bounds) < 1e-6
+    np.testing.assert_allclose(fast.mu, plain.mu, atol=2e-6)
+    np.testing.assert_allclose(fast.sigma, plain.sigma, atol=2e-6)
+    np.testing.assert_allclose(fast.subjects["estimate"], plain.subjects["estimate"], rtol=1e-5)
+    assert fast.iterations < 0.6 * plain.iterations, (fast.iterations, plain.iterations)
+
+
 def test_replays_are_subjects_as_for_fit_ml():
     """On free choices replayed through the learning-progress circuit (signal replay, as ``neurocur fit``):
     at each MAP the replay's own log-likelihood's slope in x = logit(gain / 60) balances the prior's,
