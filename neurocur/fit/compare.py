@@ -37,9 +37,9 @@ __all__ = ["bms_table", "compare_hierarchical", "compare_models", "comparison_fi
 
 def score(replay, bounds: Mapping[str, tuple[float, float]], *, starts: int, seed: int) -> dict:
     """``loglik, n_params, n_obs, aic, bic, heldout`` of one model on one replayed data set: the fit to
-    every episode, and the fit to the first half of the episodes scoring the second half."""
+    every episode, and the fit to the first half of the scored episodes scoring the second half."""
     full = fit_ml(replay, bounds, starts=starts, seed=seed, ci=None)
-    train = np.arange(replay.n_obs) < replay.n_obs // 2
+    train = np.cumsum(replay.scored) <= replay.n_obs // 2
     first = fit_ml(replay, bounds, starts=starts, seed=seed, ci=None, mask=train)
     return {"loglik": full.loglik, "n_params": full.n_params, "n_obs": full.n_obs, "aic": full.aic,
             "bic": full.bic, "heldout": replay.loglik(first.estimate, ~train)}

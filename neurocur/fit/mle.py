@@ -97,7 +97,8 @@ def fit_ml(replays, bounds: Mapping[str, tuple[float, float]], *, starts: int = 
     ``mask``: only the episodes it selects (one replay). Without bounds, the model has no free
     parameter: its log-likelihood is evaluated. ``identify``: set :attr:`MLFit.unidentified`."""
     replays = [replays] if not isinstance(replays, Sequence) else list(replays)
-    n_obs = int(sum(r.n_obs for r in replays)) if mask is None else int(np.sum(mask))
+    n_obs = int(sum(r.n_obs for r in replays)) if mask is None else \
+        int(sum(r.n_scored(mask) if hasattr(r, "n_scored") else np.sum(mask) for r in replays))
 
     def loglik_many(points) -> np.ndarray:
         thetas = [dict(zip(keys, map(float, x))) for x in points]

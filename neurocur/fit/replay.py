@@ -23,6 +23,11 @@ region that declares a vectorised likelihood (a classmethod ``log_likelihoods``,
 one trial, the decision chooses the option that the task visits in the same pass, and the world
 of options (:meth:`~neurocur.contexts.options.OptionsWorld.recorded`) pays the recorded outcome
 of each trial, so every recorded choice is scored, the first from the initial values.
+
+**Given passes.** A pass whose choice the circuit imposes rather than chooses (Ten et al. 2021's forced
+trials, ``ten2021.utility``) is given probability 1 and scores log 1 = 0; the region says so by its probe
+``given`` (1 on such a pass). :attr:`Replay.scored` marks the other passes, and :attr:`Replay.n_obs`
+counts them: the observations of a BIC or an iBIC are the scored choices, not the rows.
 """
 
 from __future__ import annotations
@@ -139,6 +144,8 @@ class Replay:
         self.tapes = {n: regions[n].tape for n in self.part}
         self.logp = np.array(regions[decision].logp)
         self.episodes = sim.episodes()
+        given = self.episodes["given"].to_numpy() if "given" in self.episodes.columns else 0
+        self.scored = np.broadcast_to(np.asarray(given) == 0, (len(self.observed),)).copy()
         self._plan = self._live_inputs()
 
     # ------------------------------------------------------------------ the one full run
@@ -189,7 +196,12 @@ class Replay:
 
     @property
     def n_obs(self) -> int:
-        return len(self.observed)
+        """The scored decisions (a given pass, module docstring, is not an observation)."""
+        return int(self.scored.sum())
+
+    def n_scored(self, mask=None) -> int:
+        """The scored decisions among the passes ``mask`` selects (all without one)."""
+        return self.n_obs if mask is None else int(np.sum(self.scored & np.asarray(mask, dtype=bool)))
 
     def loglik(self, theta: Mapping[str, float] | Sequence[Mapping[str, float]], mask=None):
         """The log-likelihood of the observed decisions at ``theta`` (``{"REGION.param": value}``,
@@ -198,7 +210,7 @@ class Replay:
         given probability 0 makes it -inf (:meth:`first_impossible` names the episode)."""
         if isinstance(theta, Mapping):
             return float(self.loglik([theta], mask)[0])
-        keep = np.ones(self.n_obs, dtype=bool) if mask is None else np.asarray(mask, dtype=bool)
+        keep = np.ones(len(self.observed), dtype=bool) if mask is None else np.asarray(mask, dtype=bool)
         thetas = [dict(t) for t in theta]
         for t in thetas:
             unknown = set(t) - set(self.fitted)
@@ -262,7 +274,7 @@ class Replay:
         outputs = {n: tuple(s.initial for s in specs[n].cls.outputs) for n in self.part}
         previous = dict(outputs)
         plan, tapes = self._plan, self.tapes
-        for t in range(self.n_obs):
+        for t in range(len(self.observed)):
             for name in self.part:
                 args = tapes[name][t]
                 if plan[name]:

@@ -130,3 +130,28 @@ def test_each_condition_equals_the_numpy_likelihood(experiment):
         assert abs(got - expected) < 1e-9, name
         assert (replay.logp[:61] == 0).all()  # the forced phase and the first free choice are not scored
     assert numpy_loglik(c, r, {}) == pytest.approx(49 * np.log(0.25), abs=1e-12)
+
+
+def test_bic_and_the_hierarchical_n_count_the_scored_choices_only(tmp_path):
+    """The forced phase (60 trials) and the first free choice are given, not scored: a BIC's n and the iBIC's N
+    are the scored choices (49 per subject here, of 110 rows), as the paper's 249 of 310."""
+    rng = np.random.default_rng(7)
+    subjects = {f"p{i}": numpy_agent(rng, 50, -2.0, 3.0) for i in range(3)}
+    table = pd.concat([pd.DataFrame({"subject": name, "trial": np.arange(1, len(c) + 1),
+                                     "choice": [OPTIONS[k] for k in c], "outcome": r})
+                       for name, (c, r) in subjects.items()])
+    data = tmp_path / "trials.csv"
+    table.to_csv(data, index=False)
+    out = tmp_path / "fit"
+    assert main(["fit", str(data), "--experiment", "ten2021", "--condition", "pc", "--out", str(out)]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    for fit in summary["fits"]:
+        n = 49 if fit["dataset"] != "pooled" else 3 * 49
+        assert fit["n_obs"] == n, fit
+        assert fit["bic"] == pytest.approx(fit["n_params"] * np.log(n) - 2 * fit["loglik"], abs=1e-9)
+    hier = tmp_path / "hfit"
+    assert main(["fit", str(data), "--experiment", "ten2021", "--condition", "pc", "--hierarchical",
+                 "--evidence-samples", "20", "--em-iterations", "3", "--out", str(hier)]) == 0
+    summary = json.loads((hier / "summary.json").read_text())
+    assert summary["n_obs"] == 3 * 49
+    assert summary["ibic"] == pytest.approx(-2 * summary["log_evidence"] + 2 * np.log(3 * 49), abs=1e-6)
