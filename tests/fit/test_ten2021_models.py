@@ -6,6 +6,7 @@ participant over the scored trials, the forced phase and the first free choice n
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -90,15 +91,21 @@ def numpy_agent(rng, n_free, c_pc, c_lp):
     return np.array(choices), np.array(outcomes)
 
 
+def write_trials(folder, subjects) -> Path:
+    """A trial table (``subject, trial, choice, outcome``; choices by option name) of ``subjects``
+    (name -> (choices, outcomes)) written as ``folder/trials.csv``."""
+    table = pd.concat([pd.DataFrame({"subject": name, "trial": np.arange(1, len(c) + 1),
+                                     "choice": [OPTIONS[k] for k in c], "outcome": r})
+                       for name, (c, r) in subjects.items()])
+    table.to_csv(folder / "trials.csv", index=False)
+    return folder / "trials.csv"
+
+
 def test_fit_pc_lp_equals_the_numpy_maximum_likelihood(tmp_path):
     rng = np.random.default_rng(2021)
     subjects = {f"p{i}": numpy_agent(rng, 80, c_pc, c_lp) for i, (c_pc, c_lp) in enumerate(((-4.0, 3.0), (2.0, 5.0),
                                                                                            (-1.0, -2.0)))}
-    table = pd.concat([pd.DataFrame({"subject": name, "trial": np.arange(1, len(c) + 1),
-                                     "choice": [OPTIONS[k] for k in c], "outcome": r})
-                       for name, (c, r) in subjects.items()])
-    data = tmp_path / "trials.csv"
-    table.to_csv(data, index=False)
+    data = write_trials(tmp_path, subjects)
     out = tmp_path / "fit"
     assert main(["fit", str(data), "--experiment", "ten2021", "--condition", "pc_lp", "--out", str(out)]) == 0
     summary = json.loads((out / "summary.json").read_text())
@@ -137,11 +144,7 @@ def test_bic_and_the_hierarchical_n_count_the_scored_choices_only(tmp_path):
     are the scored choices (49 per subject here, of 110 rows), as the paper's 249 of 310."""
     rng = np.random.default_rng(7)
     subjects = {f"p{i}": numpy_agent(rng, 50, -2.0, 3.0) for i in range(3)}
-    table = pd.concat([pd.DataFrame({"subject": name, "trial": np.arange(1, len(c) + 1),
-                                     "choice": [OPTIONS[k] for k in c], "outcome": r})
-                       for name, (c, r) in subjects.items()])
-    data = tmp_path / "trials.csv"
-    table.to_csv(data, index=False)
+    data = write_trials(tmp_path, subjects)
     out = tmp_path / "fit"
     assert main(["fit", str(data), "--experiment", "ten2021", "--condition", "pc", "--out", str(out)]) == 0
     summary = json.loads((out / "summary.json").read_text())
