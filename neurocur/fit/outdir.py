@@ -36,13 +36,14 @@ import pandas as pd
 
 from ..results.lock import LOCK, locked
 from ..results.safeio import atomic_bytes, atomic_text
+from ..results.store import CONFIG as _RESULTS_CONFIG
 from ..results.store import FIT_MANIFEST
 
 __all__ = ["MANIFEST", "FitInterrupted", "FitOutput", "check_out", "fit_output", "spreadsheet_safe"]
 
 MANIFEST = FIT_MANIFEST  # the name the results store looks for to refuse runs into a fit's folder
-#: what makes a folder a results folder (neurocur.results.store's layout)
-_RESULTS_CONFIG, _RESULTS_RUNS = "config.toml", "runs"
+#: with the store's config.toml, what makes a folder a results folder (neurocur.results.store's layout)
+_RESULTS_RUNS = "runs"
 _FORMULA = ("=", "+", "-", "@", "\t", "\r")
 _NUMBER = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?")
 
