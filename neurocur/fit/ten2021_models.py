@@ -38,7 +38,7 @@ from .hierarchical import MAX_ITER, N_SAMPLES, Subject, fit_hierarchical
 from .mle import fit_ml
 from .study import default_bounds
 
-__all__ = ["FEATURES", "KEYS", "LP_MODELS", "MODELS", "Session", "bms_rows", "coefficients", "fit_group", "model_bounds",
+__all__ = ["FEATURES", "KEYS", "LP_MODELS", "MODELS", "MODEL_SETS", "Session", "bms_rows", "coefficients", "fit_group", "model_bounds",
            "raw_coefficients", "session_features", "simulate_sessions"]
 
 #: The features of the logits: the three signals of ``ten2021.utility`` and the repetition of the previous choice.
@@ -47,10 +47,17 @@ FEATURES = (*SIGNALS, "repeat")
 KEYS = {"PFC.pc": "pc", "PFC.lp": "lp", "PFC.plays": "plays", "LC.kappa": "repeat"}
 #: Free choices at the start of free play that are given, not scored (the paper's 1).
 UNSCORED = 1
-#: The conditions of the experiment ten2021 compared (docs/ten2021.md).
+#: The conditions of the experiment ten2021 compared in hypothesis run 17 (docs/ten2021.md).
 MODELS = ("random", "perseveration", "pc", "lp", "pc_lp", "pc_lp_time")
 #: The models with a learning-progress component.
 LP_MODELS = ("lp", "pc_lp", "pc_lp_time")
+#: The sets of models a comparison fits (``--models``): each set's models and its models with a learning-progress
+#: component; ``paper`` is hypothesis run 17's, ``persev`` run 19's (the utilities with perseveration beside them).
+MODEL_SETS = {
+    "paper": (MODELS, LP_MODELS),
+    "persev": (("perseveration", "persev_pc", "persev_lp", "persev_pc_lp", "persev_pc_lp_time"),
+               ("persev_lp", "persev_pc_lp", "persev_pc_lp_time")),
+}
 
 
 @dataclass(frozen=True)

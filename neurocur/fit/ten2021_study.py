@@ -12,7 +12,9 @@ the 249 scored choices). The likelihood is :mod:`neurocur.fit.ten2021_models`'.
     python -m neurocur.fit.ten2021_study recover FREE STRAT --fits DIR --out DIR2
     python -m neurocur.fit.ten2021_study ppc FREE STRAT --fits DIR --out DIR3
 
-``recover`` and ``ppc`` (:mod:`neurocur.fit.ten2021_checks`) read the fits ``compare`` wrote.
+``recover`` and ``ppc`` (:mod:`neurocur.fit.ten2021_checks`) read the fits ``compare`` wrote. ``--models persev``
+runs hypothesis run 19's models instead (:data:`~neurocur.fit.ten2021_models.MODEL_SETS`: the utility models with
+perseveration beside them).
 """
 
 from __future__ import annotations
@@ -26,7 +28,7 @@ import pandas as pd
 from ..regions.ten2021 import WINDOW, activity_signals
 from .hierarchical import MAX_ITER, N_SAMPLES
 from .ten2021 import ACTIVITIES, GROUPS, free_play, read_ten2021_groups
-from .ten2021_models import LP_MODELS, MODELS, Session, bms_rows, fit_group, model_bounds, session_features
+from .ten2021_models import LP_MODELS, MODEL_SETS, MODELS, Session, bms_rows, fit_group, model_bounds, session_features
 
 __all__ = ["LP_MODELS", "MODELS", "compare_group", "lp_verdict", "mastered", "model_bounds", "sessions_of"]
 
@@ -36,6 +38,8 @@ MASTERY = 13
 LEARNABLE = (0, 1, 2)
 #: The summed protected exceedance probability of the LP models that the rule asks for.
 PXP_LEVEL = 0.95
+#: Per model set, the secondary AIC comparison's models: PC, LP and PC + LP (the paper's Fig. 5a for ``paper``).
+AIC_TRIOS = {"paper": ("pc", "lp", "pc_lp"), "persev": ("persev_pc", "persev_lp", "persev_pc_lp")}
 
 
 def mastered(choices, outcomes) -> bool:
@@ -62,72 +66,122 @@ def sessions_of(table: pd.DataFrame) -> dict[str, list[tuple[str, np.ndarray, np
     return out
 
 
-def lp_verdict(hierarchical: pd.DataFrame, selection: pd.DataFrame) -> dict:
-    """The declared rule: (a) the lowest iBIC belongs to an LP model, (b) the LP models' summed PXP >= 0.95."""
+def lp_verdict(hierarchical: pd.DataFrame, selection: pd.DataFrame, lp_models: Sequence[str] = LP_MODELS) -> dict:
+    """The declared rule of runs 17 and 19.
+
+    Parameters
+    ----------
+    hierarchical : DataFrame
+        A row per model: ``model``, ``ibic``.
+    selection : DataFrame
+        A row per model: ``model``, ``pxp`` (random-effects BMS).
+    lp_models : sequence of str
+        The models with a learning-progress component.
+
+    Returns
+    -------
+    dict
+        ``best_ibic``, ``lp_best`` (a: the lowest iBIC belongs to an LP model), ``lp_pxp``, ``lp_pxp_reached``
+        (b: the LP models' summed PXP >= 0.95) and ``verdict`` (supported, partly supported, not supported).
+    """
     best = str(hierarchical.loc[hierarchical["ibic"].idxmin(), "model"])
-    pxp = float(selection.loc[selection["model"].isin(LP_MODELS), "pxp"].sum())
-    a, b = best in LP_MODELS, pxp >= PXP_LEVEL
+    pxp = float(selection.loc[selection["model"].isin(lp_models), "pxp"].sum())
+    a, b = best in lp_models, pxp >= PXP_LEVEL
     return {"best_ibic": best, "lp_best": a, "lp_pxp": pxp, "lp_pxp_reached": b,
             "verdict": "supported" if a and b else "partly supported" if a or b else "not supported"}
 
 
-def paper_comparison(ml: pd.DataFrame) -> dict:
-    """The paper's comparison of PC, LP and PC + LP by per-participant AIC: each one's mean, and the participants
-    whose PC + LP AIC is below the better of PC and LP (by any margin, and by at least 2)."""
+def paper_comparison(ml: pd.DataFrame, trio: Sequence[str] = AIC_TRIOS["paper"]) -> dict:
+    """The paper's comparison of PC, LP and PC + LP by per-participant AIC.
+
+    Parameters
+    ----------
+    ml : DataFrame
+        Per-participant maximum-likelihood fits: ``subject``, ``model``, ``aic``.
+    trio : sequence of str
+        The PC, LP and PC + LP models (:data:`AIC_TRIOS`).
+
+    Returns
+    -------
+    dict
+        Each model's mean AIC (``mean_aic_<model>``), the participants whose PC + LP AIC is below the better of PC
+        and LP (``<pc_lp>_better``, and by at least 2, ``<pc_lp>_better_by_2``) and ``participants``.
+    """
+    pc, lp, both = trio
     aic = ml.pivot(index="subject", columns="model", values="aic")
-    margin = aic[["pc", "lp"]].min(axis=1) - aic["pc_lp"]
-    return {**{f"mean_aic_{m}": float(aic[m].mean()) for m in ("pc", "lp", "pc_lp")},
-            "pc_lp_better": int((margin > 0).sum()), "pc_lp_better_by_2": int((margin >= 2).sum()),
+    margin = aic[[pc, lp]].min(axis=1) - aic[both]
+    return {**{f"mean_aic_{m}": float(aic[m].mean()) for m in trio},
+            f"{both}_better": int((margin > 0).sum()), f"{both}_better_by_2": int((margin >= 2).sum()),
             "participants": int(len(aic))}
 
 
 def compare_group(sessions: Sequence[Session], *, seed: int, starts: int = 3, n_samples: int = N_SAMPLES,
-                  max_iter: int = MAX_ITER) -> dict:
-    """The comparison of one group (module docstring): the tables of :func:`fit_group`, ``bms`` (on the Laplace
-    evidences), ``bms_bic`` (on -BIC/2 of the per-participant fits), the rule's ``verdict`` and the paper's
-    comparison (``paper``)."""
-    found = fit_group(sessions, model_bounds(), seed=seed, starts=starts, n_samples=n_samples, max_iter=max_iter)
-    found["bms"] = bms_rows(found["evidence"], MODELS)
-    bic = found["ml"].pivot(index="subject", columns="model", values="bic").loc[[s.name for s in sessions], list(MODELS)]
-    found["bms_bic"] = bms_rows(-bic.to_numpy() / 2, MODELS)
-    found["verdict"] = lp_verdict(found["hierarchical"], found["bms"])
-    found["paper"] = paper_comparison(found["ml"])
+                  max_iter: int = MAX_ITER, models: str = "paper") -> dict:
+    """The comparison of one group (module docstring).
+
+    Parameters
+    ----------
+    sessions : sequence of Session
+        The group's participants.
+    seed, starts, n_samples, max_iter
+        :func:`~neurocur.fit.ten2021_models.fit_group`'s options.
+    models : str
+        The model set, a key of :data:`~neurocur.fit.ten2021_models.MODEL_SETS`.
+
+    Returns
+    -------
+    dict
+        The tables of :func:`~neurocur.fit.ten2021_models.fit_group`, ``bms`` (on the Laplace evidences),
+        ``bms_bic`` (on -BIC/2 of the per-participant fits), the rule's ``verdict`` and the AIC comparison of
+        PC, LP and PC + LP (``paper``, :func:`paper_comparison`).
+    """
+    names, lp_models = MODEL_SETS[models]
+    found = fit_group(sessions, model_bounds(names), seed=seed, starts=starts, n_samples=n_samples,
+                      max_iter=max_iter)
+    found["bms"] = bms_rows(found["evidence"], names)
+    bic = found["ml"].pivot(index="subject", columns="model", values="bic").loc[[s.name for s in sessions], list(names)]
+    found["bms_bic"] = bms_rows(-bic.to_numpy() / 2, names)
+    found["verdict"] = lp_verdict(found["hierarchical"], found["bms"], lp_models)
+    found["paper"] = paper_comparison(found["ml"], AIC_TRIOS[models])
     return found
 
 
-def comparison_figure(hierarchical: pd.DataFrame, selection: pd.DataFrame):
+def comparison_figure(hierarchical: pd.DataFrame, selection: pd.DataFrame, models: str = "paper"):
     """Per group (a column each): the iBIC above the group's best per model, and the protected exceedance
-    probabilities."""
+    probabilities (the model set ``models``, its LP models in orange)."""
     from ..analysis.figures.style import figure
 
+    names, lp_models = MODEL_SETS[models]
     groups = list(dict.fromkeys(hierarchical["group"]))
     fig, axes = figure(2, len(groups), figsize=(4.2 * len(groups), 6.0))
     for j, group in enumerate(groups):
-        h = hierarchical[hierarchical["group"] == group].set_index("model").loc[list(MODELS)]
-        s = selection[selection["group"] == group].set_index("model").loc[list(MODELS)]
-        colours = ["tab:orange" if m in LP_MODELS else "tab:grey" for m in MODELS]
+        h = hierarchical[hierarchical["group"] == group].set_index("model").loc[list(names)]
+        s = selection[selection["group"] == group].set_index("model").loc[list(names)]
+        colours = ["tab:orange" if m in lp_models else "tab:grey" for m in names]
         delta = h["ibic"] - h["ibic"].min()
-        axes[0, j].bar(range(len(MODELS)), np.maximum(delta, 0.5), color=colours, log=True)
+        axes[0, j].bar(range(len(names)), np.maximum(delta, 0.5), color=colours, log=True)
         axes[0, j].set(title=f"{group}: iBIC above the best (log scale)", ylabel="ΔiBIC")
-        axes[1, j].bar(range(len(MODELS)), s["pxp"], color=colours)
+        axes[1, j].bar(range(len(names)), s["pxp"], color=colours)
         axes[1, j].set(title=f"{group}: protected exceedance probability", ylabel="PXP", ylim=(0, 1))
         for ax in axes[:, j]:
-            ax.set_xticks(range(len(MODELS)), MODELS, rotation=30, ha="right", fontsize=8)
+            ax.set_xticks(range(len(names)), names, rotation=30, ha="right", fontsize=8)
     return fig
 
 
 def run_compare(groups: Mapping[str, Sequence[Session]], *, seed: int, starts: int, n_samples: int,
-                max_iter: int) -> tuple[dict[str, pd.DataFrame], object]:
-    """:func:`compare_group` of each group, as the tables ``compare`` writes and its figure."""
+                max_iter: int, models: str = "paper") -> tuple[dict[str, pd.DataFrame], object]:
+    """:func:`compare_group` of each group (the model set ``models``), as the tables ``compare`` writes and its
+    figure."""
     tables: dict[str, list] = {"hierarchical": [], "bms": [], "bms_bic": [], "maps": [], "ml": [], "verdict": []}
     for group, sessions in groups.items():
-        found = compare_group(sessions, seed=seed, starts=starts, n_samples=n_samples, max_iter=max_iter)
+        found = compare_group(sessions, seed=seed, starts=starts, n_samples=n_samples, max_iter=max_iter,
+                              models=models)
         for key in ("hierarchical", "bms", "bms_bic", "maps", "ml"):
             tables[key].append(found[key].assign(group=group))
         tables["verdict"].append(pd.DataFrame([{"group": group, "participants": len(sessions), **found["verdict"],
                                                 **found["paper"]}]))
     out = {key: _group_first(pd.concat(frames, ignore_index=True)) for key, frames in tables.items()}
-    return out, comparison_figure(out["hierarchical"], out["bms"])
+    return out, comparison_figure(out["hierarchical"], out["bms"], models)
 
 
 def _group_first(frame: pd.DataFrame) -> pd.DataFrame:
@@ -170,7 +224,8 @@ def _recover(groups, raw, args, out: Path) -> None:
         drawn = np.sort(np.random.default_rng(args.seed).choice(len(free), min(args.participants, len(free)),
                                                                    replace=False))
         chosen = [free[i] for i in drawn]
-        rows, confusion = model_recovery(chosen, maps[maps["group"] == "free"], seed=args.seed, **fit)
+        rows, confusion = model_recovery(chosen, maps[maps["group"] == "free"], seed=args.seed,
+                                         models=MODEL_SETS[args.models][0], **fit)
         _write(out, {"model_recovery": rows, "confusion": confusion.reset_index()})
         figures["confusion"] = _confusion_figure(confusion)
         print(rows.to_string(index=False, float_format=lambda v: f"{v:.4g}"))
@@ -243,6 +298,8 @@ def main(argv=None) -> int:
     parser.add_argument("--replicates", type=int, default=200, help="replicates of each group (ppc)")
     parser.add_argument("--participants", type=int, default=100, help="participants drawn for model recovery")
     parser.add_argument("--only", choices=("parameters", "models"), help="recover: one of the two recoveries")
+    parser.add_argument("--models", choices=tuple(MODEL_SETS), default="paper",
+                        help="the model set: paper (run 17, the default) or persev (run 19)")
     args = parser.parse_args(argv)
     if args.step != "compare" and args.fits is None:
         parser.error(f"{args.step} expected --fits DIR, the folder `compare` wrote")
@@ -260,7 +317,7 @@ def main(argv=None) -> int:
         out.mkdir(parents=True, exist_ok=True)
         if args.step == "compare":
             tables, fig = run_compare(groups, seed=args.seed, starts=args.starts, n_samples=args.evidence_samples,
-                                      max_iter=args.em_iterations)
+                                      max_iter=args.em_iterations, models=args.models)
             _write(out, tables)
             save_figures({"comparison": fig}, out)
             for key in ("hierarchical", "bms", "verdict"):

@@ -31,7 +31,8 @@ def experiment():
     return load_experiment("ten2021")
 
 
-@pytest.mark.parametrize("name", ["random", "perseveration", "pc", "lp", "pc_lp", "pc_lp_time"])
+@pytest.mark.parametrize("name", ["random", "perseveration", "pc", "lp", "pc_lp", "pc_lp_time", "persev_pc",
+                                  "persev_lp", "persev_pc_lp", "persev_pc_lp_time"])
 def test_an_agent_of_each_condition_replays_exactly(experiment, name):
     condition = experiment.conditions[name]
     trials, episodes = simulate(condition, RAW, np.random.SeedSequence(5), 130, name="agent")
@@ -128,7 +129,8 @@ def test_each_condition_equals_the_numpy_likelihood(experiment):
     cases = [("random", {}, {}, 0.0), ("perseveration", {"LC.kappa": 1.3}, {}, 1.3),
              ("pc", {"PFC.pc": -7.0}, {"pc": -7.0}, 0.0), ("lp", {"PFC.lp": 4.0}, {"lp": 4.0}, 0.0),
              ("pc_lp_time", {"PFC.pc": 2.0, "PFC.lp": -1.0, "PFC.plays": 3.0},
-              {"pc": 2.0, "lp": -1.0, "plays": 3.0}, 0.0)]
+              {"pc": 2.0, "lp": -1.0, "plays": 3.0}, 0.0),
+             ("persev_pc_lp", {"LC.kappa": 0.8, "PFC.pc": -4.0, "PFC.lp": 6.0}, {"pc": -4.0, "lp": 6.0}, 0.8)]
     for name, theta, weights, kappa in cases:
         condition = experiment.conditions[name]
         replay = Replay(condition.circuit, condition.make_world(), None, trials, fitted=list(condition.fit))

@@ -21,7 +21,14 @@ from neurocur.fit.ten2021_checks import (
     recovery_summary,
     true_coefficients,
 )
-from neurocur.fit.ten2021_models import MODELS, coefficients, model_bounds, session_features, simulate_sessions
+from neurocur.fit.ten2021_models import (
+    MODEL_SETS,
+    MODELS,
+    coefficients,
+    model_bounds,
+    session_features,
+    simulate_sessions,
+)
 from neurocur.fit.ten2021_study import lp_verdict, main, mastered
 from neurocur.fit.trials import trials_from_table
 
@@ -53,7 +60,8 @@ def test_the_session_likelihood_equals_the_circuit_replay(experiment, simulated)
     assert session.n_obs == 119  # 120 free choices, the first not scored
     trials = trials_of(choices[0], outcomes[0])
     rng = np.random.default_rng(0)
-    for name, bounds in model_bounds().items():
+    assert set(experiment.conditions) == {m for names, _ in MODEL_SETS.values() for m in names} | {"random"}
+    for name, bounds in model_bounds(tuple(experiment.conditions)).items():  # every condition, runs 17 and 19
         condition = experiment.conditions[name]
         replay = Replay(condition.circuit, condition.make_world(), None, trials, fitted=list(bounds))
         assert replay.n_obs == session.n_obs
@@ -172,6 +180,14 @@ def test_lp_verdict_by_hand():
     assert lp_verdict(hierarchical, pxp)["verdict"] == "partly supported"
     hierarchical.loc[2, "ibic"] = 500.0
     assert lp_verdict(hierarchical, pxp)["verdict"] == "not supported"
+    names, lp_models = MODEL_SETS["persev"]  # run 19's set: perseveration itself is not an LP model
+    hierarchical = pd.DataFrame({"model": list(names), "ibic": [600.0, 590, 620, 580, 585]})
+    pxp = pd.DataFrame({"model": list(names), "pxp": [0.03, 0.01, 0.0, 0.9, 0.06]})
+    v = lp_verdict(hierarchical, pxp, lp_models)
+    assert v["best_ibic"] == "persev_pc_lp" and v["lp_pxp"] == pytest.approx(0.96) and v["verdict"] == "supported"
+    hierarchical.loc[0, "ibic"] = 570.0
+    assert lp_verdict(hierarchical, pxp, lp_models)["verdict"] == "partly supported"
+    assert lp_verdict(hierarchical, pxp)["lp_pxp"] == 0.0  # run 17's LP models are not in this set
 
 
 def posted_rows(sid, choices, outcomes, rng):
@@ -209,6 +225,13 @@ def test_the_command_on_simulated_files(tmp_path):
     assert (ppc["low"] <= ppc["high"]).all() and ppc["p"].between(0, 1).all()
     with pytest.raises(SystemExit):  # --fits is needed
         main(["ppc", *files, "--out", str(tmp_path / "q")])
+    assert main(["compare", *files, "--models", "persev", "--out", str(tmp_path / "c19"), *fast]) == 0
+    hierarchical = pd.read_csv(tmp_path / "c19" / "hierarchical.csv")
+    assert list(hierarchical["model"]) == list(MODEL_SETS["persev"][0]) * 2
+    assert set(hierarchical.loc[hierarchical["model"] == "persev_pc_lp", "n_params"]) == {6}  # 3 means, 3 sds
+    verdict = pd.read_csv(tmp_path / "c19" / "verdict.csv")
+    ml = pd.read_csv(tmp_path / "c19" / "ml.csv").pivot(index="subject", columns="model", values="aic")
+    assert verdict["mean_aic_persev_pc_lp"].mean() == pytest.approx(ml["persev_pc_lp"].mean())  # both groups' means
 
 
 def test_coefficients_read_the_named_subjects_only():
