@@ -176,6 +176,8 @@ def build_parser() -> argparse.ArgumentParser:
         description="Draw every figure of a results folder (paper Figures 4D-G and the order counts) as PNG.")
     figures.add_argument("results", metavar="RESULTS_DIR", help="a results folder written by 'neurocur run'")
     figures.add_argument("--out", metavar="DIR", help="where to write the PNGs (default: RESULTS_DIR/figures)")
+    figures.add_argument("--no-invariance", dest="invariance", action="store_false",
+                         help="a synthetic world's folder: do not run the invariance demo for Figure 5 (4 s)")
 
     omega = sub.add_parser(
         "omega", help="learning cost Omega of a signal or of a context's frames (eq 15)",
@@ -269,14 +271,29 @@ def _cmd_run(args) -> int:
 
 
 def _cmd_figures(args) -> int:
-    from neurocur.analysis.figures.sets import write_figures
+    from neurocur.analysis.figures.sets import FIGURE_5, write_figures
 
     if args.out is not None:
         _check_writable_folder(Path(args.out), "--out")
-    paths, notes = write_figures(args.results, args.out)
-    for line in [*map(str, paths), *notes]:
+    paths, notes = write_figures(args.results, args.out, also=_figure_5 if args.invariance else None)
+    drawn = any(path.name == "invariance.png" for path in paths)
+    for line in [*map(str, paths), *(note for note in notes if not (drawn and note == FIGURE_5))]:
         print(line)
     return 0
+
+
+def _figure_5(results, out: Path) -> dict:
+    """Figure 5 for a synthetic world's folder: the shipped invariance demo (``neurocur invariance invariance``,
+    seeded) run into ``out``, its ``invariance.json`` beside the figure; nothing for another world."""
+    if results.world_types != {"synthetic"}:
+        return {}
+    from neurocur.analysis.figures.invariance import fig_invariance
+    from neurocur.experiments.invariance import load_invariance, write_invariance
+    from neurocur.tables import resolve_file
+
+    spec = load_invariance(resolve_file("invariance", Path(), "invariance", source="invariance", key=None))
+    demo, _ = write_invariance(spec, out)
+    return {"invariance": fig_invariance(demo)}
 
 
 def _cmd_omega(args) -> int:

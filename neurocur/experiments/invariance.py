@@ -32,6 +32,7 @@ from neurocur.contexts.sources import LEARNABLE, SLOW_DIM, UNLEARNABLE
 from neurocur.contexts.synthetic import NORMALISATIONS, SyntheticWorld, mix_frames
 from neurocur.learn.correlation import abs_corr
 from neurocur.learn.incsfa import IncSFA
+from neurocur.results.safeio import atomic_text
 from neurocur.tables import check_keys, load_toml, require
 
 __all__ = ["InvarianceDemo", "InvarianceSpec", "invariance_demo", "load_invariance", "write_invariance"]
@@ -163,5 +164,5 @@ def write_invariance(spec: InvarianceSpec, out_dir) -> tuple[InvarianceDemo, Pat
     out.mkdir(parents=True, exist_ok=True)
     result = out / RESULT
     payload = {**asdict(spec), "corr": demo.corr, "quality": demo.quality}
-    result.write_text(json.dumps(payload, indent=2) + "\n", encoding="utf-8")
+    atomic_text(result, json.dumps(payload, indent=2) + "\n")  # whole, and no link followed
     return demo, result

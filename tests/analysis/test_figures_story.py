@@ -3,6 +3,9 @@ and the paper's numbers drawn beside the model's."""
 
 from __future__ import annotations
 
+import json
+from pathlib import Path
+
 import matplotlib.colors as mcolors
 import pandas as pd
 import pytest
@@ -23,6 +26,8 @@ from neurocur.analysis.figures.sets import FIGURE_5, INDEX
 from neurocur.analysis.figures.style import condition_colours, source_colours
 from neurocur.cli import main
 from neurocur.contexts.synthetic import SYNTHETIC
+from neurocur.experiments.invariance import load_invariance
+from neurocur.tables import resolve_file
 
 
 def _hex(colour) -> str:
@@ -40,7 +45,12 @@ def test_the_index_names_every_png_written_and_only_those(results_dir, tmp_path,
     written = {line.rsplit("/", 1)[1] for line in printed if line.endswith(".png")}
     assert set(index["file"]) == written and len(index) == len(written)
     assert set(index["file"]) == {p.name for p in out.glob("*.png")} - {"stale.png"}
-    assert printed[-1] == FIGURE_5                                   # Figure 5: how to get it, in one line
+    assert FIGURE_5 not in printed                                   # Figure 5 is drawn, not named
+    assert index.set_index("file").loc["invariance.png", "paper_figure"].startswith("Figure 5")
+    demo = load_invariance(resolve_file("invariance", Path(), "invariance", source="invariance", key=None)).run()
+    result = json.loads((out / "invariance.json").read_text())
+    assert (result["corr"], result["quality"]) == (demo.corr, demo.quality)  # the shipped demo, seeded
+    assert f"corr {demo.corr:.4f}" in index.set_index("file").loc["invariance.png", "what_it_shows"]
     paper_figure = index.set_index("file")["paper_figure"]
     assert paper_figure["cumulative_error_curious.png"].startswith("Figure 4D")
     assert paper_figure["intrinsic_reward_random_switching.png"].startswith("Figure 4E")
@@ -51,6 +61,14 @@ def test_the_index_names_every_png_written_and_only_those(results_dir, tmp_path,
     for row in index.itertuples(index=False):
         with Image.open(out / row.file) as png:
             assert png.text["Title"] == row.paper_figure and png.text["Description"] == row.what_it_shows
+
+
+def test_without_the_invariance_demo_figure_5_is_named_instead(results_dir, tmp_path, capsys):
+    out = tmp_path / "figs"
+    assert main(["figures", str(results_dir), "--out", str(out), "--no-invariance"]) == 0
+    assert capsys.readouterr().out.splitlines()[-1] == FIGURE_5     # how to get it, in one line
+    assert not (out / "invariance.png").exists() and not (out / "invariance.json").exists()
+    assert "invariance.png" not in set(pd.read_csv(out / INDEX)["file"])
 
 
 def test_a_source_and_a_condition_keep_their_colour_across_figures(results):

@@ -10,7 +10,7 @@ from matplotlib.figure import Figure
 
 from neurocur.contexts.sources import SLOW_DIM
 
-from .style import figure, style
+from .style import caption, figure, save_figure, style
 
 __all__ = ["INVARIANCE_FIGURE", "fig_invariance", "save_invariance"]
 
@@ -64,14 +64,14 @@ def fig_invariance(demo, *, frame_shape=None, n_frames: int = 4) -> Figure:
         axes[1, 2].text(0.02, 0.04, f"corr with C: {demo.corr:.4f}", fontsize="small", transform=axes[1, 2].transAxes)
         for ax in (axes[1, 0], axes[1, 2]):
             ax.set_xlabel("local time step")
-    return fig
-
-
+    return caption(fig, "Figure 5 A-F (section 4.1.5)",
+                   f"The slowest feature learned on a source (C) stays as it was when the source's other "
+                   f"dimension is replaced by noise (F): corr {demo.corr:.4f}, invariant to it.")
 
 
 def save_invariance(demo, out_dir, *, dpi: int = 120) -> Path:
-    """Draw ``demo`` (:func:`fig_invariance`) into ``out_dir/invariance.png``."""
+    """Draw ``demo`` (:func:`fig_invariance`) into ``out_dir/invariance.png``, with its caption
+    (:func:`~neurocur.analysis.figures.style.save_figure`)."""
     path = Path(out_dir) / INVARIANCE_FIGURE
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig_invariance(demo).savefig(path, dpi=dpi)
-    return path
+    return save_figure(fig_invariance(demo), path, dpi)

@@ -18,6 +18,7 @@ every PNG written and only those.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping
 from dataclasses import asdict
 from pathlib import Path
 
@@ -50,7 +51,8 @@ __all__ = ["FIGURE_SETS", "INDEX", "FigureSet", "StandardFigures", "figure_set",
 
 #: The file ``write_all`` writes beside the figures: one row per PNG (file, paper_figure, what_it_shows).
 INDEX = "index.csv"
-#: What the synthetic world's figure set does not draw, and how to get it.
+#: What the synthetic world's figure set does not draw from the folder, and how to get it (``neurocur figures``
+#: draws it with its own run unless ``--no-invariance``).
 FIGURE_5 = ("Figure 5 (invariance, section 4.1.5) is drawn by its own run, not from a results folder: "
             "neurocur invariance invariance --out DIR")
 
@@ -142,15 +144,32 @@ def task_report(results_dir: str | Path, *, tables: tuple[pd.DataFrame, pd.DataF
     return figure_set(results).report(results)
 
 
-def write_figures(results_dir: str | Path, out_dir: str | Path | None = None, *,
-                  dpi: int = 120) -> tuple[list[Path], list[str]]:
-    """Draw every figure of a results folder (its world type's :class:`FigureSet`) and save them
-    as PNG in ``out_dir`` (default ``results_dir/figures``), the tables they show as CSV
-    (:meth:`FigureSet.tables`), the task's statistics over runs as ``statistics.csv`` when the set
-    has them (:meth:`FigureSet.report`), and :data:`INDEX`: a row per PNG saved, its ``file``, the
-    ``paper_figure`` it reproduces and ``what_it_shows`` (the caption each figure carries,
-    :func:`~neurocur.analysis.figures.style.caption_of`). Returns the written paths and the set's
-    :meth:`~FigureSet.notes`."""
+def write_figures(results_dir: str | Path, out_dir: str | Path | None = None, *, dpi: int = 120,
+                  also: Callable[[Results, Path], Mapping[str, Figure]] | None = None
+                  ) -> tuple[list[Path], list[str]]:
+    """Draw every figure of a results folder and save them, with an index.
+
+    Parameters
+    ----------
+    results_dir : str or Path
+        A results folder written by ``neurocur run``.
+    out_dir : str or Path, optional
+        Where to write (default ``results_dir/figures``).
+    dpi : int
+        The PNGs' resolution.
+    also : callable, optional
+        ``also(results, out)`` returns more figures by file stem, drawn by the caller once the folder is
+        loaded (the command's Figure 5, which a layer above analysis runs); saved and indexed with the others.
+
+    Returns
+    -------
+    tuple of (list of Path, list of str)
+        The written paths: the figures of the folder's world type (:class:`FigureSet`) as PNG, the tables
+        they show as CSV (:meth:`FigureSet.tables`), the task's statistics over runs as ``statistics.csv``
+        when the set has them (:meth:`FigureSet.report`), and :data:`INDEX` (a row per PNG saved: its
+        ``file``, the ``paper_figure`` it reproduces and ``what_it_shows``, the caption each figure carries,
+        :func:`~neurocur.analysis.figures.style.caption_of`); and the set's :meth:`~FigureSet.notes`.
+    """
     results = Results.load(results_dir)
     out = Path(results_dir) / "figures" if out_dir is None else Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -160,7 +179,7 @@ def write_figures(results_dir: str | Path, out_dir: str | Path | None = None, *,
     for name, table in {**figures.tables(results), **({} if report is None else {"statistics": report})}.items():
         atomic_text(out / f"{name}.csv", table.to_csv(index=False))
         written.append(out / f"{name}.csv")
-    drawn = figures.draw(results)
+    drawn = {**figures.draw(results), **({} if also is None else also(results, out))}
     pngs = save_figures(drawn, out, dpi)
     index = pd.DataFrame([{"file": path.name, **asdict(caption_of(fig))} for path, fig in zip(pngs, drawn.values())],
                          columns=["file", "paper_figure", "what_it_shows"])
