@@ -45,7 +45,25 @@ class BMS:
 
 
 def bms(log_evidence, alpha0: float = 1.0, *, tol: float = 1e-10, max_iter: int = 10_000) -> BMS:
-    """Variational random-effects BMS on ``log_evidence`` (n data sets x K models)."""
+    """Variational random-effects Bayesian model selection (Stephan et al. 2009; Rigoux et al. 2014).
+
+    Parameters
+    ----------
+    log_evidence : array of shape (data sets, models)
+        Each data set's log evidence under each model (at least 2 models, all finite).
+    alpha0 : float
+        The Dirichlet prior's concentration of every model.
+    tol : float
+        The variational iteration stops when no Dirichlet parameter moves by more than this.
+    max_iter : int
+        The most iterations.
+
+    Returns
+    -------
+    BMS
+        Each model's expected frequency, exceedance and protected exceedance probabilities, and the Bayesian
+        omnibus risk.
+    """
     L = np.asarray(log_evidence, dtype=np.float64)
     if L.ndim != 2 or L.shape[1] < 2 or not np.isfinite(L).all():
         raise ValueError(f"log_evidence must be a finite (data sets x models) array with at least 2 models; "

@@ -93,9 +93,35 @@ def _check_bounds(bounds: Mapping[str, tuple[float, float]]) -> tuple[list[str],
 
 def fit_ml(replays, bounds: Mapping[str, tuple[float, float]], *, starts: int = 5, seed: int = 0,
            ci: float | None = 0.95, dataset: str = "pooled", mask=None, identify: bool = False) -> MLFit:
-    """One theta maximising the summed log-likelihood of ``replays`` (one Replay or several, pooled);
-    ``mask``: only the episodes it selects (one replay). Without bounds, the model has no free
-    parameter: its log-likelihood is evaluated. ``identify``: set :attr:`MLFit.unidentified`."""
+    """One theta maximising the summed log-likelihood of ``replays``.
+
+    Without bounds, the model has no free parameter: its log-likelihood is evaluated.
+
+    Parameters
+    ----------
+    replays : Replay or sequence of Replay
+        One data set, or several pooled (anything with ``loglik(list of {key: value})`` and ``n_obs``, such as
+        a :class:`~neurocur.fit.hierarchical.Subject`).
+    bounds : mapping of str to (float, float)
+        ``{"REGION.param": (low, high)}``: the fitted keys and their bounds (-inf/inf for none).
+    starts : int
+        Local searches (L-BFGS-B), from the best points of a seeded Sobol design.
+    seed : int
+        The design's seed.
+    ci : float or None
+        The level of the profile-likelihood intervals; None for none.
+    dataset : str
+        The name in the fit's rows.
+    mask : array of bool, optional
+        Only the episodes it selects are scored (one replay; held-out scores).
+    identify : bool
+        Also check which keys the data leave unidentified (:attr:`MLFit.unidentified`).
+
+    Returns
+    -------
+    MLFit
+        The estimate, its intervals, the log-likelihood, AIC and BIC.
+    """
     replays = [replays] if not isinstance(replays, Sequence) else list(replays)
     n_obs = int(sum(r.n_obs for r in replays)) if mask is None else \
         int(sum(r.n_scored(mask) if hasattr(r, "n_scored") else np.sum(mask) for r in replays))

@@ -190,8 +190,20 @@ def paper_exclusions(table: pd.DataFrame, *, apply: bool = True,
 
 
 def read_ten2021_groups(free_path, strat_path, *, exclude: bool = True) -> tuple[pd.DataFrame, pd.DataFrame]:
-    """Both posted files as one trial table, with :func:`paper_exclusions` over the two pooled
-    (``exclude=False`` keeps everyone; the report is made either way)."""
+    """Both posted files as one trial table, with :func:`paper_exclusions` over the two pooled.
+
+    Parameters
+    ----------
+    free_path, strat_path : str or Path
+        The posted ``main_free.csv`` and ``main_strat.csv``.
+    exclude : bool
+        Apply the paper's exclusions (False keeps everyone; the report is made either way).
+
+    Returns
+    -------
+    tuple of (DataFrame, DataFrame)
+        The trial table (:func:`read_ten2021`'s columns) and the exclusion report.
+    """
     table = pd.concat([read_ten2021(free_path, "free"), read_ten2021(strat_path, "strat")], ignore_index=True)
     return paper_exclusions(table, apply=exclude)
 
@@ -200,7 +212,20 @@ def free_play(table: pd.DataFrame, n_trials: int = FREE_TRIALS) -> pd.DataFrame:
     """Each subject's first ``n_trials`` free-play trials, with ``free_trial`` = 1 .. ``n_trials``.
 
     Some free-instructions participants played past 250 free trials in the posted file (up to
-    277); the paper used the first 250 (trial <= 310). A subject with fewer is a ValueError."""
+    277); the paper used the first 250 (trial <= 310). A subject with fewer is a ValueError.
+
+    Parameters
+    ----------
+    table : DataFrame
+        A trial table of :func:`read_ten2021`.
+    n_trials : int
+        Free trials kept per subject.
+
+    Returns
+    -------
+    DataFrame
+        The free-play rows, in subject and trial order, with ``free_trial``.
+    """
     free = table[table["stage"] == "free"].sort_values(["subject", "trial"], kind="stable")
     free = free.assign(free_trial=free.groupby("subject", sort=False).cumcount() + 1)
     short = free.groupby("subject", sort=False)["free_trial"].max()

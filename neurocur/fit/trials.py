@@ -78,8 +78,22 @@ def read_trials(path, option_names: Sequence[str], *, columns: Mapping[str, str]
                 one_based: bool = False) -> list[Trials]:
     """The subjects of a trial table (CSV, Parquet, tab-separated text) or of a results folder, in order.
 
-    ``option_names``: the world's options (a choice may be given by index or name); ``columns``:
-    standard column -> the file's column; ``one_based``: integer choice codes start at 1."""
+    Parameters
+    ----------
+    path : str or Path
+        A trial table (one row per trial: ``subject, trial, choice, outcome[, rt]``) or a results folder.
+    option_names : sequence of str
+        The world's options: a choice may be given by its index or its name.
+    columns : mapping of str to str, optional
+        Standard column -> the file's column (e.g. ``{"subject": "subjID"}``).
+    one_based : bool
+        Integer choice codes start at 1 (never guessed).
+
+    Returns
+    -------
+    list of Trials
+        One per subject, checked; a missed trial (empty choice) is kept and skipped by the likelihood.
+    """
     path = Path(path)
     if path_kind(path, EXPECTED) == "folder":
         episodes, _ = ResultsStore(path).load()
@@ -109,8 +123,26 @@ def rename(table: pd.DataFrame, columns: Mapping[str, str], source) -> pd.DataFr
 
 def trials_from_table(table: pd.DataFrame, option_names: Sequence[str], *, one_based: bool = False,
                       source: str = "<table>", origin: Mapping[str, str] | None = None) -> list[Trials]:
-    """The subjects of a table with the standard columns (:data:`TRIAL_COLUMNS`, then optional ones),
-    checked; ``origin`` (standard -> the file's name) names the file's column in a message."""
+    """The subjects of a table with the standard columns (:data:`TRIAL_COLUMNS`, then optional ones), checked.
+
+    Parameters
+    ----------
+    table : DataFrame
+        One row per trial, with the standard columns.
+    option_names : sequence of str
+        The world's options.
+    one_based : bool
+        Integer choice codes start at 1.
+    source : str
+        The file named in a message.
+    origin : mapping of str to str, optional
+        Standard column -> the file's name of it, named in a message.
+
+    Returns
+    -------
+    list of Trials
+        One per subject, in the table's order.
+    """
     origin = dict(origin or {})
 
     def col(name: str) -> str:

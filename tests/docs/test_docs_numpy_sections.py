@@ -2,8 +2,8 @@
 
 griffe reads the package statically (about a second) with the parser mkdocs.yml names: no docstring
 may raise a parser warning (which ``mkdocs build --strict`` would turn into a failure only for the
-objects it renders), and each class with a Parameters section must document exactly the parameters
-of its constructor, each with a description (``name : text`` would make the text a type and leave
+objects it renders), and each function or class with a Parameters section (the listed ones must have
+one) must document exactly the parameters of its signature or constructor, each with a description (``name : text`` would make the text a type and leave
 the description empty).
 """
 
@@ -17,8 +17,13 @@ import pytest
 import yaml
 
 ROOT = Path(__file__).resolve().parents[2]
+#: Objects whose API entries must show a parameter table (more have one; each that has one is checked below).
 SECTIONED = {"neurocur.learn.ccipca.CCIPCA", "neurocur.learn.mca.MCA", "neurocur.learn.incsfa.IncSFA",
-             "neurocur.learn.roc.ROCBank", "neurocur.contexts.synthetic.SyntheticWorld"}
+             "neurocur.learn.roc.ROCBank", "neurocur.contexts.synthetic.SyntheticWorld",
+             "neurocur.fit.mle.fit_ml", "neurocur.fit.hierarchical.fit_hierarchical", "neurocur.fit.bms.bms",
+             "neurocur.fit.trials.read_trials", "neurocur.fit.trials.trials_from_table",
+             "neurocur.fit.ten2021.read_ten2021_groups", "neurocur.fit.ten2021.free_play",
+             "neurocur.analysis.figures.sets.write_figures"}
 
 
 def _style() -> str:
@@ -65,7 +70,7 @@ def test_parameter_sections_document_the_constructor(parsed):
     docstrings, _ = parsed
     sectioned = {path for path, (_, sections) in docstrings.items()
                  if any(s.kind is griffe.DocstringSectionKind.parameters for s in sections)}
-    assert sectioned == SECTIONED
+    assert SECTIONED <= sectioned, sorted(SECTIONED - sectioned)
     for path in sorted(sectioned):
         obj, sections = docstrings[path]
         (params,) = [s.value for s in sections if s.kind is griffe.DocstringSectionKind.parameters]
