@@ -73,6 +73,9 @@ def _hierarchical(p: argparse.ArgumentParser, what: str) -> None:
     p.add_argument("--evidence-samples", type=int_at_least(2, "a number of samples of at least 2"), metavar="N",
                    help="with --hierarchical: draws from the group prior for the sampled evidence and iBIC (default "
                    "2000; each costs a likelihood per data set)")
+    p.add_argument("--jobs", type=int_at_least(1, "a number of worker processes of at least 1"), metavar="N",
+                   help="with --hierarchical: worker processes for the E-steps' data sets (default: all cores; the "
+                   "results are the same for any N)")
 
 
 def _parser(sub, name: str, help: str, description: str, example: str) -> argparse.ArgumentParser:

@@ -152,7 +152,8 @@ def _check_hierarchical(args, data=None) -> None:
     """Refuse in one line what a hierarchical fit cannot honour: bootstrap intervals, a single data set
     (``data``, once read), ``--no-loo``; and its options without ``--hierarchical``."""
     if not args.hierarchical:
-        for flag, value in (("--em-iterations", args.em_iterations), ("--evidence-samples", args.evidence_samples)):
+        for flag, value in (("--em-iterations", args.em_iterations), ("--evidence-samples", args.evidence_samples),
+                            ("--jobs", args.jobs)):
             if value is not None:
                 raise ConfigError(flag, None, "--hierarchical with it (an option of the hierarchical fit)",
                                   "no --hierarchical")
@@ -170,6 +171,7 @@ def _check_hierarchical(args, data=None) -> None:
 
 def _fit_hierarchical(args, experiment, condition, bounds, data, found) -> int:
     """``fit --hierarchical``: fit.csv (each data set's MAP and Laplace interval), group.csv, summary.json."""
+    from ..experiments.processes import worker_count
     from .hierarchical import MAX_ITER, N_SAMPLES, fit_hierarchical
     from .models import data_summary
     from .study import make_replays
@@ -182,7 +184,7 @@ def _fit_hierarchical(args, experiment, condition, bounds, data, found) -> int:
         replays = make_replays(experiment, condition, data, args.keys, decision=args.decision, signal=args.signal)
         fit = fit_hierarchical(replays, bounds, names=[r.behaviour.name for r in replays], seed=args.seed,
                                starts=args.starts, max_iter=args.em_iterations or MAX_ITER,
-                               n_samples=args.evidence_samples or N_SAMPLES)
+                               n_samples=args.evidence_samples or N_SAMPLES, workers=worker_count(args.jobs, len(data)))
         _warn_unconverged(out, condition.name, fit)
         out.write_csv("fit.csv", fit.subjects)
         out.write_csv("group.csv", fit.group)
@@ -314,6 +316,7 @@ def _cmd_compare(args) -> int:
 
 def _compare_hierarchical(args, experiment, models, bounds_of, data, found) -> int:
     """``compare --hierarchical``: compare.csv (per data set and model), bms.csv, hierarchical.csv (per model)."""
+    from ..experiments.processes import worker_count
     from .compare import bms_table, compare_hierarchical
     from .hierarchical import MAX_ITER, N_SAMPLES
 
@@ -325,7 +328,7 @@ def _compare_hierarchical(args, experiment, models, bounds_of, data, found) -> i
         table, ranked, fits = compare_hierarchical(
             experiment, data, models, bounds_of, decision=args.decision, signal=args.signal, starts=args.starts,
             seed=args.seed, max_iter=args.em_iterations or MAX_ITER, n_samples=args.evidence_samples or N_SAMPLES,
-            progress=_partial(out, "compare"))
+            progress=_partial(out, "compare"), workers=worker_count(args.jobs, len(data)))
         for name, fit in fits.items():
             _warn_unconverged(out, name, fit)
         selection = bms_table(table, "log_evidence")

@@ -71,19 +71,20 @@ def compare_models(experiment, data: Sequence, models: Mapping[str, object],
 def compare_hierarchical(experiment, data: Sequence, models: Mapping[str, object],
                          bounds: Mapping[str, Mapping[str, tuple[float, float]]], *, decision: str = "LC",
                          signal: tuple[str, str] | None = None, starts: int = 3, seed: int = 0, max_iter: int = MAX_ITER,
-                         n_samples: int = N_SAMPLES, progress=None) -> tuple[pd.DataFrame, pd.DataFrame, dict]:
+                         n_samples: int = N_SAMPLES, progress=None, workers: int = 1
+                         ) -> tuple[pd.DataFrame, pd.DataFrame, dict]:
     """Every model fitted hierarchically to all of ``data`` (:func:`~neurocur.fit.hierarchical.fit_hierarchical`,
     each data set a subject replayed with its own seed). Returns rows ``dataset, model, loglik, n_params, n_obs,
     log_evidence`` (the data set's log-likelihood at its MAP, its number of parameters and observations, its
     Laplace log evidence under the model's group prior); rows ``model, ibic, laplace_ibic, log_evidence,
     log_evidence_mcse, log_evidence_laplace, n_params, n_obs, iterations, converged`` (``n_params``: the group's,
     a mu and a sigma per fitted parameter); and the fits by model. ``progress(first table so far)`` after each
-    model."""
+    model; ``workers``: processes for each fit's E-steps (the same results for any number)."""
     rows, models_rows, fits = [], [], {}
     for name, condition in models.items():
         replays = make_replays(experiment, condition, data, list(bounds[name]), decision=decision, signal=signal)
         fit = fit_hierarchical(replays, bounds[name], names=[r.behaviour.name for r in replays], seed=seed,
-                               starts=starts, max_iter=max_iter, n_samples=n_samples)
+                               starts=starts, max_iter=max_iter, n_samples=n_samples, workers=workers)
         fits[name] = fit
         for replay, evidence in zip(replays, fit.subject_log_evidence):
             estimate = fit.subjects[fit.subjects["dataset"] == replay.behaviour.name]

@@ -69,7 +69,9 @@ OPTIONS = ["--columns", "subject=subjID", "--one-based", "--em-iterations", str(
 def fitted(table, tmp_path_factory):
     path, _ = table
     out = tmp_path_factory.mktemp("hier") / "fit"
-    status = main(["fit", str(path), "--experiment", "bandit", "--hierarchical", *OPTIONS, "--out", str(out)])
+    # two worker processes here, one in the library's fit below: the same numbers (the tests that follow)
+    status = main(["fit", str(path), "--experiment", "bandit", "--hierarchical", *OPTIONS, "--jobs", "2",
+                   "--out", str(out)])
     assert status == 0
     experiment, condition = condition_of("bandit", "delta")
     data = load_fit_data(path, condition, columns=["subject=subjID"], one_based=True)
@@ -162,6 +164,7 @@ def test_compare_hierarchical_picks_the_generating_model(table, fitted, tmp_path
 @pytest.mark.parametrize("argv, message", [
     (["fit", "--hierarchical", "--ci", "bootstrap"], "--hierarchical: key '--ci': expected profile"),
     (["fit", "--em-iterations", "3"], "--em-iterations: expected --hierarchical"),
+    (["fit", "--jobs", "2"], "--jobs: expected --hierarchical"),
     (["compare", "--models", "delta", "--evidence-samples", "30"], "--evidence-samples: expected --hierarchical"),
     (["compare", "--models", "delta", "delta_posneg", "--hierarchical", "--no-loo"], "key '--no-loo'"),
 ])
