@@ -7,8 +7,8 @@ steps p0 -> p1 -> p2, r = p1 - p0, v = p2 - 2 p1 + p0, and goes to p0 + 2 a r + 
 a = |r| / |v| within [1, step_max] (a = 1 is p2, plain EM); step_max grows fourfold after a step at it
 and shrinks back when the point it gave has no E-step (a subject without a maximum there: a
 ConfigError), which is then p2's. No objective guards the step (the Laplace evidence is not EM's
-objective). EM stops only on a plain EM step, when the Laplace log evidence changes by less than
-``tol`` or no mu or sigma moves by more than ``tol``: acceleration changes the path, not the fixed
+objective). EM stops only on a plain EM step, when the Laplace log evidence changes by less than its
+tolerance or no mu or sigma moves by more than its own: acceleration changes the path, not the fixed
 point.
 """
 
@@ -21,11 +21,35 @@ from ..config import ConfigError
 __all__ = ["iterate"]
 
 
-def iterate(e_step, history: list, first: tuple, floor: float, max_iter: int, tol: float, accelerate: bool):
-    """EM from the prior ``first`` = (mu, var), plain or by SQUAREM (module docstring), variances at least
-    ``floor``; ``e_step(mu, var, warm MAPs)`` returns (mu, var, MAPs, covariances, Laplace log evidences)
-    and appends their sum to ``history``. Returns the last E-step's five, ``history`` and whether EM
-    converged."""
+def iterate(e_step, history: list, first: tuple, floor: float, max_iter: int, tol: tuple[float, float],
+            accelerate: bool):
+    """EM from a first group prior, plain or by SQUAREM (module docstring).
+
+    Parameters
+    ----------
+    e_step : callable
+        ``e_step(mu, var, warm MAPs)`` returns (mu, var, MAPs, covariances, Laplace log evidences) and
+        appends the evidences' sum to ``history``.
+    history : list
+        The Laplace log evidence of each E-step, appended to by ``e_step``.
+    first : tuple
+        The first prior (mu, var).
+    floor : float
+        The smallest variance of the M-step.
+    max_iter : int
+        The most E-steps.
+    tol : tuple of float
+        The stop rule's tolerances: on the change of the summed Laplace log evidence over a plain EM step,
+        and on the largest move of a mu or a sigma.
+    accelerate : bool
+        SQUAREM's steps between the plain ones.
+
+    Returns
+    -------
+    tuple
+        The last E-step's five, ``history`` and whether EM converged (stopped before ``max_iter``).
+    """
+    tol_evidence, tol_move = tol
     k = len(first[0])
     here = e_step(*first, None)
     step_max = 1.0
@@ -33,7 +57,7 @@ def iterate(e_step, history: list, first: tuple, floor: float, max_iter: int, to
         mu, var, maps, covs, evidence = here
         after = e_step(*_m_step(maps, covs, floor), maps)
         moved = max(np.max(np.abs(after[0] - mu)), np.max(np.abs(np.sqrt(after[1]) - np.sqrt(var))))
-        if abs(history[-1] - history[-2]) < tol or moved < tol:
+        if abs(history[-1] - history[-2]) < tol_evidence or moved < tol_move:
             return (*after, history, True)
         if not accelerate or len(history) == max_iter:
             here = after

@@ -74,6 +74,40 @@ def test_gaussian_subjects_reach_the_closed_form_em_fixed_point_and_evidence():
     assert fit.summary()["iterations"] == fit.iterations == len(fit.history) > 3
 
 
+def stop_step(ys, tol_evidence, tol_move, s=1.0):
+    """The E-steps plain EM makes on the Gaussian model before its stop rule holds, in closed form: over a plain
+    step, the exact log marginal likelihood (the Laplace one, exact here) changes by less than ``tol_evidence``
+    or neither mu nor sigma moves by more than ``tol_move``."""
+    n = np.array([len(y) for y in ys])
+    ybar = np.array([y.mean() for y in ys])
+
+    def evidence(mu, var):
+        return sum(stats.multivariate_normal(np.full(len(y), mu), s**2 * np.eye(len(y)) + var).logpdf(y) for y in ys)
+
+    mu, var = 0.0, 9.0
+    previous = evidence(mu, var)
+    for steps in range(2, 10_000):
+        prec = n / s**2 + 1 / var
+        m, v = (n * ybar / s**2 + mu / var) / prec, 1 / prec
+        new_mu, new_var = m.mean(), np.mean((m - m.mean()) ** 2 + v)
+        current = evidence(new_mu, new_var)
+        moved = max(abs(new_mu - mu), abs(np.sqrt(new_var) - np.sqrt(var)))
+        if abs(current - previous) < tol_evidence or moved < tol_move:
+            return steps
+        mu, var, previous = new_mu, new_var, current
+    raise AssertionError("no stop")
+
+
+def test_the_stop_rule_scales_the_evidence_tolerance_with_the_subjects():
+    """EM stops when the Laplace log evidence changes by less than tol per subject (the numerical MAPs' errors add
+    over the subjects), or mu and sigma move by less than tol: the E-steps of a closed-form plain EM."""
+    ys, n = gaussian_group(seed=5, n_subjects=60)
+    fit = fit_hierarchical([gaussian_loglik(y) for y in ys], {"m": FREE}, n_obs=n, vectorised=True, accelerate=False)
+    per_subject = stop_step(ys, 1e-3 * len(ys), 1e-3)
+    assert fit.converged and fit.iterations == per_subject
+    assert stop_step(ys, 1e-3, 1e-3) > per_subject  # an absolute tolerance would have gone on
+
+
 def test_a_model_without_free_parameters_is_evaluated():
     ys, n = gaussian_group(n_subjects=4)
     fit = fit_hierarchical([lambda p, y=y: stats.norm.logpdf(y, 0.0, 1.0).sum() for y in ys], {}, n_obs=n)
