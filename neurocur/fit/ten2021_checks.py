@@ -107,12 +107,24 @@ def recovery_summary(table: pd.DataFrame) -> pd.DataFrame:
 
 
 def recovery_figure(table: pd.DataFrame):
-    """Fitted (hierarchical MAP) against true coefficient, a panel per group and parameter."""
+    """Fitted (hierarchical MAP) against true coefficient, a panel per parameter (rows) and group (columns).
+
+    Parameters
+    ----------
+    table : DataFrame
+        :func:`parameter_recovery`'s rows with a ``group`` column: ``group, param, true, hierarchical``.
+
+    Returns
+    -------
+    Figure
+        The grid of panels, each titled with its group, parameter and Pearson r, the identity line dashed.
+    """
     from ..analysis.figures.style import figure
 
-    panels = list(table.groupby(["group", "param"], sort=False))
-    fig, axes = figure(1, len(panels), figsize=(3.4 * len(panels), 3.4))
-    for ax, ((group, param), part) in zip(axes[0], panels):
+    groups, params = list(dict.fromkeys(table["group"])), list(dict.fromkeys(table["param"]))
+    fig, axes = figure(len(params), len(groups), figsize=(3.4 * len(groups), 3.4 * len(params)))
+    for (group, param), part in table.groupby(["group", "param"], sort=False):
+        ax = axes[params.index(param), groups.index(group)]
         ax.scatter(part["true"], part["hierarchical"], s=6, alpha=0.6)
         low, high = part[["true", "hierarchical"]].min().min(), part[["true", "hierarchical"]].max().max()
         ax.plot([low, high], [low, high], "k--", lw=0.8)

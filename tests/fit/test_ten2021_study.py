@@ -18,6 +18,7 @@ from neurocur.fit.ten2021_checks import (
     free_shares,
     learning_curves,
     parameter_recovery,
+    recovery_figure,
     recovery_summary,
     true_coefficients,
 )
@@ -232,9 +233,46 @@ def test_the_command_on_simulated_files(tmp_path):
     verdict = pd.read_csv(tmp_path / "c19" / "verdict.csv")
     ml = pd.read_csv(tmp_path / "c19" / "ml.csv").pivot(index="subject", columns="model", values="aic")
     assert verdict["mean_aic_persev_pc_lp"].mean() == pytest.approx(ml["persev_pc_lp"].mean())  # both groups' means
+    # run 19's recoveries and check read its fits and its five models: W the free group's winner among them
+    assert main(["recover", *files, "--models", "persev", "--fits", str(tmp_path / "c19"), "--out", str(tmp_path / "r19"),
+                 "--participants", "3", *fast]) == 0
+    best = hierarchical.loc[hierarchical["group"] == "free"].set_index("model")["ibic"].idxmin()
+    recovered = pd.read_csv(tmp_path / "r19" / "parameter_recovery.csv")
+    assert set(recovered["model"]) == {best} and set(recovered["param"]) == set(model_bounds([best])[best])
+    confusion = pd.read_csv(tmp_path / "r19" / "confusion.csv").set_index("generating")
+    assert list(confusion.index) == list(confusion.columns) == list(MODEL_SETS["persev"][0])
+    np.testing.assert_allclose(confusion.sum(axis=1), 1.0)
+    assert main(["ppc", *files, "--models", "persev", "--fits", str(tmp_path / "c19"), "--out", str(tmp_path / "p19"),
+                 "--replicates", "3"]) == 0
+    ppc = pd.read_csv(tmp_path / "p19" / "ppc.csv")
+    assert set(ppc["model"]) <= set(MODEL_SETS["persev"][0]) - {"random"}
 
 
 def test_coefficients_read_the_named_subjects_only():
     maps = pd.DataFrame({"subject": ["a", "b", "c", "b"], "param": ["PFC.pc", "PFC.lp", "LC.kappa", "PFC.plays"],
                          "estimate": [1.0, 2.0, 3.0, 4.0]})
     np.testing.assert_array_equal(coefficients(maps, ["b", "a"]), [[0, 2, 4, 0], [1, 0, 0, 0]])
+
+
+def test_the_recovery_figure_is_a_grid_of_parameters_by_groups():
+    """A panel per (parameter, group): rows the parameters, columns the groups, each titled with its r (run 19's
+    winner has up to four parameters, which a single row would stretch across the page); one parameter keeps entry
+    17's row of two panels."""
+    rng = np.random.default_rng(4)
+    rows = []
+    for group in ("free", "strat"):
+        for param, slope in (("LC.kappa", 1.0), ("PFC.pc", 0.5), ("PFC.lp", -1.0)):
+            true = rng.normal(size=12)
+            rows.append(pd.DataFrame({"group": group, "param": param, "subject": np.arange(12), "true": true,
+                                      "hierarchical": slope * true + 0.1 * rng.normal(size=12)}))
+    table = pd.concat(rows, ignore_index=True)
+    fig = recovery_figure(table)
+    grid = np.array([[ax.get_subplotspec().rowspan.start, ax.get_subplotspec().colspan.start] for ax in fig.axes])
+    assert grid.max(axis=0).tolist() == [2, 1]  # 3 rows (parameters) x 2 columns (groups)
+    for ax, (row, column) in zip(fig.axes, grid):
+        group, param = ("free", "strat")[column], ("LC.kappa", "PFC.pc", "PFC.lp")[row]
+        part = table[(table["group"] == group) & (table["param"] == param)]
+        r = np.corrcoef(part["true"], part["hierarchical"])[0, 1]
+        assert ax.get_title() == f"{group} {param}: r = {r:.2f}"
+    one = recovery_figure(table[table["param"] == "LC.kappa"])
+    assert len(one.axes) == 2 and tuple(one.get_size_inches()) == (6.8, 3.4)
