@@ -20,14 +20,20 @@ N(mu, diag(sigma^2)); theta_i = T(x_i) is what the subject's log-likelihood log 
   :data:`INIT_SD`. EM stops when, over one plain EM step (an E-step, the M-step, and the E-step
   under the new prior), the Laplace log marginal likelihood changes by less than ``tol`` per subject
   (``tol`` times the subjects) or no mu or sigma moves by more than ``tol``; or after ``max_iter``
-  E-steps. The tolerance is per subject because each subject's MAP and Hessian are found numerically
-  (L-BFGS-B, central differences), to within about 1e-4 to 1e-3 of its log evidence, and these errors
-  add over the subjects: an absolute tolerance below their sum is met only by chance (with 1e-4 on 400
-  subjects, EM ran to the 200-step cap while mu and sigma wandered in their third decimal). Huys &
-  Schad's emfit stops on the change of the summed log posterior, 1e-3 absolute (mpc-ucl/emfit,
-  ``lib/emfit.m``), the default here per subject: mu and sigma then stop within about 1e-3 on the
-  unbounded scale, far inside their standard errors. The last E-step is under the
-  reported mu, sigma, so the subjects' table is the reported prior's.
+  E-steps. The tolerance is per subject because the Laplace evidence is a sum of per-subject terms,
+  each from a numerical MAP and Hessian (L-BFGS-B, central differences), and because EM with a
+  Laplace E-step is not exact EM: where a parameter is weakly identified its plain steps can creep
+  along a ridge and *lower* the Laplace evidence by a roughly constant amount per subject. On the
+  400-subject bandit of ``benchmarks/hierarchical_speed.py`` the lapse rate's mu fell from -2.4 to
+  -3.6 and its sigma from 0.68 to 0.30 (logit scale) between E-steps 7 and 93, while most plain
+  steps changed the summed evidence by -0.4 to -0.008 (1e-3 to 2e-5 per subject; a few by up to +4
+  after a SQUAREM jump) and the evidence fell from -32858 to -32905: an absolute 1e-4 on that sum
+  was not met within the 200-step cap.
+  Huys & Schad's emfit stops on the change of the summed log posterior, 1e-3 absolute, at most 500
+  iterations (mpc-ucl/emfit, ``lib/emfit.m``); Piray's HBI when the root mean square change of the
+  group means in units of their sds is below 0.01, at most 50 iterations (payampiray/cbm,
+  ``codes/cbm_hbi_config.m``). The default here, 1e-3 per subject, is emfit's for one subject. The
+  last E-step is under the reported mu, sigma, so the subjects' table is the reported prior's.
 - **Acceleration** (``accelerate``, the default): EM converges linearly, slowly where a parameter's
   missing information is large (a weakly identified lapse rate took more than 200 E-steps on 400
   subjects). SQUAREM (Varadhan & Roland 2008, Scand J Stat 35:335, scheme S3) extrapolates the
@@ -101,7 +107,43 @@ class HierarchicalFit:
     Carlo ``log_evidence_mcse`` over ``n_samples``) and by Laplace, the EM's ``history`` (the
     Laplace log evidence per E-step), and each subject's term of the Laplace evidence under the reported
     prior (``subject_log_evidence``, in the subjects' order; their log-likelihoods for a model without
-    free parameters)."""
+    free parameters).
+
+    Parameters
+    ----------
+    keys : list
+        The fitted parameters, in the order of ``mu`` and ``sigma``.
+    n_subjects : int
+        The subjects.
+    mu : numpy.ndarray
+        The group means on the unbounded scale.
+    sigma : numpy.ndarray
+        The group sds on the unbounded scale.
+    mu_se : numpy.ndarray
+        The standard errors of ``mu`` (Louis' identity).
+    subjects : pandas.DataFrame
+        ``dataset, param, estimate, ci_low, ci_high``: each subject's MAP and Laplace interval.
+    group : pandas.DataFrame
+        ``param, mean, sd, ci_low, ci_high, kind, mu, sigma, mu_se``: the population on each own scale.
+    log_evidence : float
+        log p(D | mu, sigma) by sampling the group prior.
+    log_evidence_mcse : float
+        Its Monte Carlo standard error.
+    log_evidence_laplace : float
+        log p(D | mu, sigma) by Laplace at the MAPs.
+    n_obs : int
+        The observations of all subjects.
+    n_samples : int
+        Draws from the group prior for ``log_evidence``.
+    iterations : int
+        The E-steps EM made.
+    converged : bool
+        Whether EM met its stop rule before ``max_iter`` E-steps.
+    history : list
+        The Laplace log evidence after each E-step.
+    subject_log_evidence : numpy.ndarray
+        Each subject's Laplace log evidence under the reported prior.
+    """
 
     keys: list
     n_subjects: int
@@ -144,7 +186,19 @@ class Subject:
     """A subject's log-likelihood offered as a replay offers it (``loglik(theta or thetas)``, ``n_obs``), so
     that :func:`fit_hierarchical` and :func:`~neurocur.fit.mle.fit_ml` take the same subjects.
     ``fn`` maps a parameter vector on the own scale (shape (k,), in ``keys``' order) to a log-likelihood;
-    with ``vectorised``, an (m, k) array to m of them."""
+    with ``vectorised``, an (m, k) array to m of them.
+
+    Parameters
+    ----------
+    fn : callable
+        The log-likelihood of a parameter vector (or, with ``vectorised``, of the rows of an (m, k) array).
+    n_obs : int
+        The subject's observations.
+    keys : sequence of str
+        The parameters, in the order ``fn`` takes them.
+    vectorised : bool
+        ``fn`` takes an (m, k) array and returns m log-likelihoods.
+    """
 
     def __init__(self, fn, n_obs: int, keys: Sequence[str], *, vectorised: bool = False):
         self.fn, self.keys, self.vectorised = fn, list(keys), vectorised

@@ -9,6 +9,14 @@ computed it or next to which subjects, and the results come back in the subjects
 gives the same fit for any number of workers. Workers run BLAS on one thread (many small
 matrices: threads would compete with the processes) and leave Ctrl-C to this process. Without
 ``fork`` (not on Linux or macOS), or with one worker, the task runs here.
+
+The workers are forked, not started from a fork server as ``neurocur run``'s are
+(:func:`neurocur.experiments.processes.fork_context`): a fork server's children would need the task
+pickled, and a subject's log-likelihood is often a closure (a replay's, a test's lambda) that pickle
+refuses. The caller is not single-threaded when it forks (numpy's OpenBLAS starts its own thread on
+import), which Python 3.12 and later name in a DeprecationWarning on ``fork`` (3.11, this project's
+environment, does not); OpenBLAS stops its thread pool around a fork (its ``pthread_atfork`` handler), and
+the workers run BLAS on one thread.
 """
 
 from __future__ import annotations
@@ -34,7 +42,18 @@ CHUNKS = 4
 
 class SubjectWorkers:
     """``task(i, *shared, item)`` for subject i's ``item``, in ``workers`` forked processes (module docstring);
-    a context manager (the processes end with the block)."""
+    a context manager (the processes end with the block).
+
+    Parameters
+    ----------
+    task : callable
+        ``task(i, *shared, item)``: subject i's result, from its index, the arguments every subject shares and
+        its own item; inherited by the forked workers, never pickled (only its arguments and results are).
+    n_subjects : int
+        The subjects; no more workers are started than there are subjects.
+    workers : int
+        Worker processes (at least 1; 1, or a platform without ``fork``, runs the task in this process).
+    """
 
     def __init__(self, task, n_subjects: int, workers: int = 1):
         if not (isinstance(workers, int | np.integer) and not isinstance(workers, bool) and workers >= 1):
@@ -62,7 +81,20 @@ class SubjectWorkers:
             self.pool = None
 
     def map(self, shared: tuple, items: list) -> list:
-        """``[task(i, *shared, item) for i, item in enumerate(items)]``; an error of a subject is raised here."""
+        """``[task(i, *shared, item) for i, item in enumerate(items)]``; an error of a subject is raised here.
+
+        Parameters
+        ----------
+        shared : tuple
+            The arguments every subject's call shares (pickled once per chunk of subjects).
+        items : list
+            One item per subject, in the subjects' order.
+
+        Returns
+        -------
+        list
+            The subjects' results in their order, the same for any number of workers.
+        """
         if self.pool is None:
             return [self.task(i, *shared, item) for i, item in enumerate(items)]
         chunks = [c for c in np.array_split(np.arange(len(items)), self.workers * CHUNKS) if len(c)]

@@ -23,7 +23,9 @@ SECTIONED = {"neurocur.learn.ccipca.CCIPCA", "neurocur.learn.mca.MCA", "neurocur
              "neurocur.fit.mle.fit_ml", "neurocur.fit.hierarchical.fit_hierarchical", "neurocur.fit.bms.bms",
              "neurocur.fit.trials.read_trials", "neurocur.fit.trials.trials_from_table",
              "neurocur.fit.ten2021.read_ten2021_groups", "neurocur.fit.ten2021.free_play",
-             "neurocur.analysis.figures.sets.write_figures"}
+             "neurocur.analysis.figures.sets.write_figures", "neurocur.fit.hierarchical.HierarchicalFit",
+             "neurocur.fit.hierarchical.Subject", "neurocur.fit.squarem.iterate", "neurocur.fit.workers.SubjectWorkers",
+             "neurocur.fit.workers.SubjectWorkers.map"}
 
 
 def _style() -> str:

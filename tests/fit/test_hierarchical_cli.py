@@ -103,6 +103,21 @@ def test_fit_hierarchical_writes_the_library_fit(fitted):
     assert any("did not converge within 4 E-steps" in w for w in summary["warnings"])
 
 
+def test_the_written_fit_is_the_same_for_any_number_of_jobs(fitted, table, tmp_path):
+    """--jobs 1 (the E-steps in this process) writes byte for byte the tables and the summary's numbers that
+    --jobs 2 wrote."""
+    out, _ = fitted
+    path, _ = table
+    one = tmp_path / "one"
+    assert main(["fit", str(path), "--experiment", "bandit", "--hierarchical", *OPTIONS, "--jobs", "1",
+                 "--out", str(one)]) == 0
+    for name in ("fit.csv", "group.csv"):
+        assert (one / name).read_bytes() == (out / name).read_bytes(), name
+    summaries = [json.loads((folder / "summary.json").read_text()) for folder in (one, out)]
+    for key in ("ibic", "ibic_laplace", "log_evidence", "log_evidence_mcse", "log_evidence_laplace", "iterations"):
+        assert summaries[0][key] == summaries[1][key], key
+
+
 def test_each_subjects_estimate_is_the_map_under_the_written_group_prior(fitted, table):
     """An independent MAP: numpy's log-likelihood plus the normal prior of group.csv's mu, sigma on the logit
     scales, maximised by scipy from the truth's neighbourhood; the CLI's estimates agree to 1e-3 on the logit
