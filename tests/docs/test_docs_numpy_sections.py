@@ -75,4 +75,58 @@ def test_parameter_sections_document_the_constructor(parsed):
         obj, sections = docstrings[path]
         (params,) = [s.value for s in sections if s.kind is griffe.DocstringSectionKind.parameters]
         assert [p.name for p in params if p.description.strip()] == [p.name for p in params], path
-        assert {p.name for p in params} == {p.name for p in obj.parameters} - {"self"}, path
+        assert {p.name.lstrip("*") for p in params} == {p.name for p in obj.parameters} - {"self"}, path
+
+
+#: The packages whose API pages must show a parameter table for every public function and class that takes
+#: arguments (each name in a module's ``__all__``); a package joins the list when its docstrings have one.
+COMPLETE = ("neurocur.fit",)
+#: Files being rewritten elsewhere, pending: their docstrings get Parameters sections after those edits.
+PENDING = {"neurocur/fit/replay.py", "neurocur/fit/hierarchical.py", "neurocur/fit/squarem.py",
+           "neurocur/fit/workers.py", "neurocur/fit/commands.py", "neurocur/fit/cli.py", "neurocur/fit/compare.py",
+           "neurocur/fit/ten2021_study.py", "neurocur/fit/ten2021_models.py", "neurocur/fit/ten2021_checks.py"}
+
+
+def _documented_modules() -> set[str]:
+    """The modules the API pages render (``::: module`` in docs/api/*.md), with their submodules."""
+    return {line.split()[1] for page in (ROOT / "docs" / "api").glob("*.md")
+            for line in page.read_text(encoding="utf-8").splitlines() if line.startswith("::: ")}
+
+
+def _exported(module):
+    """Each function or class named in ``module.__all__`` and defined in the package, with its module."""
+    for name in module.exports or ():
+        obj = module.get_member(str(name))
+        if obj.is_alias:
+            try:
+                obj = obj.final_target
+            except griffe.AliasResolutionError:
+                continue
+        if obj.is_function or obj.is_class:
+            yield obj
+
+
+def _modules(obj):
+    yield obj
+    for member in obj.members.values():
+        if not member.is_alias and member.is_module:
+            yield from _modules(member)
+
+
+def test_public_callables_with_arguments_have_a_parameter_table():
+    package = griffe.load("neurocur", search_paths=[str(ROOT)], docstring_parser=_style())
+    documented = _documented_modules()
+    assert set(COMPLETE) <= documented
+    missing = set()
+    for module in _modules(package):
+        if not module.path.startswith(tuple(f"{p}." for p in COMPLETE) + COMPLETE):
+            continue
+        for obj in _exported(module):
+            if str(obj.relative_filepath) in PENDING or not obj.path.startswith(COMPLETE):
+                continue
+            if not [p for p in obj.parameters if p.name not in ("self", "cls")]:
+                continue
+            sections = obj.docstring.parsed if obj.docstring else []
+            if not any(s.kind is griffe.DocstringSectionKind.parameters for s in sections):
+                missing.add(obj.path)
+    assert not missing, sorted(missing)
