@@ -78,9 +78,11 @@ def test_parameter_sections_document_the_constructor(parsed):
         assert {p.name.lstrip("*") for p in params} == {p.name for p in obj.parameters} - {"self"}, path
 
 
-#: The packages whose API pages must show a parameter table for every public function and class that takes
-#: arguments (each name in a module's ``__all__``); a package joins the list when its docstrings have one.
-COMPLETE = ("neurocur.fit",)
+#: The packages and modules whose API pages must show a parameter table for every public function and class that
+#: takes arguments (each name in a module's ``__all__``); one joins the list when its docstrings have them.
+COMPLETE = ("neurocur.fit", "neurocur.analysis.io", "neurocur.analysis.paper", "neurocur.analysis.results",
+            "neurocur.analysis.stats.comparison", "neurocur.analysis.stats.learning_time",
+            "neurocur.analysis.stats.order", "neurocur.analysis.stats.significance")
 #: Files being rewritten elsewhere, pending: their docstrings get Parameters sections after those edits.
 PENDING = {"neurocur/fit/replay.py", "neurocur/fit/hierarchical.py", "neurocur/fit/squarem.py",
            "neurocur/fit/workers.py", "neurocur/fit/commands.py", "neurocur/fit/cli.py", "neurocur/fit/compare.py",
@@ -116,7 +118,7 @@ def _modules(obj):
 def test_public_callables_with_arguments_have_a_parameter_table():
     package = griffe.load("neurocur", search_paths=[str(ROOT)], docstring_parser=_style())
     documented = _documented_modules()
-    assert set(COMPLETE) <= documented
+    assert all(name.startswith(tuple(f"{d}." for d in documented)) or name in documented for name in COMPLETE)
     missing = set()
     for module in _modules(package):
         if not module.path.startswith(tuple(f"{p}." for p in COMPLETE) + COMPLETE):
