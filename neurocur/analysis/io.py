@@ -58,6 +58,7 @@ def dataset(results_dir: str | Path, table: str = "episodes") -> ds.Dataset:
     Returns
     -------
     pyarrow.dataset.Dataset
+        Every run's file of the table.
     """
     folders = ResultsStore(results_dir).run_dirs()
     files = [folder / f"{table}.parquet" for folder in folders if (folder / f"{table}.parquet").is_file()]
@@ -118,6 +119,7 @@ def order_tables(
     Returns
     -------
     pandas.DataFrame
+        A column per condition, a row per statistic (then the tests' rows).
     """
     results = Results.load(results_dir, tables=tables)
     specs = {c: s for c, s in results.specs.items() if conditions is None or c in conditions}
@@ -153,6 +155,7 @@ def verdict_text(results_dir: str | Path, conditions=None, *,
     Returns
     -------
     str
+        The verdict's lines.
     """
     results = Results.load(results_dir, tables=tables)
     if conditions is not None:
@@ -184,6 +187,7 @@ def narrow(table: pd.DataFrame, width: int = 100) -> str:
     Returns
     -------
     str
+        The table's lines.
     """
     lines = []
     for label, row in table.iterrows():

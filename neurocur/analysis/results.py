@@ -50,6 +50,7 @@ def source_specs(results_dir: str | Path) -> dict[str, SourceSpec]:
     Returns
     -------
     dict of str to SourceSpec
+        By condition.
     """
     store = ResultsStore(results_dir)
     specs: dict[str, SourceSpec] = {}

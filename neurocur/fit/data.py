@@ -115,6 +115,7 @@ def read_behaviour(path, context_names: Sequence[str], *, free_choice: bool = Fa
     Returns
     -------
     list of Behaviour
+        One per data set (per run of a results folder), in order.
     """
     path = Path(path)
     kind = path_kind(path, EXPECTED)

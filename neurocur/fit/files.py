@@ -69,6 +69,7 @@ def read_bytes(path: Path, expected: str) -> bytes:
     Returns
     -------
     bytes
+        The file's content.
     """
     try:
         fd = os.open(path, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC)
@@ -105,6 +106,7 @@ def read_table(path: Path, suffixes: Sequence[str], expected: str, *, header: st
     Returns
     -------
     pandas.DataFrame
+        The table as read.
     """
     suffix = path.suffix.lower()
     if suffix not in suffixes:

@@ -199,6 +199,7 @@ def weak_keys(loglik_many, x: np.ndarray, b: np.ndarray, keys: Sequence[str]) ->
     Returns
     -------
     list of str
+        The weak keys, in ``keys``' order.
     """
     d, width = len(keys), b[:, 1] - b[:, 0]
     h = STEP
@@ -263,6 +264,7 @@ def fit_table(fits: Sequence[MLFit]) -> pd.DataFrame:
     Returns
     -------
     pandas.DataFrame
+        One row per fit and key.
     """
     rows = [{"dataset": f.dataset, "param": k, "estimate": v, "ci_low": f.ci.get(k, (np.nan, np.nan))[0],
              "ci_high": f.ci.get(k, (np.nan, np.nan))[1]} for f in fits for k, v in f.estimate.items()]

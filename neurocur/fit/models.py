@@ -32,6 +32,7 @@ def parse_columns(items: Sequence[str]) -> dict[str, str]:
     Returns
     -------
     dict of str to str
+        The file's column of each standard one.
     """
     out: dict[str, str] = {}
     known = (*TRIAL_COLUMNS, *OPTIONAL_COLUMNS)
@@ -58,6 +59,7 @@ def fit_keys(condition, given: Sequence[str]) -> list[str]:
     Returns
     -------
     list of str
+        The keys fitted.
     """
     keys = list(given) or list(getattr(condition, "fit", ()))
     if not keys:
@@ -82,6 +84,7 @@ def model_keys(experiment, names: Sequence[str], given: Sequence[str]) -> list[s
     Returns
     -------
     list of str
+        The keys fitted.
     """
     if given:
         return list(given)
@@ -123,6 +126,7 @@ def load_fit_data(data, condition, *, columns: Sequence[str] = (), one_based: bo
     Returns
     -------
     list of Trials or list of Behaviour
+        One per subject or data set, in order.
     """
     mapping = parse_columns(columns)
     if reads_trials(condition):
@@ -153,6 +157,7 @@ def data_summary(data: Sequence, *, columns: Sequence[str] = (), one_based: bool
     Returns
     -------
     dict
+        ``columns``, ``one_based`` and the skipped trials; empty for episode data.
     """
     if not data or not isinstance(data[0], Trials):
         return {}

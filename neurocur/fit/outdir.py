@@ -251,6 +251,7 @@ def fit_output(out, command: str, arguments: dict, *, inputs: Sequence[Path] = (
     Yields
     ------
     FitOutput
+        The open folder.
     """
     root = Path(out)
     check_out(root, inputs)

@@ -236,6 +236,7 @@ def confusion_figure(table: pd.DataFrame, by: Sequence[str] = ("aic", "bic", "he
     Returns
     -------
     matplotlib.figure.Figure
+        A panel per score.
     """
     fig, axes = figure(1, len(by), figsize=(3.8 * len(by), 3.5))
     for ax, key in zip(axes[0], by):

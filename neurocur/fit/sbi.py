@@ -66,6 +66,7 @@ def summaries(behaviour: Behaviour, n_contexts: int) -> np.ndarray:
     Returns
     -------
     array of shape (5 + (2 + PARTS) * n_contexts,)
+        The summaries, in the order above.
     """
     c = np.asarray(behaviour.contexts)
     moved = c[1:] != c[:-1]
@@ -103,6 +104,7 @@ def prior_draws(prior: Mapping[str, tuple[float, float]], n: int, root: np.rando
     Returns
     -------
     list of (int, dict of str to float)
+        ``(seed, theta)`` of each draw.
     """
     _check(prior)
     b = np.array(list(prior.values()), dtype=np.float64)
@@ -177,6 +179,7 @@ def training_set(folders: Sequence, prior: Mapping[str, tuple[float, float]], n_
     Returns
     -------
     (array of shape (runs, len(prior)), array of shape (runs, summaries))
+        theta and x, a row per run.
     """
     from ..results import ResultsStore
 
@@ -294,6 +297,7 @@ def n_draws(simulations: int, runs: int) -> int:
     Returns
     -------
     int
+        ``simulations // runs``.
     """
     if runs < 1:
         raise ConfigError("--runs", None, "an integer >= 1", str(runs))

@@ -147,6 +147,7 @@ def replay_of(condition, behaviour: Behaviour, seed, fitted: Sequence[str], *, d
     Returns
     -------
     Replay
+        The data set's replay, its decisions' probabilities cached.
     """
     circuit = condition.circuit if signal is None else signal_circuit(condition.circuit, signal[0], behaviour, signal[1])
     return Replay(circuit, condition.make_world(), seed, behaviour, decision=decision, fitted=fitted)
@@ -174,6 +175,7 @@ def make_replays(experiment, condition, datasets: Sequence[Behaviour], fitted: S
     Returns
     -------
     list of Replay
+        One per data set, in order.
     """
     return [replay_of(condition, behaviour, behaviour.seed if behaviour.seed is not None else experiment.run_seed(i),
                       fitted, decision=decision, signal=signal) for i, behaviour in enumerate(datasets)]
@@ -236,6 +238,7 @@ def default_bounds(condition, keys: Sequence[str], given: Mapping[str, tuple[flo
     Returns
     -------
     dict of str to (float, float)
+        Each key's bounds.
     """
     out = {}
     for key in keys:

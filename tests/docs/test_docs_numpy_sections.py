@@ -132,3 +132,12 @@ def test_public_callables_with_arguments_have_a_parameter_table():
             if not any(s.kind is griffe.DocstringSectionKind.parameters for s in sections):
                 missing.add(obj.path)
     assert not missing, sorted(missing)
+
+
+def test_returned_and_yielded_values_are_described(parsed):
+    """A Returns or Yields row without a description fails the site's build (docs/_ext/hooks.py) on a rendered page."""
+    docstrings, _ = parsed
+    kinds = (griffe.DocstringSectionKind.returns, griffe.DocstringSectionKind.yields)
+    bare = sorted(path for path, (_, sections) in docstrings.items() for s in sections if s.kind in kinds
+                  for item in s.value if not item.description.strip())
+    assert not bare, bare

@@ -56,6 +56,7 @@ def adjustment(method: str | None) -> str | None:
     Returns
     -------
     str or None
+        statsmodels' name, or None.
     """
     key = "none" if method is None else str(method).lower()
     if key not in ADJUSTMENTS:
@@ -82,6 +83,7 @@ def adjust_pvalues(table: pd.DataFrame, method: str | None = "holm") -> pd.DataF
     Returns
     -------
     pandas.DataFrame
+        A copy with the adjusted p-values.
     """
     name = adjustment(method)
     out = table.copy()

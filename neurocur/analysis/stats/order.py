@@ -73,6 +73,7 @@ def clopper_pearson(k: int, n: int, confidence: float = 0.95) -> tuple[float, fl
     Returns
     -------
     (float, float)
+        The interval's ends.
     """
     if not (0 <= k <= n) or int(k) != k or int(n) != n:
         raise ValueError(f"clopper_pearson expected integers 0 <= k <= n, got k={k}, n={n}")
@@ -95,6 +96,7 @@ def ordinal_columns(runs: pd.DataFrame) -> list[str]:
     Returns
     -------
     list of str
+        The column names, in order.
     """
     return [f"{o}_ok" for o in _ORDINALS if f"{o}_ok" in runs]
 
@@ -161,6 +163,7 @@ def sweep_columns(table: pd.DataFrame) -> list[str]:
     Returns
     -------
     list of str
+        The column names, in order.
     """
     return [c for c in table.columns if isinstance(c, str) and "." in c]
 
