@@ -83,7 +83,8 @@ def test_parameter_sections_document_the_constructor(parsed):
 COMPLETE = ("neurocur.fit", "neurocur.analysis.io", "neurocur.analysis.paper", "neurocur.analysis.results",
             "neurocur.analysis.stats.comparison", "neurocur.analysis.stats.learning_time",
             "neurocur.analysis.stats.order", "neurocur.analysis.stats.significance", "neurocur.learn", "neurocur.rl",
-            "neurocur.results.lock", "neurocur.results.names", "neurocur.results.safeio", "neurocur.results.store")
+            "neurocur.results.lock", "neurocur.results.names", "neurocur.results.safeio", "neurocur.results.store",
+            "neurocur.contexts.base", "neurocur.contexts.sources")
 #: Files being rewritten elsewhere, pending: their docstrings get Parameters sections after those edits.
 PENDING = {"neurocur/fit/replay.py", "neurocur/fit/hierarchical.py", "neurocur/fit/squarem.py",
            "neurocur/fit/workers.py", "neurocur/fit/commands.py", "neurocur/fit/cli.py", "neurocur/fit/compare.py",
