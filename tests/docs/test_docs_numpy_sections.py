@@ -84,7 +84,8 @@ COMPLETE = ("neurocur.fit", "neurocur.analysis.io", "neurocur.analysis.paper", "
             "neurocur.analysis.stats.comparison", "neurocur.analysis.stats.learning_time",
             "neurocur.analysis.stats.order", "neurocur.analysis.stats.significance", "neurocur.learn", "neurocur.rl",
             "neurocur.results.lock", "neurocur.results.names", "neurocur.results.safeio", "neurocur.results.store",
-            "neurocur.contexts.base", "neurocur.contexts.sources")
+            "neurocur.contexts.base", "neurocur.contexts.sources",
+            "neurocur.experiments.conditions", "neurocur.experiments.invariance", "neurocur.experiments.spec")
 #: Files being rewritten elsewhere, pending: their docstrings get Parameters sections after those edits.
 PENDING = {"neurocur/fit/replay.py", "neurocur/fit/hierarchical.py", "neurocur/fit/squarem.py",
            "neurocur/fit/workers.py", "neurocur/fit/commands.py", "neurocur/fit/cli.py", "neurocur/fit/compare.py",
