@@ -47,6 +47,18 @@ def dataset(results_dir: str | Path, table: str = "episodes") -> ds.Dataset:
     must be its path's (ResultsError otherwise). A folder whose tables lack those columns
     (written before the tables carried them) is refused, naming :func:`load`, which reads it.
     The schema is every file's, unified (a column all null in one run takes another run's type).
+
+    Parameters
+    ----------
+    results_dir : str or path
+        The results folder.
+    table : str
+        The table's name.
+
+    Returns
+    -------
+    pyarrow.dataset.Dataset
+        Every run's file of the table.
     """
     folders = ResultsStore(results_dir).run_dirs()
     files = [folder / f"{table}.parquet" for folder in folders if (folder / f"{table}.parquet").is_file()]
@@ -88,6 +100,26 @@ def order_tables(
     their tests are censored at one cut-off, the shortest run of the shown conditions.
     ``tables``: the folder's ``(episodes, modules)`` when already loaded (:func:`load`), so that
     they are not read again.
+
+    Parameters
+    ----------
+    results_dir : str or path
+        The results folder.
+    conditions : sequence of str, optional
+        The conditions shown (default: all).
+    reference : str, optional
+        The tests' reference condition.
+    tests : bool
+        Add the paired tests' rows.
+    tables : (pandas.DataFrame, pandas.DataFrame), optional
+        The folder's ``(episodes, modules)`` when already loaded (:func:`load`), so that they are not read again.
+    exclude_degenerate : bool
+        Leave a degenerate condition out of the tests.
+
+    Returns
+    -------
+    pandas.DataFrame
+        A column per condition, a row per statistic (then the tests' rows).
     """
     results = Results.load(results_dir, tables=tables)
     specs = {c: s for c, s in results.specs.items() if conditions is None or c in conditions}
@@ -109,7 +141,22 @@ def verdict_text(results_dir: str | Path, conditions=None, *,
     the experiment's control and the paper, per statistic (:func:`~neurocur.analysis.stats.verdict.verdict_table`,
     :func:`narrow`), then its rules and what each condition is (:func:`~neurocur.analysis.stats.verdict.verdict_notes`).
     Only the condition descriptions when the folder declares no control, or the reference or control is not
-    among ``conditions`` (all by default) or their worlds differ. ``tables``: as in :func:`order_tables`."""
+    among ``conditions`` (all by default) or their worlds differ. ``tables``: as in :func:`order_tables`.
+
+    Parameters
+    ----------
+    results_dir : str or path
+        The results folder.
+    conditions : sequence of str, optional
+        The conditions shown (default: all).
+    tables : (pandas.DataFrame, pandas.DataFrame), optional
+        The folder's ``(episodes, modules)`` when already loaded (:func:`load`), so that they are not read again.
+
+    Returns
+    -------
+    str
+        The verdict's lines.
+    """
     results = Results.load(results_dir, tables=tables)
     if conditions is not None:
         results = results.select([c for c in results.conditions if c in conditions])
@@ -128,7 +175,20 @@ def narrow(table: pd.DataFrame, width: int = 100) -> str:
     """An order table as text no wider than ``width`` columns: each row's label, then its cells as
     ``column: value`` below it (the empty cells, "—", left out), indented, as many whole cells to a
     line as fit (a cell longer than the line stands alone). ``neurocur run`` prints it; the wide
-    form is the table itself (:func:`order_tables`, e.g. ``order_tables(DIR).to_csv(path)``)."""
+    form is the table itself (:func:`order_tables`, e.g. ``order_tables(DIR).to_csv(path)``).
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        An order table.
+    width : int
+        The widest line, in characters.
+
+    Returns
+    -------
+    str
+        The table's lines.
+    """
     lines = []
     for label, row in table.iterrows():
         lines += textwrap.wrap(str(label), width, subsequent_indent="  ")
@@ -153,6 +213,18 @@ def write_summary(results_dir: str | Path, *, tables: tuple[pd.DataFrame, pd.Dat
     (:attr:`~neurocur.analysis.results.Results.reference`). ``throughput`` records the runs' own
     compute time (``seconds`` of each ``run.json``, one core each): seconds per run and runs per
     core-hour. ``tables``: the folder's ``(episodes, modules)`` when already loaded (:func:`load`).
+
+    Parameters
+    ----------
+    results_dir : str or path
+        The results folder.
+    tables : (pandas.DataFrame, pandas.DataFrame), optional
+        The folder's ``(episodes, modules)`` when already loaded (:func:`load`), so that they are not read again.
+
+    Returns
+    -------
+    dict
+        What ``summary.json`` holds.
     """
     results = Results.load(results_dir, tables=tables)
     reference = results.reference
@@ -169,7 +241,18 @@ def write_summary(results_dir: str | Path, *, tables: tuple[pd.DataFrame, pd.Dat
 
 
 def throughput(results_dir: str | Path) -> dict:
-    """Runs, mean seconds of one run (its own compute time, one core) and runs per core-hour."""
+    """Runs, mean seconds of one run (its own compute time, one core) and runs per core-hour.
+
+    Parameters
+    ----------
+    results_dir : str or path
+        The results folder.
+
+    Returns
+    -------
+    dict
+        ``runs``, ``seconds_per_run`` and ``runs_per_core_hour`` (None without a timed run).
+    """
     store = ResultsStore(results_dir)
     seconds = [store.run_info(p).get("seconds") for p in store.run_dirs()]
     seconds = [s for s in seconds if isinstance(s, (int, float)) and s > 0]

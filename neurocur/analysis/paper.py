@@ -23,9 +23,17 @@ EXPERIMENTS = ("synthetic", "reproduction")
 
 @dataclass(frozen=True)
 class Reported:
-    """A number of the paper: ``value`` as the paper gives it, the ``section`` it comes from,
-    and a ``note`` shown beside it in the order table ("implied": it follows from the
-    stated counts without being stated)."""
+    """A number of the paper.
+
+    Parameters
+    ----------
+    value : str
+        The number as the paper gives it.
+    section : str
+        The paper's section it comes from.
+    note : str
+        Shown beside it in the order table ("implied": it follows from the stated counts without being stated).
+    """
 
     value: str
     section: str

@@ -40,7 +40,18 @@ __all__ = ["Results", "source_specs"]
 
 def source_specs(results_dir: str | Path) -> dict[str, SourceSpec]:
     """Each condition's :class:`~neurocur.contexts.base.SourceSpec`, read from its first run's
-    ``run.json``; conditions in the order of the folder's ``config.toml``, then the others."""
+    ``run.json``; conditions in the order of the folder's ``config.toml``, then the others.
+
+    Parameters
+    ----------
+    results_dir : str or path
+        The results folder.
+
+    Returns
+    -------
+    dict of str to SourceSpec
+        By condition.
+    """
     store = ResultsStore(results_dir)
     specs: dict[str, SourceSpec] = {}
     for path in store.run_dirs():
@@ -57,9 +68,18 @@ def source_specs(results_dir: str | Path) -> dict[str, SourceSpec]:
 class Results:
     """The episodes and modules tables of a results folder, each condition's sources and its config.
 
-    ``specs`` maps each condition to its world's :class:`SourceSpec`, in the order of the
-    experiment (the reference first); ``config`` is the folder's ``config.toml`` (empty for
-    tables built in memory); ``path`` the folder (None in memory).
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The episodes table of every run.
+    modules : pandas.DataFrame
+        The modules table of every run.
+    specs : mapping of str to SourceSpec
+        Each condition's world's :class:`SourceSpec`, in the order of the experiment (the reference first).
+    config : mapping
+        The folder's ``config.toml`` (empty for tables built in memory).
+    path : path, optional
+        The folder (None in memory).
     """
 
     episodes: pd.DataFrame

@@ -30,6 +30,20 @@ def world_params(table, *, source="world table", prefix="world"):
     """``(world class, its Params)`` of a world table (``type`` defaults to :data:`DEFAULT_WORLD`).
 
     Paths in the table must already be absolute; errors are ConfigErrors naming the key.
+
+    Parameters
+    ----------
+    table : mapping
+        The world table.
+    source : str or path
+        Where the table came from, for the messages.
+    prefix : str
+        The keys' prefix in the messages.
+
+    Returns
+    -------
+    (type, Params)
+        The world class and its parameters.
     """
     table = dict(table)
     cls = WORLDS.get(table.pop("type", DEFAULT_WORLD))
@@ -37,7 +51,18 @@ def world_params(table, *, source="world table", prefix="world"):
 
 
 def build_world(table) -> World:
-    """The world of a world table, e.g. a results folder's ``config.toml`` ``conditions.X.world``."""
+    """The world of a world table, e.g. a results folder's ``config.toml`` ``conditions.X.world``.
+
+    Parameters
+    ----------
+    table : mapping
+        The world table (``type`` and the world's parameters).
+
+    Returns
+    -------
+    World
+        The world.
+    """
     cls, params = world_params(table)
     return cls.from_params(params)
 
@@ -45,7 +70,24 @@ def build_world(table) -> World:
 def make_env(type=DEFAULT_WORLD, *, max_frames=None, render_mode="rgb_array", **params):
     """The world of type ``type`` and ``params`` (the keys of its world table) as a ``gymnasium.Env``
     (:meth:`World.as_env` with ``max_frames`` and ``render_mode``): what ``gymnasium.make`` of a
-    world's id calls."""
+    world's id calls.
+
+    Parameters
+    ----------
+    type : str
+        The world type (a registered name).
+    max_frames : int, optional
+        The rows an observation (a visit's frames) is padded to (:meth:`World.as_env`).
+    render_mode : str
+        The environment's render mode.
+    **params
+        The keys of the world table.
+
+    Returns
+    -------
+    gymnasium.Env
+        The world as an environment.
+    """
     return build_world({"type": type, **params}).as_env(max_frames=max_frames, render_mode=render_mode)
 
 

@@ -57,14 +57,20 @@ register_world = WORLDS.register
 class Episode:
     """One visit of a context.
 
-    ``frames``: float64 (T, n_pixels), values in [0, 1]; :meth:`World.reset` and
-    :meth:`World.step` enforce it (:func:`conform_frames`).
-    ``states``: int64 (T,), the context-state of each frame, in ``range(world.n_states)``.
-    ``context``: index of the visited context.
-    ``starts``: row indices where an independent episode begins inside this block
-    (``[0]`` for one episode). A temporal derivative never spans a start.
-    ``reward``: the extrinsic reward the world pays for this visit (0 unless the experiment
-    declares one for the context).
+    Parameters
+    ----------
+    frames : array of float64, shape (T, n_pixels)
+        Values in [0, 1]; :meth:`World.reset` and :meth:`World.step` enforce it (:func:`conform_frames`).
+    states : array of int64, shape (T,)
+        The context-state of each frame, in ``range(world.n_states)``.
+    context : int
+        Index of the visited context.
+    starts : array of int64
+        Row indices where an independent episode begins inside this block (``[0]`` for one episode).
+        A temporal derivative never spans a start.
+    reward : float
+        The extrinsic reward the world pays for this visit (0 unless the experiment declares one for
+        the context).
     """
 
     frames: np.ndarray
@@ -91,7 +97,18 @@ class Episode:
 
 
 def concatenate_episodes(episodes) -> Episode:
-    """One block from consecutive episodes of a context; ``starts`` marks every segment, ``reward`` is their sum."""
+    """One block from consecutive episodes of a context; ``starts`` marks every segment, ``reward`` is their sum.
+
+    Parameters
+    ----------
+    episodes : sequence of Episode
+        Consecutive episodes of one context.
+
+    Returns
+    -------
+    Episode
+        The block.
+    """
     offsets = np.cumsum([0] + [len(e.frames) for e in episodes[:-1]])
     return Episode(
         frames=np.concatenate([e.frames for e in episodes]),
@@ -129,6 +146,18 @@ def conform_frames(episode: Episode, world=None) -> Episode:
     divided by 255; other integer, boolean or float frames in range are converted to
     float64. Frames outside [0, 1] (beyond :data:`FRAME_TOLERANCE`), with NaN, or of a
     non-numeric type raise ``ValueError`` naming ``world``, the context and the range found.
+
+    Parameters
+    ----------
+    episode : Episode
+        The episode a world delivered.
+    world : object
+        The world, named in the message.
+
+    Returns
+    -------
+    Episode
+        ``episode``, or a copy with float64 frames.
     """
     frames = np.asarray(episode.frames)
     if frames.dtype == np.uint8:
@@ -167,9 +196,16 @@ def _out_of_range(frames, dtype, world, context):
 class SourceSpec:
     """Which source drives each context, and the learnable sources in Ω order.
 
-    ``context_names[i]`` / ``context_sources[i]`` describe context index ``i``;
-    ``learnable`` lists the learnable sources easiest first (ascending Ω, eq 15).
     Every other source of the world is unlearnable (noise).
+
+    Parameters
+    ----------
+    context_names : tuple of str
+        ``context_names[i]`` names context index ``i``.
+    context_sources : tuple of str
+        ``context_sources[i]`` is the source that drives context index ``i``.
+    learnable : tuple of str
+        The learnable sources, easiest first (ascending Ω, eq 15).
     """
 
     context_names: tuple[str, ...]

@@ -82,7 +82,22 @@ UNLEARNABLE = ("S-D",)
 
 
 def sinusoid_pair(fast_cycles: int, n_steps: int = N_STEPS, slow_cycles: int = 1) -> np.ndarray:
-    """``[sin(2π·slow·t/n), cos(2π·fast·t/n)]`` for t = 0..n−1, shape (n, 2); dim 0 is slow."""
+    """``[sin(2π·slow·t/n), cos(2π·fast·t/n)]`` for t = 0..n−1, shape (n, 2); dim 0 is slow.
+
+    Parameters
+    ----------
+    fast_cycles : int
+        The cycles of dim 1 over the n steps.
+    n_steps : int
+        The samples (one pass of a context's local clock).
+    slow_cycles : int
+        The cycles of dim 0 over the n steps.
+
+    Returns
+    -------
+    array of shape (n_steps, 2)
+        The source.
+    """
     n_steps = check_positive_int(n_steps, "n_steps", source="sinusoid_pair")
     fast_cycles = check_positive_int(fast_cycles, "fast_cycles", source="sinusoid_pair")
     slow_cycles = check_positive_int(slow_cycles, "slow_cycles", source="sinusoid_pair")
@@ -101,6 +116,18 @@ def isotropic_random_walk(random_state=None, n_steps: int = N_STEPS) -> np.ndarr
     frequencies are present, the two columns and their circular differences have
     equal variances and zero covariance exactly, so the whitened derivative's
     eigenvalues are equal (Ω = 1 in eq 40) and no direction is slower than another.
+
+    Parameters
+    ----------
+    random_state : int or numpy.random.Generator or None
+        The draw's seed or generator.
+    n_steps : int
+        The samples (one pass of a context's local clock).
+
+    Returns
+    -------
+    array of shape (n_steps, 2)
+        The walk.
     """
     rng = check_random_state(random_state, source="isotropic_random_walk")
     n_steps = check_positive_int(n_steps, "n_steps", source="isotropic_random_walk")
@@ -141,6 +168,20 @@ def paper_source(name: str, random_state=None, n_steps: int = N_STEPS) -> np.nda
     """The paper's source ``name`` ("S-A", "S-B", "S-C" or "S-D"), shape (n_steps, 2).
 
     Only S-D uses ``random_state`` (it is drawn per run).
+
+    Parameters
+    ----------
+    name : str
+        ``"S-A"``, ``"S-B"``, ``"S-C"`` or ``"S-D"``.
+    random_state : int or numpy.random.Generator or None
+        The draw's seed or generator.
+    n_steps : int
+        The samples (one pass of a context's local clock).
+
+    Returns
+    -------
+    array of shape (n_steps, 2)
+        The source.
     """
     if name in PAPER_FAST_CYCLES:
         return sinusoid_pair(PAPER_FAST_CYCLES[name], n_steps)
@@ -153,7 +194,22 @@ NOISE_KINDS = ("white", "random_walk", "isotropic_walk")
 
 
 def white_noise(random_state=None, n_steps: int = N_STEPS, dims: int = 2) -> np.ndarray:
-    """i.i.d. standard normal samples, shape (n_steps, dims)."""
+    """i.i.d. standard normal samples, shape (n_steps, dims).
+
+    Parameters
+    ----------
+    random_state : int or numpy.random.Generator or None
+        The draw's seed or generator.
+    n_steps : int
+        The samples (one pass of a context's local clock).
+    dims : int
+        The dimensions.
+
+    Returns
+    -------
+    array of shape (n_steps, dims)
+        The draw.
+    """
     rng = check_random_state(random_state, source="white_noise")
     shape = (check_positive_int(n_steps, "n_steps", source="white_noise"),
              check_positive_int(dims, "dims", source="white_noise"))
@@ -161,7 +217,22 @@ def white_noise(random_state=None, n_steps: int = N_STEPS, dims: int = 2) -> np.
 
 
 def random_walk(random_state=None, n_steps: int = N_STEPS, dims: int = 2) -> np.ndarray:
-    """Cumulative standard normal steps, shape (n_steps, dims); row 0 is the first step."""
+    """Cumulative standard normal steps, shape (n_steps, dims); row 0 is the first step.
+
+    Parameters
+    ----------
+    random_state : int or numpy.random.Generator or None
+        The draw's seed or generator.
+    n_steps : int
+        The samples (one pass of a context's local clock).
+    dims : int
+        The dimensions.
+
+    Returns
+    -------
+    array of shape (n_steps, dims)
+        The draw.
+    """
     return np.cumsum(white_noise(random_state, n_steps, dims), axis=0)
 
 
@@ -169,6 +240,22 @@ def noise_source(kind: str, random_state=None, n_steps: int = N_STEPS, dims: int
     """One draw of the noise ``kind`` (one of :data:`NOISE_KINDS`), shape (n_steps, dims).
 
     ``"isotropic_walk"`` is :func:`isotropic_random_walk` and has two dimensions only.
+
+    Parameters
+    ----------
+    kind : str
+        One of :data:`NOISE_KINDS`.
+    random_state : int or numpy.random.Generator or None
+        The draw's seed or generator.
+    n_steps : int
+        The samples (one pass of a context's local clock).
+    dims : int
+        The dimensions.
+
+    Returns
+    -------
+    array of shape (n_steps, dims)
+        The draw.
     """
     if kind == "white":
         return white_noise(random_state, n_steps, dims)
@@ -188,6 +275,20 @@ def graded_sinusoids(targets, eta: float = 0.05, n_steps: int = N_STEPS) -> dict
     1 − 2·10⁻⁶ (k² − 1) at η = 0.05 over 1000 steps), so each target picks the k in
     2..n_steps/2 − 1 whose Ω is closest. Returns ``{k: Ω}``, k descending (easiest first);
     a k chosen for two targets is listed once.
+
+    Parameters
+    ----------
+    targets : sequence of float
+        The target Ω values.
+    eta : float
+        The MCA rate of eq 40.
+    n_steps : int
+        The samples (one pass of a context's local clock).
+
+    Returns
+    -------
+    dict of int to float
+        ``{k: Ω}``, k descending.
     """
     cycles = np.arange(2, n_steps // 2)
     values = np.array([omega(sinusoid_pair(int(k), n_steps), eta) for k in cycles])

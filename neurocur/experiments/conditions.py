@@ -30,7 +30,29 @@ __all__ = ["Condition", "Experiment"]
 @dataclass(frozen=True)
 class Condition:
     """One condition: its circuit (loaded once, overrides applied), the circuit file, the
-    ``"REGION.param"`` overrides and the world table."""
+    ``"REGION.param"`` overrides and the world table.
+
+    Parameters
+    ----------
+    name : str
+        The condition's name (its folder's, a sweep point's label included).
+    circuit_path : path
+        The circuit file.
+    params : dict
+        The ``"REGION.param"`` overrides.
+    world : dict
+        The world table.
+    circuit : Circuit
+        The circuit, overrides applied.
+    world_params : object
+        The world's checked parameters.
+    description : str
+        What the condition is.
+    sweep : dict
+        The sweep point of this condition (``{"LC.gain": 0.5}``); empty without a sweep.
+    fit : tuple of str
+        The ``"REGION.param"`` keys ``neurocur fit`` fits when none is given (the file's ``fit``).
+    """
 
     name: str
     circuit_path: Path
@@ -58,7 +80,27 @@ class Condition:
 
 @dataclass(frozen=True)
 class Experiment:
-    """A loaded, validated experiment. ``seed`` is None when neither the file nor --set gave one."""
+    """A loaded, validated experiment.
+
+    Parameters
+    ----------
+    name : str
+        The experiment's name.
+    path : path or None
+        Its file.
+    description : str
+        What it asks.
+    runs : int
+        The runs of each condition.
+    steps : int
+        The frames of each run.
+    seed : int or None
+        The experiment's seed; None when neither the file nor --set gave one.
+    conditions : dict of str to Condition
+        The conditions, by name.
+    control : str, optional
+        The condition the others are a test against (the file's ``control``), if any.
+    """
 
     name: str
     path: Path | None

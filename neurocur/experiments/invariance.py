@@ -46,11 +46,24 @@ RESULT = "invariance.json"
 class InvarianceDemo:
     """Result of :func:`invariance_demo` (paper Figure 5), arrays of length n_steps.
 
-    ``source``/``frames``: the learned driving force and its frames (5A, 5B);
-    ``output``: the first (slowest) feature on them (5C); ``noisy_source``/
-    ``noisy_frames``: the same with dimension 1 replaced by noise (5D, 5E);
-    ``noisy_output``: the first feature on the noisy frames (5F); ``corr``: their
-    correlation; ``quality``: |corr| of ``output`` with the slow source dimension.
+    Parameters
+    ----------
+    source : array
+        The learned driving force (5A).
+    frames : array
+        Its frames (5B).
+    output : array
+        The first (slowest) feature on them (5C).
+    noisy_source : array
+        The source with dimension 1 replaced by noise (5D).
+    noisy_frames : array
+        Its frames (5E).
+    noisy_output : array
+        The first feature on the noisy frames (5F).
+    corr : float
+        The correlation of ``output`` and ``noisy_output``.
+    quality : float
+        |corr| of ``output`` with the slow source dimension.
     """
 
     source: np.ndarray
@@ -76,6 +89,24 @@ def invariance_demo(source: str = "S-A", *, epochs: int = 30, seed=0, normalise:
     Global normalisation is the default: per-image scaling (``normalise="image"``)
     divides every pixel by a quantity that depends on both source dimensions, so the
     frames are no longer linear in the source and the invariance is only approximate.
+
+    Parameters
+    ----------
+    source : str
+        The paper's source learned (``"S-A"`` ...).
+    epochs : int
+        The passes over the context's frames.
+    seed : int or numpy.random.Generator
+        The world's and IncSFA's seed.
+    normalise : str
+        ``"global"`` or ``"image"``.
+    **incsfa_params
+        Further :class:`~neurocur.learn.incsfa.IncSFA` parameters.
+
+    Returns
+    -------
+    InvarianceDemo
+        The arrays of Figure 5, ``corr`` and ``quality``.
     """
     epochs = check_positive_int(epochs, "epochs")
     world = SyntheticWorld([source], normalise=normalise, clock_offsets="zero")
@@ -106,7 +137,25 @@ def invariance_demo(source: str = "S-A", *, epochs: int = 30, seed=0, normalise:
 
 @dataclass(frozen=True)
 class InvarianceSpec:
-    """A validated invariance file: the arguments of :func:`invariance_demo`."""
+    """A validated invariance file: the arguments of :func:`invariance_demo`.
+
+    Parameters
+    ----------
+    name : str
+        The demo's name (the file's, else its stem).
+    description : str
+        What it shows.
+    source : str
+        The paper's source learned.
+    epochs : int
+        The passes over the context's frames.
+    seed : int
+        The world's and IncSFA's seed.
+    normalise : str
+        ``"global"`` or ``"image"``.
+    incsfa : dict
+        Further IncSFA parameters.
+    """
 
     name: str
     description: str
@@ -122,7 +171,18 @@ class InvarianceSpec:
 
 
 def load_invariance(path) -> InvarianceSpec:
-    """Read and validate an invariance file (see the module docstring)."""
+    """Read and validate an invariance file (see the module docstring).
+
+    Parameters
+    ----------
+    path : path
+        The invariance file.
+
+    Returns
+    -------
+    InvarianceSpec
+        The validated file.
+    """
     path = Path(path)
     data = load_toml(path)
     check_keys(data, KEYS, source=path, required=("source",))
@@ -158,7 +218,20 @@ def load_invariance(path) -> InvarianceSpec:
 
 
 def write_invariance(spec: InvarianceSpec, out_dir) -> tuple[InvarianceDemo, Path]:
-    """Run ``spec`` and write ``invariance.json`` (the spec, ``corr`` and ``quality``) into ``out_dir``."""
+    """Run ``spec`` and write ``invariance.json`` (the spec, ``corr`` and ``quality``) into ``out_dir``.
+
+    Parameters
+    ----------
+    spec : InvarianceSpec
+        The demo.
+    out_dir : path
+        The output folder (created if needed).
+
+    Returns
+    -------
+    (InvarianceDemo, path)
+        The demo's result and the JSON file written.
+    """
     demo = spec.run()
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)

@@ -76,6 +76,25 @@ __all__ = ["Condition", "Experiment", "load_experiment", "parse_set", "resolve_e
 def load_experiment(path, *, sets: Sequence[str] = (), runs: int | None = None, steps: int | None = None,
                     seed: int | None = None) -> Experiment:
     """Read and validate an experiment file (a path or a shipped experiment's name, e.g. ``"synthetic"``),
-    applying ``--set`` items and ``--runs``/``--steps``/``--seed``: resolve, expand, build."""
+    applying ``--set`` items and ``--runs``/``--steps``/``--seed``: resolve, expand, build.
+
+    Parameters
+    ----------
+    path : str or path
+        The experiment file, or a shipped experiment's name.
+    sets : sequence of str
+        ``--set KEY=VALUE`` items.
+    runs : int, optional
+        Overrides the file's runs.
+    steps : int, optional
+        Overrides the file's steps.
+    seed : int, optional
+        Overrides the file's seed.
+
+    Returns
+    -------
+    Experiment
+        The conditions built, each once.
+    """
     resolved = resolve(path, sets=sets, runs=runs, steps=steps, seed=seed)
     return build(resolved, expand(resolved))

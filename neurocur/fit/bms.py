@@ -31,8 +31,27 @@ __all__ = ["BMS", "bms", "exceedance"]
 
 @dataclass(frozen=True)
 class BMS:
-    """The result: ``alpha`` (Dirichlet of q(r)), ``g`` (posterior model of each data set),
-    ``expected`` frequencies, ``xp``, ``bor``, ``pxp``, and the free energies ``f1`` and ``f0``."""
+    """The result of :func:`bms` (Stephan et al. 2009; Rigoux et al. 2014).
+
+    Parameters
+    ----------
+    alpha : array of shape (models,)
+        The Dirichlet parameters of q(r), the posterior of the model frequencies.
+    g : array of shape (data sets, models)
+        Each data set's posterior probability of each model.
+    expected : array of shape (models,)
+        The expected model frequencies, alpha / sum(alpha).
+    xp : array of shape (models,)
+        The exceedance probabilities, P(r_k > r_j for every j != k).
+    bor : float
+        The Bayesian omnibus risk: the posterior probability that all models are equally frequent.
+    pxp : array of shape (models,)
+        The protected exceedance probabilities, xp (1 - bor) + bor / models.
+    f1 : float
+        The free energy of the model with unequal frequencies.
+    f0 : float
+        The free energy of the null (equal frequencies).
+    """
 
     alpha: np.ndarray
     g: np.ndarray
@@ -102,7 +121,18 @@ def free_energy(L, g, alpha, a0) -> float:
 
 
 def exceedance(alpha) -> np.ndarray:
-    """P(r_k > r_j for every j != k) under Dirichlet(alpha), by quadrature over Gamma variables."""
+    """P(r_k > r_j for every j != k) under Dirichlet(alpha), by quadrature over Gamma variables.
+
+    Parameters
+    ----------
+    alpha : array of shape (models,)
+        The Dirichlet parameters.
+
+    Returns
+    -------
+    array of shape (models,)
+        Each model's exceedance probability (they sum to 1).
+    """
     alpha = np.asarray(alpha, dtype=np.float64)
     out = np.empty(len(alpha))
     for i, a in enumerate(alpha):

@@ -34,8 +34,17 @@ __all__ = ["Bootstrap", "parametric_bootstrap", "percentile_interval"]
 
 @dataclass
 class Bootstrap:
-    """A data set's bootstrap: ``ci`` by key (the percentile intervals) and ``replicates``, the tidy table
-    ``dataset, replicate, param, estimate`` of the refitted values."""
+    """A data set's bootstrap (:func:`parametric_bootstrap`).
+
+    Parameters
+    ----------
+    dataset : str
+        The data set's name.
+    ci : dict of str to (float, float)
+        The percentile interval of each fitted key.
+    replicates : pandas.DataFrame
+        The tidy table ``dataset, replicate, param, estimate`` of the refitted values.
+    """
 
     dataset: str
     ci: dict
@@ -43,7 +52,20 @@ class Bootstrap:
 
 
 def percentile_interval(values, level: float = 0.95) -> tuple[float, float]:
-    """The central percentile interval at ``level`` of bootstrap ``values`` (Efron & Tibshirani 1993, chapter 13)."""
+    """The central percentile interval at ``level`` of bootstrap ``values`` (Efron & Tibshirani 1993, chapter 13).
+
+    Parameters
+    ----------
+    values : array_like of float
+        The bootstrap replicates of one parameter.
+    level : float
+        The interval's coverage: the (1 - level)/2 and (1 + level)/2 quantiles.
+
+    Returns
+    -------
+    (float, float)
+        The interval's ends.
+    """
     lo, hi = np.quantile(np.asarray(values, dtype=np.float64), [(1 - level) / 2, (1 + level) / 2])
     return float(lo), float(hi)
 
@@ -53,8 +75,38 @@ def parametric_bootstrap(condition, estimate: Mapping[str, float], n_episodes: i
                          seed: int | Sequence[int] = 0, starts: int = 3, decision: str = "LC",
                          signal: tuple[str, str] | None = None, dataset: str = "sim") -> Bootstrap:
     """Percentile intervals for the fitted ``bounds`` keys from ``replicates`` data sets of ``n_episodes``
-    simulated at ``estimate`` (module docstring). ``signal`` = (region, column): signal replay, as the
-    data set was fitted."""
+    simulated at ``estimate`` (module docstring).
+
+    Parameters
+    ----------
+    condition : Condition
+        The experiment condition whose circuit simulates and replays the data sets.
+    estimate : mapping of str to float
+        The data set's fit theta-hat, at which the replicates are simulated.
+    n_episodes : int
+        The episodes of each simulated data set (the data set's length).
+    bounds : mapping of str to (float, float)
+        The fitted keys and their bounds, as in :func:`~neurocur.fit.mle.fit_ml`.
+    replicates : int
+        B, the simulated data sets (at least 2).
+    level : float
+        The intervals' coverage.
+    seed : int or sequence of int
+        Replicate r's seed is child r of ``numpy.random.SeedSequence(seed).spawn(replicates)``.
+    starts : int
+        The local searches of each refit.
+    decision : str
+        The region whose decisions are the data.
+    signal : (str, str), optional
+        (region, column): signal replay, as the data set was fitted.
+    dataset : str
+        The name in the table's rows.
+
+    Returns
+    -------
+    Bootstrap
+        The intervals and the refitted values.
+    """
     if not isinstance(replicates, (int, np.integer)) or replicates < 2:
         raise ConfigError("--bootstrap", None, "a number of bootstrap replicates of at least 2", repr(replicates))
     keys = list(bounds)

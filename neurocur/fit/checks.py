@@ -33,7 +33,17 @@ def _as_recorded(tree: Mapping) -> dict:
 def check_folder(path, experiment, conditions: Sequence) -> None:
     """ConfigError unless the results folder ``path`` (a table: nothing to check) was written by ``experiment``,
     the runs it holds saw the world of each of ``conditions`` (the fitting ones), and their conditions, where the
-    experiment has them too, ran the experiment's circuit."""
+    experiment has them too, ran the experiment's circuit.
+
+    Parameters
+    ----------
+    path : path
+        The data: a results folder, or a table.
+    experiment : Experiment
+        The loaded experiment the fit uses.
+    conditions : sequence of Condition
+        The conditions fitted.
+    """
     path = Path(path)
     if not path.is_dir() or path.is_symlink():
         return
@@ -68,7 +78,22 @@ def check_folder(path, experiment, conditions: Sequence) -> None:
 
 def data_warnings(data: Sequence, context_names: Sequence[str], source) -> dict:
     """``{"ignored_columns": [...], "unseen_contexts": [...], "lines": [...]}``: the table's numeric columns the fit
-    does not read, the world's contexts no data set visits, and a warning line for each kind found."""
+    does not read, the world's contexts no data set visits, and a warning line for each kind found.
+
+    Parameters
+    ----------
+    data : sequence of Behaviour
+        The data sets read.
+    context_names : sequence of str
+        The world's contexts.
+    source : str or path
+        The data's file, which each warning line names.
+
+    Returns
+    -------
+    dict
+        ``ignored_columns``, ``unseen_contexts`` and ``lines``.
+    """
     ignored = sorted({c for b in data for c in getattr(b, "ignored", ())})
     seen = {int(c) for b in data for c in b.contexts}
     unseen = [name for i, name in enumerate(context_names) if i not in seen]

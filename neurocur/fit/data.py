@@ -50,9 +50,27 @@ SIGNAL_LIMIT = 1e150
 
 @dataclass(frozen=True)
 class Behaviour:
-    """One data set's episodes: ``contexts`` and ``decisions`` (int arrays, one entry per
-    episode), ``signals`` (extra per-episode columns, name -> float array), ``source`` the
-    file it came from and ``name`` its label; ``free_choice`` when a decision is a context."""
+    """One data set's episodes.
+
+    Parameters
+    ----------
+    name : str
+        Its label.
+    contexts : array of int
+        Each episode's context.
+    decisions : array of int
+        Each episode's decision.
+    signals : dict of str to array of float
+        Extra per-episode columns, by name.
+    source : str
+        The file it came from.
+    free_choice : bool
+        A decision is a context (the next one) rather than engage/disengage.
+    seed : object
+        The seed of the run that produced it (a results folder's runs), or None.
+    ignored : tuple of str
+        Numeric columns of its table that the fit does not read (neither required nor a replayed signal).
+    """
 
     name: str
     contexts: np.ndarray
@@ -83,9 +101,22 @@ def read_behaviour(path, context_names: Sequence[str], *, free_choice: bool = Fa
                    signals: Sequence[str] = ()) -> list[Behaviour]:
     """The data sets of a CSV or Parquet file, or of a results folder (one per run), in order.
 
-    ``context_names``: the world's contexts (a context may be given by index or name);
-    ``free_choice``: decisions are contexts rather than engage/disengage; ``signals``: the
-    extra columns required (for signal replay)."""
+    Parameters
+    ----------
+    path : str or path
+        A CSV or Parquet file, or a results folder.
+    context_names : sequence of str
+        The world's contexts (a context may be given by index or name).
+    free_choice : bool
+        Decisions are contexts rather than engage/disengage.
+    signals : sequence of str
+        The extra columns required (for signal replay).
+
+    Returns
+    -------
+    list of Behaviour
+        One per data set (per run of a results folder), in order.
+    """
     path = Path(path)
     kind = path_kind(path, EXPECTED)
     if kind == "folder":
@@ -113,7 +144,26 @@ def read_behaviour(path, context_names: Sequence[str], *, free_choice: bool = Fa
 
 def behaviour_from_episodes(table: pd.DataFrame, context_names: Sequence[str], *, free_choice: bool = False,
                             signals: Sequence[str] = (), source: str = "<table>") -> list[Behaviour]:
-    """The data sets of a tidy table (columns :data:`REQUIRED` and ``signals``), checked."""
+    """The data sets of a tidy table (columns :data:`REQUIRED` and ``signals``), checked.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        The tidy table, one row per episode.
+    context_names : sequence of str
+        The world's contexts.
+    free_choice : bool
+        Decisions are contexts rather than engage/disengage.
+    signals : sequence of str
+        The extra columns required (for signal replay).
+    source : str
+        The table's file, for the messages.
+
+    Returns
+    -------
+    list of Behaviour
+        One per ``dataset``.
+    """
     for column in (*REQUIRED, *signals):
         if column not in table.columns:
             raise ConfigError(source, column, f"a column '{column}' (columns: {', '.join(map(str, table.columns))})",

@@ -26,7 +26,20 @@ PARQUET_SUFFIXES = (".parquet", ".pq")
 
 def path_kind(path: Path, expected: str) -> str:
     """``"folder"`` or ``"file"`` for a real folder or a regular file at ``path`` (never following a link);
-    anything else is a ConfigError saying ``expected``."""
+    anything else is a ConfigError saying ``expected``.
+
+    Parameters
+    ----------
+    path : path
+        The path given.
+    expected : str
+        What the path should be, for the message.
+
+    Returns
+    -------
+    str
+        ``"folder"`` or ``"file"``.
+    """
     try:
         mode = os.lstat(path).st_mode
     except FileNotFoundError:
@@ -44,7 +57,20 @@ def path_kind(path: Path, expected: str) -> str:
 
 def read_bytes(path: Path, expected: str) -> bytes:
     """The bytes of the regular file at ``path``, opened without following a link and without blocking on a
-    FIFO (its type is checked on the open descriptor, so a file swapped after :func:`path_kind` is caught)."""
+    FIFO (its type is checked on the open descriptor, so a file swapped after :func:`path_kind` is caught).
+
+    Parameters
+    ----------
+    path : path
+        The file.
+    expected : str
+        What the file should be, for the message.
+
+    Returns
+    -------
+    bytes
+        The file's content.
+    """
     try:
         fd = os.open(path, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC)
     except FileNotFoundError:
@@ -62,9 +88,26 @@ def read_bytes(path: Path, expected: str) -> bytes:
 
 def read_table(path: Path, suffixes: Sequence[str], expected: str, *, header: str = "", **read_csv) -> pd.DataFrame:
     """The table at ``path``: Parquet (:data:`PARQUET_SUFFIXES`) or UTF-8 delimited text, whose delimiter is a
-    tab when the header line has one, else a comma. ``suffixes``: those accepted; ``expected``: what the file
-    should be, for the messages; ``header``: the columns a header row should name (for an empty file's message);
-    ``read_csv``: further arguments of :func:`pandas.read_csv`."""
+    tab when the header line has one, else a comma.
+
+    Parameters
+    ----------
+    path : path
+        The file.
+    suffixes : sequence of str
+        The suffixes accepted.
+    expected : str
+        What the file should be, for the messages.
+    header : str
+        The columns a header row should name (for an empty file's message).
+    **read_csv
+        Further arguments of :func:`pandas.read_csv`.
+
+    Returns
+    -------
+    pandas.DataFrame
+        The table as read.
+    """
     suffix = path.suffix.lower()
     if suffix not in suffixes:
         raise ConfigError(path, None, expected, f"suffix '{path.suffix}'")

@@ -53,7 +53,23 @@ STEP = 1e-3
 
 @dataclass
 class MLFit:
-    """A maximum-likelihood fit: ``estimate`` and ``ci`` by key, the maximised ``loglik``, ``n_obs``."""
+    """A maximum-likelihood fit (:func:`fit_ml`).
+
+    Parameters
+    ----------
+    dataset : str
+        The data set's name (``pooled`` for a pooled fit).
+    estimate : dict of str to float
+        The estimate, by key.
+    loglik : float
+        The maximised log-likelihood.
+    n_obs : int
+        The scored observations (BIC's n).
+    ci : dict of str to (float, float)
+        The profile-likelihood intervals, by key (empty without).
+    unidentified : list of str
+        The keys the data do not identify within the bounds (module docstring); empty unless asked for.
+    """
 
     dataset: str
     estimate: dict
@@ -166,8 +182,25 @@ def weak_keys(loglik_many, x: np.ndarray, b: np.ndarray, keys: Sequence[str]) ->
     least :data:`TIED` (module docstring): on the bounded scale, a variance (the diagonal of the inverse
     observed information) above 1 / :data:`IDENTIFIED`; an eigenvalue of the information that is not positive
     (a flat direction) counts as 1e-9 of the largest.
-    ``loglik_many(points)``: the log-likelihood of each point. Empty when a point of the stencil is
-    impossible (no curvature to read)."""
+    Empty when a point of the stencil is impossible (no curvature to read).
+
+    Parameters
+    ----------
+    loglik_many : callable
+        ``loglik_many(points)``: the log-likelihood of each point (the rows of an array, on the parameters'
+        own scale).
+    x : array of shape (keys,)
+        The point, on the parameters' own scale.
+    b : array of shape (keys, 2)
+        Each key's bounds (low, high).
+    keys : sequence of str
+        The fitted keys, in ``x``'s order.
+
+    Returns
+    -------
+    list of str
+        The weak keys, in ``keys``' order.
+    """
     d, width = len(keys), b[:, 1] - b[:, 0]
     h = STEP
     centre = np.clip((x - b[:, 0]) / width, h, 1.0 - h)  # the stencil inside the bounds
@@ -221,7 +254,18 @@ def profile_interval(cost, x: np.ndarray, b: np.ndarray, i: int, best: float, le
 
 
 def fit_table(fits: Sequence[MLFit]) -> pd.DataFrame:
-    """The tidy table of fits: ``dataset, param, estimate, ci_low, ci_high``."""
+    """The tidy table of fits: ``dataset, param, estimate, ci_low, ci_high``.
+
+    Parameters
+    ----------
+    fits : sequence of MLFit
+        The fits, one row per fit and key.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per fit and key.
+    """
     rows = [{"dataset": f.dataset, "param": k, "estimate": v, "ci_low": f.ci.get(k, (np.nan, np.nan))[0],
              "ci_high": f.ci.get(k, (np.nan, np.nan))[1]} for f in fits for k, v in f.estimate.items()]
     return pd.DataFrame(rows, columns=["dataset", "param", "estimate", "ci_low", "ci_high"])

@@ -22,7 +22,18 @@ __all__ = ["data_summary", "fit_keys", "load_fit_data", "model_keys", "parse_col
 
 
 def parse_columns(items: Sequence[str]) -> dict[str, str]:
-    """``["choice=family,outcome=correct", "subject=sid"]`` -> ``{"choice": "family", ...}`` (standard -> file's)."""
+    """``["choice=family,outcome=correct", "subject=sid"]`` -> ``{"choice": "family", ...}`` (standard -> file's).
+
+    Parameters
+    ----------
+    items : sequence of str
+        The ``--columns`` values, ``KEY=NAME`` pairs separated by commas.
+
+    Returns
+    -------
+    dict of str to str
+        The file's column of each standard one.
+    """
     out: dict[str, str] = {}
     known = (*TRIAL_COLUMNS, *OPTIONAL_COLUMNS)
     for item in (part for text in items for part in text.split(",") if part.strip()):
@@ -36,7 +47,20 @@ def parse_columns(items: Sequence[str]) -> dict[str, str]:
 
 
 def fit_keys(condition, given: Sequence[str]) -> list[str]:
-    """The ``--fit`` keys, else the condition's declared free parameters (its ``fit`` list)."""
+    """The ``--fit`` keys, else the condition's declared free parameters (its ``fit`` list).
+
+    Parameters
+    ----------
+    condition : Condition
+        The experiment condition fitted.
+    given : sequence of str
+        The ``--fit`` keys (may be empty).
+
+    Returns
+    -------
+    list of str
+        The keys fitted.
+    """
     keys = list(given) or list(getattr(condition, "fit", ()))
     if not keys:
         raise ConfigError("--fit", None, "--fit REGION.param (the condition declares no free parameters: fit = [...] "
@@ -46,7 +70,22 @@ def fit_keys(condition, given: Sequence[str]) -> list[str]:
 
 def model_keys(experiment, names: Sequence[str], given: Sequence[str]) -> list[str]:
     """The ``--fit`` keys of a model comparison, else each model's declared free parameters as
-    ``MODEL:REGION.param`` (each fitted in its own model only, :func:`neurocur.fit.study.model_bounds`)."""
+    ``MODEL:REGION.param`` (each fitted in its own model only, :func:`neurocur.fit.study.model_bounds`).
+
+    Parameters
+    ----------
+    experiment : Experiment or str
+        The experiment (as :func:`neurocur.fit.study.condition_of` takes it).
+    names : sequence of str
+        The conditions compared as models.
+    given : sequence of str
+        The ``--fit`` keys (may be empty).
+
+    Returns
+    -------
+    list of str
+        The keys fitted.
+    """
     if given:
         return list(given)
     return [f"{name}:{key}" for name in names if name in experiment.conditions
@@ -54,14 +93,41 @@ def model_keys(experiment, names: Sequence[str], given: Sequence[str]) -> list[s
 
 
 def reads_trials(condition) -> bool:
-    """True when the condition's world replays recorded trials (module docstring)."""
+    """True when the condition's world replays recorded trials (module docstring).
+
+    Parameters
+    ----------
+    condition : Condition
+        The experiment condition.
+    """
     return hasattr(condition.world_class, "recorded")
 
 
 def load_fit_data(data, condition, *, columns: Sequence[str] = (), one_based: bool = False, decision: str = "LC",
                   signal: tuple[str, str] | None = None) -> list:
     """The data sets of ``data`` for the condition's model: :class:`~neurocur.fit.trials.Trials` per subject
-    for an experiment on trials, else the episode data sets of :func:`neurocur.fit.study.load_data`."""
+    for an experiment on trials, else the episode data sets of :func:`neurocur.fit.study.load_data`.
+
+    Parameters
+    ----------
+    data : str or path
+        A table or a results folder.
+    condition : Condition
+        The experiment condition fitted.
+    columns : sequence of str
+        The ``--columns`` mapping of a trial table (:func:`parse_columns`); refused for episode data.
+    one_based : bool
+        A trial table's integer choice codes start at 1; refused for episode data.
+    decision : str
+        The region whose decisions are the data.
+    signal : (str, str), optional
+        (region, column): signal replay.
+
+    Returns
+    -------
+    list of Trials or list of Behaviour
+        One per subject or data set, in order.
+    """
     mapping = parse_columns(columns)
     if reads_trials(condition):
         return read_trials(data, condition.make_world().context_names, columns=mapping, one_based=one_based)
@@ -77,7 +143,22 @@ def load_fit_data(data, condition, *, columns: Sequence[str] = (), one_based: bo
 
 def data_summary(data: Sequence, *, columns: Sequence[str] = (), one_based: bool = False) -> dict:
     """What summary.json records of a trial table's reading: the column mapping, ``one_based`` and the
-    missed trials skipped (per subject and in all); nothing for episode data."""
+    missed trials skipped (per subject and in all); nothing for episode data.
+
+    Parameters
+    ----------
+    data : sequence of Trials or Behaviour
+        The data sets read (:func:`load_fit_data`).
+    columns : sequence of str
+        The ``--columns`` given.
+    one_based : bool
+        The ``--one-based`` given.
+
+    Returns
+    -------
+    dict
+        ``columns``, ``one_based`` and the skipped trials; empty for episode data.
+    """
     if not data or not isinstance(data[0], Trials):
         return {}
     return {"columns": parse_columns(columns), "one_based": bool(one_based),

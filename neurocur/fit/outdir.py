@@ -54,7 +54,18 @@ class FitInterrupted(KeyboardInterrupt):
 
 def spreadsheet_safe(table: pd.DataFrame) -> pd.DataFrame:
     """``table`` with every text cell, column name and index label that a spreadsheet would run as a formula
-    prefixed with a single quote; numbers (and text that is a plain number, such as ``-3``) unchanged."""
+    prefixed with a single quote; numbers (and text that is a plain number, such as ``-3``) unchanged.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        The table to write.
+
+    Returns
+    -------
+    pandas.DataFrame
+        A copy, made safe.
+    """
     def cell(value):
         if isinstance(value, str) and value.startswith(_FORMULA) and not _NUMBER.fullmatch(value):
             return "'" + value
@@ -87,7 +98,15 @@ def _results_folder(path: Path) -> str | None:
 
 
 def check_out(out: Path, inputs: Sequence[Path] = ()) -> None:
-    """ValueError unless ``out`` may be a fit command's output folder (module docstring); writes nothing."""
+    """ValueError unless ``out`` may be a fit command's output folder (module docstring); writes nothing.
+
+    Parameters
+    ----------
+    out : path
+        The ``--out`` folder.
+    inputs : sequence of path
+        The input data, which ``out`` must neither hold nor lie in.
+    """
     out = Path(out)
     if out.is_symlink():
         raise ValueError(f"--out: expected a folder, not a symbolic link, got {str(out)!r}")
@@ -111,7 +130,19 @@ def _digest(data: bytes) -> str:
 
 
 class FitOutput:
-    """An open output folder (:func:`fit_output`): write files into it; each is recorded in the manifest."""
+    """An open output folder (:func:`fit_output`): write files into it; each is recorded in the manifest.
+
+    Parameters
+    ----------
+    root : path
+        The folder.
+    command : str
+        The command writing it, recorded in the manifest.
+    arguments : dict
+        The command's arguments, recorded in the manifest.
+    folders : sequence of str
+        Sub-folders this command keeps from one run to the next.
+    """
 
     def __init__(self, root: Path, command: str, arguments: dict, folders: Sequence[str]):
         self.root = root
@@ -202,8 +233,26 @@ def fit_output(out, command: str, arguments: dict, *, inputs: Sequence[Path] = (
                folders: Sequence[str] = ()) -> Iterator[FitOutput]:
     """The output folder ``out`` for the ``with`` block: checked (:func:`check_out`), locked, the previous
     command's files removed, and a manifest written at once (``complete: false``) and at the end
-    (``complete: true``). ``folders``: sub-folders this command keeps from one run to the next. Ctrl-C
-    inside the block becomes :class:`FitInterrupted`, saying what the folder holds."""
+    (``complete: true``). Ctrl-C inside the block becomes :class:`FitInterrupted`, saying what the folder holds.
+
+    Parameters
+    ----------
+    out : path
+        The ``--out`` folder.
+    command : str
+        The command, recorded in the manifest.
+    arguments : dict
+        The command's arguments, recorded in the manifest.
+    inputs : sequence of path
+        The input data (:func:`check_out`).
+    folders : sequence of str
+        Sub-folders this command keeps from one run to the next.
+
+    Yields
+    ------
+    FitOutput
+        The open folder.
+    """
     root = Path(out)
     check_out(root, inputs)
     with locked(root):

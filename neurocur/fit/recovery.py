@@ -36,10 +36,39 @@ def parameter_recovery(condition, bounds: Mapping[str, tuple[float, float]], *, 
                        seed: int = 0, starts: int = 3, decision: str = "LC",
                        signal: tuple[str, str] | None = None, progress=None, intervals: str = "profile",
                        bootstrap: int = 200) -> pd.DataFrame:
-    """Rows ``dataset, param, true, estimate, ci_low, ci_high, loglik``: ``n_datasets`` fits at known theta.
-    ``progress(table so far)`` is called after each data set. ``intervals``: ``"profile"`` (profile
-    likelihood) or ``"bootstrap"`` (percentile intervals of ``bootstrap`` replicates, :mod:`.bootstrap`;
-    data set i's replicates are seeded by ``(seed, i)``)."""
+    """``n_datasets`` fits at known theta, each drawn uniformly within ``bounds``.
+
+    Parameters
+    ----------
+    condition : Condition
+        The experiment condition that simulates and fits the data sets.
+    bounds : mapping of str to (float, float)
+        The fitted keys and their bounds (the true values are drawn within them).
+    n_datasets : int
+        The data sets simulated and fitted.
+    n_episodes : int
+        The episodes of each data set.
+    seed : int
+        The root of the data sets' seeds and of the true values' draws.
+    starts : int
+        The local searches of each fit.
+    decision : str
+        The region whose decisions are the data.
+    signal : (str, str), optional
+        (region, column): signal replay.
+    progress : callable, optional
+        ``progress(table so far)``, called after each data set.
+    intervals : str
+        ``"profile"`` (profile likelihood) or ``"bootstrap"`` (percentile intervals of ``bootstrap``
+        replicates, :mod:`.bootstrap`; data set i's replicates are seeded by ``(seed, i)``).
+    bootstrap : int
+        The bootstrap replicates per data set.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Rows ``dataset, param, true, estimate, ci_low, ci_high, loglik``.
+    """
     if intervals not in ("profile", "bootstrap"):
         raise ConfigError("--ci", None, "profile or bootstrap", repr(intervals))
     keys = list(bounds)
@@ -66,7 +95,18 @@ def parameter_recovery(condition, bounds: Mapping[str, tuple[float, float]], *, 
 
 def recovery_summary(table: pd.DataFrame) -> pd.DataFrame:
     """Per parameter: ``n``, Pearson ``r`` (true, estimate), ``bias`` (mean estimate - true), ``rmse`` and
-    ``coverage`` (fraction of intervals holding the truth)."""
+    ``coverage`` (fraction of intervals holding the truth).
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        The rows of :func:`parameter_recovery`.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per parameter.
+    """
     rows = []
     for param, t in table.groupby("param", sort=False):
         err = t["estimate"] - t["true"]
@@ -78,7 +118,18 @@ def recovery_summary(table: pd.DataFrame) -> pd.DataFrame:
 
 
 def recovery_figure(table: pd.DataFrame):
-    """Fitted against true value per parameter, with the intervals and the identity line."""
+    """Fitted against true value per parameter, with the intervals and the identity line.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        The rows of :func:`parameter_recovery`.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        A panel per parameter.
+    """
     params = list(dict.fromkeys(table["param"]))
     fig, axes = figure(1, len(params), figsize=(3.8 * len(params), 3.5))
     summary = recovery_summary(table).set_index("param")
@@ -102,7 +153,32 @@ def model_recovery(conditions: Mapping[str, object], bounds: Mapping[str, Mappin
     (:func:`~neurocur.fit.compare.score`): every model (condition, with its ``bounds``, empty for none)
     fitted to ``n_datasets`` data sets simulated from each model (theta drawn uniformly within the
     generating model's bounds). Data set i of every model has the
-    same seed (paired). ``progress(table so far)`` is called after each data set."""
+    same seed (paired).
+
+    Parameters
+    ----------
+    conditions : mapping of str to Condition
+        The models, by name.
+    bounds : mapping of str to mapping of str to (float, float)
+        Each model's fitted keys and their bounds (empty for none).
+    n_datasets : int
+        The data sets simulated from each model.
+    n_episodes : int
+        The episodes of each data set.
+    seed : int
+        The root of the data sets' seeds and of the true values' draws.
+    starts : int
+        The local searches of each fit.
+    decision : str
+        The region whose decisions are the data.
+    progress : callable, optional
+        ``progress(table so far)``, called after each data set.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Rows ``generating, dataset, fitted, loglik, n_params, n_obs, aic, bic, heldout``.
+    """
     root = np.random.SeedSequence(seed)
     children = root.spawn(n_datasets)
     draw = np.random.default_rng(root.spawn(1)[0])
@@ -122,7 +198,20 @@ def model_recovery(conditions: Mapping[str, object], bounds: Mapping[str, Mappin
 
 def confusion(table: pd.DataFrame, by: str) -> pd.DataFrame:
     """P(model wins by ``by`` | generating model): rows generating, columns fitted. ``by`` is ``"aic"`` or
-    ``"bic"`` (lowest wins) or ``"heldout"`` (highest wins); a tie shares the win."""
+    ``"bic"`` (lowest wins) or ``"heldout"`` (highest wins); a tie shares the win.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        The rows of :func:`model_recovery`.
+    by : str
+        The score that picks the winner.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Rows generating, columns fitted; each row sums to 1.
+    """
     models = list(dict.fromkeys(table["fitted"]))
     out = pd.DataFrame(0.0, index=pd.Index(list(dict.fromkeys(table["generating"])), name="generating"),
                        columns=pd.Index(models, name="fitted"))
@@ -135,7 +224,20 @@ def confusion(table: pd.DataFrame, by: str) -> pd.DataFrame:
 
 
 def confusion_figure(table: pd.DataFrame, by: Sequence[str] = ("aic", "bic", "heldout")):
-    """The confusion matrices side by side (rows: generating model, columns: winning fitted model)."""
+    """The confusion matrices side by side (rows: generating model, columns: winning fitted model).
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        The rows of :func:`model_recovery`.
+    by : sequence of str
+        The scores, a panel each (:func:`confusion`).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        A panel per score.
+    """
     fig, axes = figure(1, len(by), figsize=(3.8 * len(by), 3.5))
     for ax, key in zip(axes[0], by):
         m = confusion(table, key)

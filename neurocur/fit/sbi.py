@@ -54,7 +54,20 @@ def summaries(behaviour: Behaviour, n_contexts: int) -> np.ndarray:
     entropy of the share of episodes in each context (bits) (:data:`SUMMARY_NAMES`); then per context
     its share of the episodes, its share in each of the :data:`PARTS` quarters of the episodes (part
     by part: when the agent moves on from a context it has learned) and its mean stay length in
-    episodes (0 if never visited): 5 + (2 + PARTS) * n_contexts numbers."""
+    episodes (0 if never visited): 5 + (2 + PARTS) * n_contexts numbers.
+
+    Parameters
+    ----------
+    behaviour : Behaviour
+        The data set.
+    n_contexts : int
+        The world's contexts.
+
+    Returns
+    -------
+    array of shape (5 + (2 + PARTS) * n_contexts,)
+        The summaries, in the order above.
+    """
     c = np.asarray(behaviour.contexts)
     moved = c[1:] != c[:-1]
     half = len(moved) // 2
@@ -77,7 +90,22 @@ def _check(prior: Mapping[str, tuple[float, float]]) -> None:
 def prior_draws(prior: Mapping[str, tuple[float, float]], n: int, root: np.random.SeedSequence
                 ) -> list[tuple[int, dict[str, float]]]:
     """``n`` draws from the uniform prior, each with an experiment seed of its own: ``(seed, theta)``.
-    theta and the seeds come from two children of ``root``."""
+    theta and the seeds come from two children of ``root``.
+
+    Parameters
+    ----------
+    prior : mapping of str to (float, float)
+        The uniform prior: each inferred key's bounds.
+    n : int
+        The draws.
+    root : numpy.random.SeedSequence
+        The root of the draws and their seeds.
+
+    Returns
+    -------
+    list of (int, dict of str to float)
+        ``(seed, theta)`` of each draw.
+    """
     _check(prior)
     b = np.array(list(prior.values()), dtype=np.float64)
     thetas, seeds = root.spawn(2)
@@ -95,7 +123,32 @@ def draw_experiments(experiment_path, prior: Mapping[str, tuple[float, float]], 
     Every simulation has its own seed: had the draws shared run *i*'s seed (a sweep's pairing),
     the posterior would learn the few seeds' noise and be overconfident on any other run
     (docs/hypotheses.md, run 14). Training and held-out draws come from ``SeedSequence([seed, 0])``
-    and ``SeedSequence([seed, 1])``."""
+    and ``SeedSequence([seed, 1])``.
+
+    Parameters
+    ----------
+    experiment_path : path
+        The experiment file each draw's file extends.
+    prior : mapping of str to (float, float)
+        The uniform prior: each inferred key's bounds.
+    n : int
+        The draws.
+    runs : int
+        The runs of each draw's experiment.
+    steps : int
+        The frames of each run.
+    seed : int
+        The study's seed.
+    out : path
+        The study's folder.
+    held_out : bool
+        Write the held-out draws (``sbi_test/tNN.toml``) instead of the training ones.
+
+    Returns
+    -------
+    list of path
+        The files written.
+    """
     folder = Path(out)
     folder.mkdir(parents=True, exist_ok=True)
     folder = own_dir(folder, "sbi_test" if held_out else "sbi_training")
@@ -112,7 +165,22 @@ def draw_experiments(experiment_path, prior: Mapping[str, tuple[float, float]], 
 
 def training_set(folders: Sequence, prior: Mapping[str, tuple[float, float]], n_contexts: int
                  ) -> tuple[np.ndarray, np.ndarray]:
-    """(theta, x) of every run of the results folders: the swept values and the summaries."""
+    """(theta, x) of every run of the results folders: the swept values and the summaries.
+
+    Parameters
+    ----------
+    folders : sequence of path
+        The draws' results folders.
+    prior : mapping of str to (float, float)
+        The uniform prior: each inferred key's bounds.
+    n_contexts : int
+        The world's contexts (:func:`summaries`).
+
+    Returns
+    -------
+    (array of shape (runs, len(prior)), array of shape (runs, summaries))
+        theta and x, a row per run.
+    """
     from ..results import ResultsStore
 
     keys = list(prior)
@@ -153,8 +221,26 @@ class _Silent:
 
 def train(theta: np.ndarray, x: np.ndarray, prior: Mapping[str, tuple[float, float]], *, seed: int = 0,
           max_epochs: int = 200):
-    """A neural posterior estimator (sbi's NPE, a masked autoregressive flow) trained on (theta, x);
-    returns a function ``sample(x_observed, n) -> (n, len(prior)) array``."""
+    """A neural posterior estimator (sbi's NPE, a masked autoregressive flow) trained on (theta, x).
+
+    Parameters
+    ----------
+    theta : array of shape (runs, len(prior))
+        The parameters of the training runs.
+    x : array of shape (runs, summaries)
+        Their summaries.
+    prior : mapping of str to (float, float)
+        The uniform prior: each inferred key's bounds.
+    seed : int
+        torch's seed.
+    max_epochs : int
+        The most training epochs.
+
+    Returns
+    -------
+    callable
+        ``sample(x_observed, n) -> (n, len(prior)) array``.
+    """
     with extra("fit", "simulation-based inference"):
         import torch
         from sbi.inference import NPE
@@ -177,14 +263,42 @@ def train(theta: np.ndarray, x: np.ndarray, prior: Mapping[str, tuple[float, flo
 
 
 def posterior_table(samples: np.ndarray, prior: Mapping[str, tuple[float, float]], dataset: str) -> pd.DataFrame:
-    """``dataset, param, estimate, ci_low, ci_high``: posterior median and central 95 % interval."""
+    """``dataset, param, estimate, ci_low, ci_high``: posterior median and central 95 % interval.
+
+    Parameters
+    ----------
+    samples : array of shape (n, len(prior))
+        Posterior samples.
+    prior : mapping of str to (float, float)
+        The uniform prior: each inferred key's bounds.
+    dataset : str
+        The data set's name.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per key.
+    """
     return pd.DataFrame([{"dataset": dataset, "param": k, "estimate": float(np.median(samples[:, i])),
                           "ci_low": float(np.quantile(samples[:, i], 0.025)),
                           "ci_high": float(np.quantile(samples[:, i], 0.975))} for i, k in enumerate(prior)])
 
 
 def n_draws(simulations: int, runs: int) -> int:
-    """The prior draws that make ``simulations`` training runs of ``runs`` runs each (one line when none)."""
+    """The prior draws that make ``simulations`` training runs of ``runs`` runs each (one line when none).
+
+    Parameters
+    ----------
+    simulations : int
+        The ``--simulations`` given: a multiple of ``runs``, at least two draws.
+    runs : int
+        The ``--runs`` given: runs per draw.
+
+    Returns
+    -------
+    int
+        ``simulations // runs``.
+    """
     if runs < 1:
         raise ConfigError("--runs", None, "an integer >= 1", str(runs))
     if simulations < 2 * runs or simulations % runs:
@@ -199,7 +313,23 @@ class SBIStudy:
     held-out draw too (``out/sbi_test/tNN.toml`` into ``tNN/``, one run), computed by ``executor``
     (:func:`~neurocur.experiments.executors.executor_for`), so an interrupted study resumes, run by
     run (a run is short next to the set: no checkpoints within a run). torch is imported only by
-    :meth:`fit`, after the runs."""
+    :meth:`fit`, after the runs.
+
+    Parameters
+    ----------
+    experiment : Experiment
+        The loaded experiment.
+    condition : str
+        The condition simulated.
+    prior : mapping of str to (float, float)
+        The uniform prior: each inferred key's bounds.
+    out : path
+        The study's folder.
+    steps : int
+        The frames of each run.
+    seed : int
+        The study's seed.
+    """
 
     experiment: object
     condition: str

@@ -117,8 +117,7 @@ def _check_participants(table: pd.DataFrame, path: Path) -> None:
 def read_ten2021(path, group: str | None = None) -> pd.DataFrame:
     """One posted file (``main_free.csv`` or ``main_strat.csv``) as a trial table, every row kept.
 
-    ``group``: ``"free"`` or ``"strat"``; by default the one the file name names. Columns:
-    ``subject`` (``"GROUP-SID"``, unique across the two files), ``trial`` (the file's running
+    Columns: ``subject`` (``"GROUP-SID"``, unique across the two files), ``trial`` (the file's running
     number, 1, 2, ... over all stages), ``choice`` (the activity: ``"1D"``, ``"I1D"``, ``"2D"``,
     ``"R"``), ``outcome`` (correct, 0/1), ``rt`` (ms), ``stage`` (``"forced"``, ``"free"``,
     ``"test"``), ``group``, ``sid``, ``condition``, ``family``, ``category`` (1–4), ``response``
@@ -126,7 +125,20 @@ def read_ten2021(path, group: str | None = None) -> pd.DataFrame:
 
     A missing column, a value that is not a whole number or not a known code, trials out of
     order, or a family that changes activity is a :class:`~neurocur.config.ConfigError` naming
-    the file and the column; a symbolic link or a FIFO as ``path`` is refused."""
+    the file and the column; a symbolic link or a FIFO as ``path`` is refused.
+
+    Parameters
+    ----------
+    path : path
+        The posted file.
+    group : str, optional
+        ``"free"`` or ``"strat"``; by default the one the file name names.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per trial.
+    """
     path = Path(path)
     group = _group_of(path, group)
     raw = read_table(path, (".csv",), "a regular CSV file", header=", ".join(COLUMNS), dtype=str,
@@ -161,7 +173,18 @@ def read_ten2021(path, group: str | None = None) -> pd.DataFrame:
 def response_bias(table: pd.DataFrame) -> pd.Series:
     """Each subject's response bias: for each monster family, the share of its trials given the
     family's most frequent answer, averaged over the families (every stage counted, as the paper's
-    code did). 0.5 answers at chance between a family's two foods; 1 always answers the same."""
+    code did). 0.5 answers at chance between a family's two foods; 1 always answers the same.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        A trial table of :func:`read_ten2021`.
+
+    Returns
+    -------
+    pandas.Series
+        By subject.
+    """
     counts = table.groupby(["subject", "family", "response"], sort=False).size()
     top = counts.groupby(level=["subject", "family"], sort=False).max()
     share = top / counts.groupby(level=["subject", "family"], sort=False).sum()
@@ -174,9 +197,23 @@ def paper_exclusions(table: pd.DataFrame, *, apply: bool = True,
     :func:`response_bias` exceeds the mean plus ``sd`` sample SDs of all subjects of ``table``
     (the paper pooled the two groups: give both, :func:`read_ten2021_groups`).
 
-    Returns the kept trials (every trial with ``apply=False``) and one row per subject:
-    ``subject, group, response_bias, threshold, excluded``. The paper's code also had an
-    allocation criterion, switched off for the paper, so it is not applied here."""
+    The paper's code also had an allocation criterion, switched off for the paper, so it is not
+    applied here.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        A trial table of one or both groups (:func:`read_ten2021`).
+    apply : bool
+        Drop the excluded subjects' trials (False: keep every trial, only report).
+    sd : float
+        The threshold's number of sample SDs above the mean.
+
+    Returns
+    -------
+    (pandas.DataFrame, pandas.DataFrame)
+        The kept trials, and one row per subject: ``subject, group, response_bias, threshold, excluded``.
+    """
     bias = response_bias(table)
     threshold = float(bias.mean() + sd * bias.std(ddof=1))
     report = pd.DataFrame({"subject": bias.index,

@@ -26,8 +26,16 @@ __all__ = ["Transforms"]
 
 
 class Transforms:
-    """The transforms of the parameters ``bounds`` names (``{key: (low, high)}``, -inf/inf for no bound),
-    in its order; arrays of shape (..., k) go between the own scale and the unbounded scale."""
+    """The transforms of the parameters ``bounds`` names, in its order; arrays of shape (..., k) go between the
+    own scale and the unbounded scale.
+
+    Parameters
+    ----------
+    bounds : mapping of str to (float, float)
+        ``{key: (low, high)}``, -inf/inf for no bound.
+    source : str
+        Where the bounds came from, for the messages.
+    """
 
     def __init__(self, bounds: Mapping[str, tuple[float, float]], *, source: str = "bounds"):
         self.keys = list(bounds)

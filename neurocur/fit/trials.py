@@ -51,9 +51,27 @@ EXPECTED = "a regular trial table (.csv, .tsv, .txt, .parquet) or a results fold
 
 @dataclass(frozen=True)
 class Trials:
-    """One subject's trials that were made (a missed trial left out): ``choices`` (int option indices),
-    ``outcomes`` (float), ``trials`` (their numbers as recorded), ``signals`` (optional per-trial
-    columns, e.g. ``rt``), ``skipped`` (missed trials), ``source`` the file and ``name`` the subject."""
+    """One subject's trials that were made (a missed trial left out).
+
+    Parameters
+    ----------
+    name : str
+        The subject.
+    choices : array of int
+        Each trial's option index.
+    outcomes : array of float
+        Each trial's outcome.
+    trials : array of int
+        The trials' numbers as recorded.
+    source : str
+        The file.
+    skipped : int
+        The missed trials.
+    signals : dict of str to array
+        Optional per-trial columns, e.g. ``rt``.
+    seed : object
+        The seed its replay is given (the bandit circuit draws nothing once its choices are the observed ones).
+    """
 
     name: str
     choices: np.ndarray
@@ -106,7 +124,24 @@ def read_trials(path, option_names: Sequence[str], *, columns: Mapping[str, str]
 
 def trials_from_episodes(episodes: pd.DataFrame, option_names: Sequence[str], subject, source: str) -> list[Trials]:
     """The trials of a run's episodes table (a simulated agent on the world of options): each episode is a
-    trial, its ``context`` the choice and its ``reward`` the outcome; ``subject`` a label or one per row."""
+    trial, its ``context`` the choice and its ``reward`` the outcome.
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The run's episodes table.
+    option_names : sequence of str
+        The world's options.
+    subject : str or sequence of str
+        A label, or one per row.
+    source : str
+        The data's origin, for the messages.
+
+    Returns
+    -------
+    list of Trials
+        One per subject.
+    """
     table = pd.DataFrame({"subject": subject, "trial": episodes["episode"], "choice": episodes["context"],
                           "outcome": episodes["reward"]})
     return trials_from_table(table, option_names, source=source)

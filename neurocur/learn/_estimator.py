@@ -193,6 +193,16 @@ def expected_failed_checks(estimator) -> dict[str, str]:
     components (IncSFA's ``n_pca`` or CCIPCA's and MCA's ``n_components`` above 2): like
     PCA, a learner cannot estimate more components than there are features. None otherwise:
     the defaults pass every check.
+
+    Parameters
+    ----------
+    estimator : IncSFA or CCIPCA or MCA
+        The learner checked.
+
+    Returns
+    -------
+    dict of str to str or None
+        The reason of each check failed by design, or None.
     """
     name = "n_pca" if hasattr(estimator, "n_pca") else "n_components"
     needed = getattr(estimator, name)

@@ -46,6 +46,17 @@ class AmnesicSchedule:
     μ(t) = 0 for t ≤ t1, c (t − t1)/(t2 − t1) for t1 < t ≤ t2, and c + (t − t2)/r
     after; the learning rate is η(t) = (1 + μ(t))/t. Typical: t1=20, t2=200, c=2..4,
     r=2000..5000.
+
+    Parameters
+    ----------
+    t1 : float
+        The sample count up to which μ = 0.
+    t2 : float
+        The sample count at which μ reaches ``c`` (above ``t1``).
+    c : float
+        μ at ``t2``.
+    r : float
+        Beyond ``t2``, μ grows by 1 every ``r`` samples.
     """
 
     t1: float = param(20.0, float, low=0.0)

@@ -179,7 +179,26 @@ def lspi(P, R, discount=0.9, *, features=None, max_iter=100, tol=1e-10) -> tuple
 
 
 def value_iteration(P, R, discount, tol=1e-12, max_iter=100000) -> np.ndarray:
-    """Optimal Q (S, A) by value iteration, Q ← R + γ P max_a Q, until max|ΔQ| < ``tol``."""
+    """Optimal Q (S, A) by value iteration, Q ← R + γ P max_a Q, until max|ΔQ| < ``tol``.
+
+    Parameters
+    ----------
+    P : array of shape (S, A, S)
+        The transition probabilities P[s, a, s'], stochastic over s'.
+    R : array of shape (S, A)
+        The expected rewards.
+    discount : float
+        γ.
+    tol : float
+        The iteration stops when max|ΔQ| falls below it.
+    max_iter : int
+        The most iterations.
+
+    Returns
+    -------
+    array of shape (S, A)
+        The optimal Q.
+    """
     P, R = _check_mdp(P, R)
     params = coerce_params(param_specs(LSPI), dict(discount=discount, max_iter=max_iter, tol=tol),
                            source="value_iteration")

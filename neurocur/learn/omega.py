@@ -20,8 +20,20 @@ from .sfa_batch import whiten_batch
 def derivative_eigenvalues(X, *, rank_tol: float = 1e-10, starts=None) -> np.ndarray:
     """Ascending eigenvalues of ``<ż żᵀ>`` for the whitened signal ``z`` of ``X``.
 
-    ``starts``: row indices where an independent episode begins inside ``X`` (the
-    whitening is fitted to all rows together); no derivative spans one of them.
+    Parameters
+    ----------
+    X : array of shape (samples, features)
+        The signal, rows in time (at least 3).
+    rank_tol : float
+        Directions whose variance is below ``rank_tol`` times the largest are dropped from the whitening.
+    starts : sequence of int, optional
+        Row indices where an independent episode begins inside ``X`` (the whitening is fitted to all
+        rows together); no derivative spans one of them.
+
+    Returns
+    -------
+    array
+        The eigenvalues, ascending.
     """
     X = check_block(X, min_rows=3)
     check_nonconstant(X)

@@ -21,8 +21,16 @@ from ..config.checks import check_block, check_nonconstant, check_positive_int
 class BatchSFA:
     """Result of :func:`batch_sfa`.
 
-    ``W`` has shape (features, n_components); ``y = (x - mean) @ W`` has zero mean and
-    unit variance on the training data, and ``delta[j] = <ẏ_j²>`` is ascending.
+    ``y = (x - mean) @ W`` has zero mean and unit variance on the training data.
+
+    Parameters
+    ----------
+    W : array of shape (features, n_components)
+        The slow features' weights.
+    mean : array of shape (features,)
+        The training data's mean.
+    delta : array of shape (n_components,)
+        ``delta[j] = <ẏ_j²>``, ascending.
     """
 
     W: np.ndarray
@@ -49,7 +57,22 @@ def whiten_batch(X: np.ndarray, rank_tol: float = 1e-10) -> tuple[np.ndarray, np
 
 
 def batch_sfa(X, n_components: int, *, rank_tol: float = 1e-10) -> BatchSFA:
-    """Exact linear SFA of ``X`` (rows are time) with ``n_components`` slow features."""
+    """Exact linear SFA of ``X`` (rows are time) with ``n_components`` slow features.
+
+    Parameters
+    ----------
+    X : array of shape (samples, features)
+        The signal, rows in time (at least 3).
+    n_components : int
+        The slow features.
+    rank_tol : float
+        Directions whose variance is below ``rank_tol`` times the largest are dropped from the whitening.
+
+    Returns
+    -------
+    BatchSFA
+        The features' weights, the mean and the slownesses.
+    """
     X = check_block(X, min_rows=3)
     check_nonconstant(X)
     n_components = check_positive_int(n_components, "n_components", source="batch_sfa")

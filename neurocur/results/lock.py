@@ -40,7 +40,13 @@ class FolderInUse(ValueError):
 
 
 class FolderLock:
-    """The lock of one results folder; take it with :func:`locked`."""
+    """The lock of one results folder; take it with :func:`locked`.
+
+    Parameters
+    ----------
+    root : path
+        The results folder.
+    """
 
     def __init__(self, root):
         self.root = Path(root)
@@ -102,6 +108,16 @@ def locked(root) -> Iterator[FolderLock]:
 
     Raises :class:`FolderInUse` (naming the holder) when another process holds it, and
     ValueError when ``root`` is a file or cannot be written. Re-entrant within a process.
+
+    Parameters
+    ----------
+    root : path
+        The results folder.
+
+    Yields
+    ------
+    FolderLock
+        The lock held.
     """
     key = os.path.realpath(root)
     lock = _HELD.get(key)

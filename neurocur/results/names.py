@@ -32,12 +32,42 @@ _SAFE_CHARS = frozenset("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz012
 
 
 def check_condition_name(name, source, key: str | None) -> str:
-    """``name`` if it can name a condition, else a ConfigError (``source``, ``key``)."""
+    """``name`` if it can name a condition, else a ConfigError (``source``, ``key``).
+
+    Parameters
+    ----------
+    name : str
+        The name.
+    source : str or path
+        Where the name came from, for the message.
+    key : str, optional
+        The key that gave it, for the message.
+
+    Returns
+    -------
+    str
+        ``name``.
+    """
     return _check(name, _NAME, "_ - . +", source, key)
 
 
 def check_folder_name(name, source, key: str | None = None) -> str:
-    """``name`` if it can be a condition's folder (a name or a sweep point's label), else a ConfigError."""
+    """``name`` if it can be a condition's folder (a name or a sweep point's label), else a ConfigError.
+
+    Parameters
+    ----------
+    name : str
+        The name.
+    source : str or path
+        Where the name came from, for the message.
+    key : str, optional
+        The key that gave it, for the message.
+
+    Returns
+    -------
+    str
+        ``name``.
+    """
     return _check(name, _LABEL, "_ - . + = , @ %", source, key)
 
 
@@ -50,7 +80,18 @@ def _check(name, allowed: re.Pattern, chars: str, source, key) -> str:
 
 
 def point_label(point: Mapping) -> str:
-    """``"KEY=value,KEY=value"``: keys sorted, values as literals (strings bare), percent-encoded."""
+    """``"KEY=value,KEY=value"``: keys sorted, values as literals (strings bare), percent-encoded.
+
+    Parameters
+    ----------
+    point : mapping
+        The sweep point, ``{KEY: value}``.
+
+    Returns
+    -------
+    str
+        The label.
+    """
     def text(v):
         return _encode(v if isinstance(v, str) else json.dumps(v, sort_keys=True))
 
@@ -60,7 +101,24 @@ def point_label(point: Mapping) -> str:
 def condition_label(name: str, point: Mapping, source, taken: Mapping | None = None) -> str:
     """The folder name of condition ``name`` at sweep ``point`` (``name`` alone without a sweep),
     checked (:func:`check_condition_name`) and unique among ``taken`` (label → a condition with
-    a ``sweep`` attribute): a collision is a ConfigError naming both points."""
+    a ``sweep`` attribute): a collision is a ConfigError naming both points.
+
+    Parameters
+    ----------
+    name : str
+        The condition's name.
+    point : mapping
+        The sweep point, ``{KEY: value}`` (empty without a sweep).
+    source : str or path
+        Where the condition came from, for the message.
+    taken : mapping of str to Condition, optional
+        The labels already given.
+
+    Returns
+    -------
+    str
+        The folder name.
+    """
     check_condition_name(name, source, f"conditions.{name}" if name != "default" else None)
     label = f"{name}@{point_label(point)}" if point else name
     if len(label) > MAX_NAME:

@@ -30,7 +30,20 @@ def own_dir(root: Path, *parts: str) -> Path:
     """``root/parts...``, each level created when missing and refused unless it is a real directory.
 
     ``root`` must exist (the store never re-creates a results folder that was moved or
-    removed while it ran, see :meth:`ResultsStore.write_run`)."""
+    removed while it ran, see :meth:`ResultsStore.write_run`).
+
+    Parameters
+    ----------
+    root : path
+        An existing directory.
+    *parts : str
+        The levels below it.
+
+    Returns
+    -------
+    path
+        ``root/parts...``.
+    """
     path = Path(root)
     if not path.is_dir():
         raise UnsafePath(f"results folder {root} does not exist any more (moved or removed while runs were being "
@@ -52,7 +65,20 @@ def open_new(path: Path, *, exclusive: bool = True) -> int:
     """A file descriptor for writing ``path`` (created), never through a symbolic link.
 
     ``exclusive``: the file must not exist yet (a temporary name). Otherwise an existing
-    file is opened only when it is a regular file with no other hard link."""
+    file is opened only when it is a regular file with no other hard link.
+
+    Parameters
+    ----------
+    path : path
+        The file.
+    exclusive : bool
+        The file must not exist yet.
+
+    Returns
+    -------
+    int
+        The file descriptor.
+    """
     flags = os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW | os.O_CLOEXEC | os.O_NONBLOCK | (os.O_EXCL if exclusive else 0)
     try:
         fd = os.open(path, flags, 0o644)
@@ -72,7 +98,18 @@ def open_new(path: Path, *, exclusive: bool = True) -> int:
 
 def real_dir(path: Path) -> bool:
     """Whether ``path`` is a real directory (False when it does not exist); UnsafePath for a link or
-    anything else in its place."""
+    anything else in its place.
+
+    Parameters
+    ----------
+    path : path
+        The path checked.
+
+    Returns
+    -------
+    bool
+        Whether it is a real directory.
+    """
     try:
         mode = os.lstat(path).st_mode
     except FileNotFoundError:
@@ -87,7 +124,18 @@ def real_dir(path: Path) -> bool:
 def open_real_dir(path: Path) -> int | None:
     """A file descriptor of the real directory ``path``, opened with ``O_NOFOLLOW`` (None when it does not
     exist; UnsafePath for a link or anything else in its place): the files in it are then opened
-    relative to it (:func:`read_own`'s ``dir_fd``), so the folder cannot be swapped for a link meanwhile."""
+    relative to it (:func:`read_own`'s ``dir_fd``), so the folder cannot be swapped for a link meanwhile.
+
+    Parameters
+    ----------
+    path : path
+        The directory.
+
+    Returns
+    -------
+    int or None
+        The directory's file descriptor, or None.
+    """
     try:
         return os.open(path, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW | os.O_CLOEXEC)
     except FileNotFoundError:
@@ -99,7 +147,20 @@ def open_real_dir(path: Path) -> int | None:
 
 def read_own(path: Path, *, dir_fd: int | None = None) -> bytes:
     """The content of the regular file ``path`` (with ``dir_fd``: its name in that directory), opened with
-    ``O_NOFOLLOW`` (UnsafePath for a link or anything but a regular file; OSError when it cannot be read)."""
+    ``O_NOFOLLOW`` (UnsafePath for a link or anything but a regular file; OSError when it cannot be read).
+
+    Parameters
+    ----------
+    path : path
+        The file.
+    dir_fd : int, optional
+        A directory's descriptor (:func:`open_real_dir`); ``path`` is then a name in it.
+
+    Returns
+    -------
+    bytes
+        The file's content.
+    """
     try:
         fd = os.open(Path(path).name if dir_fd is not None else path,
                      os.O_RDONLY | os.O_NOFOLLOW | os.O_CLOEXEC | os.O_NONBLOCK, dir_fd=dir_fd)
@@ -120,7 +181,13 @@ def read_own(path: Path, *, dir_fd: int | None = None) -> bytes:
 
 def remove_own(path: Path) -> None:
     """Remove ``path`` if it exists: a real folder with its content, anything else (a link: the link
-    itself, never what it points to) by unlinking it."""
+    itself, never what it points to) by unlinking it.
+
+    Parameters
+    ----------
+    path : path
+        The path removed.
+    """
     try:
         mode = os.lstat(path).st_mode
     except FileNotFoundError:
@@ -133,7 +200,15 @@ def remove_own(path: Path) -> None:
 
 
 def atomic_text(path: Path, text: str) -> None:
-    """Write ``text`` (UTF-8) into ``path`` atomically (:func:`atomic_bytes`)."""
+    """Write ``text`` (UTF-8) into ``path`` atomically (:func:`atomic_bytes`).
+
+    Parameters
+    ----------
+    path : path
+        The file.
+    text : str
+        The content.
+    """
     atomic_bytes(path, text.encode("utf-8"))
 
 
@@ -141,7 +216,15 @@ def atomic_bytes(path: Path, data: bytes) -> None:
     """Write ``data`` into ``path`` atomically: a new temporary file beside it, then one rename (which
     replaces a link planted at ``path``, never writes through it).
 
-    The temporary file is removed when writing fails (a full disk, ``ulimit -f``)."""
+    The temporary file is removed when writing fails (a full disk, ``ulimit -f``).
+
+    Parameters
+    ----------
+    path : path
+        The file.
+    data : bytes
+        The content.
+    """
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     try:
         os.unlink(tmp)  # a leftover of this pid's previous life; never a link to follow

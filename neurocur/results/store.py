@@ -82,7 +82,25 @@ conditions.<name>.inputs: the sha256 of each input file; code: every code versio
 
 @dataclass(frozen=True)
 class RunResult:
-    """The tables and summary of one run (written as episodes.parquet, modules.parquet, run.json)."""
+    """The tables and summary of one run (written as episodes.parquet, modules.parquet, run.json).
+
+    Parameters
+    ----------
+    condition : str
+        The run's condition.
+    run : int
+        The run's index.
+    episodes : pandas.DataFrame
+        The episodes table.
+    modules : pandas.DataFrame
+        The modules table.
+    summary : dict
+        The run's summary (run.json).
+    tables : mapping of str to pandas.DataFrame
+        Further per-run tables of the world type, written as ``<name>.parquet`` (iCub: ``features``).
+    agent : tuple, optional
+        The trained agent's state (:func:`~neurocur.results.agents.agent_state`), written as ``agent/``; None: not kept.
+    """
 
     condition: str
     run: int
@@ -96,7 +114,13 @@ class RunResult:
 
 
 class ResultsStore:
-    """A results folder (it need not exist yet)."""
+    """A results folder (it need not exist yet).
+
+    Parameters
+    ----------
+    root : path
+        The results folder.
+    """
 
     def __init__(self, root):
         self.root = Path(root)
@@ -389,12 +413,34 @@ class ResultsStore:
 
 
 def run_dirs(results_dir) -> list[Path]:
-    """The run folders of a results folder (:meth:`ResultsStore.run_dirs`)."""
+    """The run folders of a results folder (:meth:`ResultsStore.run_dirs`).
+
+    Parameters
+    ----------
+    results_dir : path
+        The results folder.
+
+    Returns
+    -------
+    list of path
+        The run folders.
+    """
     return ResultsStore(results_dir).run_dirs()
 
 
 def load(results_dir) -> tuple[pd.DataFrame, pd.DataFrame]:
-    """Load a results folder as ``(episodes, modules)`` DataFrames (:meth:`ResultsStore.load`)."""
+    """Load a results folder as ``(episodes, modules)`` DataFrames (:meth:`ResultsStore.load`).
+
+    Parameters
+    ----------
+    results_dir : path
+        The results folder.
+
+    Returns
+    -------
+    (pandas.DataFrame, pandas.DataFrame)
+        The episodes and modules tables of every run.
+    """
     return ResultsStore(results_dir).load()
 
 

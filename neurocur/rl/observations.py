@@ -49,10 +49,22 @@ MAX_CONTEXTS = 2**16
 class ObservationCoder:
     """Frames and contexts of the observations of ``space`` (see the module's docstring).
 
-    ``contexts``: ``"grid"``, ``"simhash"`` or ``None`` (grid for a vector Box with finite bounds,
-    SimHash otherwise); ``bins`` grid cells per dimension; ``hash_bits`` k of SimHash;
-    ``image_size`` the largest side of an image frame. ``rng`` draws SimHash's projection.
-    ``source`` names the caller in errors.
+    Parameters
+    ----------
+    space : gymnasium.spaces.Box
+        The observation space: a vector Box or an image Box.
+    contexts : str, optional
+        ``"grid"``, ``"simhash"`` or ``None`` (grid for a vector Box with finite bounds, SimHash otherwise).
+    bins : int
+        Grid cells per dimension.
+    hash_bits : int
+        k of SimHash.
+    image_size : int
+        The largest side of an image frame.
+    rng : numpy.random.Generator
+        Draws SimHash's projection.
+    source : str
+        Names the caller in errors.
     """
 
     def __init__(self, space, *, contexts: str | None = None, bins: int = 8, hash_bits: int = 8,

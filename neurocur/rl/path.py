@@ -53,7 +53,17 @@ _ONE_SEGMENT = np.zeros(1, dtype=np.int64)
 class Feed(Region):
     """The sensory region's place: delivers the episode the wrapper set (a clock, like
     ``sensory.world``), its context and reward, and, for the counts path, the constant HPC
-    signals of a circuit without memory (an undefined error, never familiar, never stored)."""
+    signals of a circuit without memory (an undefined error, never familiar, never stored).
+
+    Parameters
+    ----------
+    name : str
+        The region's name in the circuit (default: the class name).
+    params : Params, optional
+        Its parameters (it has none).
+    **kwargs
+        Keyword parameters instead of ``params``.
+    """
 
     is_clock = True
     outputs = (
@@ -73,7 +83,17 @@ class Feed(Region):
 
 
 class Bonus(Region):
-    """Reads the VTA's dopamine for the wrapper."""
+    """Reads the VTA's dopamine for the wrapper.
+
+    Parameters
+    ----------
+    name : str
+        The region's name in the circuit (default: the class name).
+    params : Params, optional
+        Its parameters (it has none).
+    **kwargs
+        Keyword parameters instead of ``params``.
+    """
 
     inputs = (Signal("da", "float64", (), "dopamine released at this pass"),)
 
@@ -101,7 +121,26 @@ def model_circuit(model: str, *, params: Mapping | None = None, circuit=None, in
     ``HPC.progress -> VTA.progress``; not ``ne_plasticity``, which extends it with the LC's NE),
     else the first shipped circuit, by name, whose VTA is ``model``, else ``cd_misfa`` with its VTA
     replaced. ``inputs`` feeds inputs the circuit does not (``{"progress": "HPC.progress"}``, as
-    :meth:`~neurocur.circuit.Circuit.replace`)."""
+    :meth:`~neurocur.circuit.Circuit.replace`).
+
+    Parameters
+    ----------
+    model : str
+        The VTA's region type.
+    params : mapping, optional
+        The VTA's parameters.
+    circuit : Circuit or str or path, optional
+        The circuit whose VTA is replaced.
+    inputs : mapping of str to str, optional
+        Edges into the model's inputs that the circuit does not feed.
+    source : str
+        Names the caller in errors.
+
+    Returns
+    -------
+    Circuit
+        The circuit with ``model`` as its VTA.
+    """
     if not isinstance(model, str) or model not in REGIONS:
         raise ConfigError(source, "model", f"a registered region type ({', '.join(REGIONS.names())})", repr(model))
     if not any(s.name == "da" for s in REGIONS.get(model).outputs):
@@ -119,7 +158,22 @@ def model_circuit(model: str, *, params: Mapping | None = None, circuit=None, in
 
 
 def cut(circuit: Circuit, path: str, *, source: str = "IntrinsicReward") -> Circuit:
-    """The regions of ``circuit`` the VTA needs on ``path``, a :class:`Feed` as ``sensory`` and a :class:`Bonus`."""
+    """The regions of ``circuit`` the VTA needs on ``path``, a :class:`Feed` as ``sensory`` and a :class:`Bonus`.
+
+    Parameters
+    ----------
+    circuit : Circuit
+        The whole circuit.
+    path : str
+        ``"slow_features"`` or ``"counts"``.
+    source : str
+        Names the caller in errors.
+
+    Returns
+    -------
+    Circuit
+        The cut circuit.
+    """
     keep = {"VTA"}
     if path == "slow_features":
         upstream: dict[str, set] = {}
@@ -155,7 +209,25 @@ class SensoryPath:
     of ``frames`` steps, built and reset from ``seed`` (an int or a SeedSequence; each region's
     stream is keyed by its name, :func:`~neurocur.scheduler.region_seed`). ``streams`` environments
     (those of a vector environment) share the circuit, each with its own block; their steps run
-    through it in the order they are given."""
+    through it in the order they are given.
+
+    Parameters
+    ----------
+    circuit : Circuit
+        The whole circuit (cut here, :func:`cut`).
+    path : str
+        ``"slow_features"`` or ``"counts"``.
+    coder : ObservationCoder
+        Turns observations into frames and contexts.
+    frames : int
+        Steps per pass: 1 on the ``counts`` path, at least 4 on the ``slow_features`` path.
+    seed : int or numpy.random.SeedSequence
+        Builds and resets the circuit.
+    streams : int
+        The environments sharing the circuit.
+    source : str
+        Names the caller in errors.
+    """
 
     def __init__(self, circuit: Circuit, path: str, coder, *, frames: int, seed, streams: int = 1,
                  source: str = "IntrinsicReward"):

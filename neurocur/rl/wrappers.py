@@ -111,30 +111,47 @@ def _number(x) -> float:
 class IntrinsicReward(gym.Wrapper, gym.utils.RecordConstructorArgs):
     """``env`` with the dopamine of VTA model ``model`` added to its reward.
 
-    - ``model``: a VTA type (``"vta.learning_progress"``, ``"vta.novelty"``, ``"vta.surprise"``,
-      ...; docs/regions.md), or a third-party one from the ``neurocur.regions`` entry points;
-      ``params`` its parameters (``{"boredom": -1.0}``).
-    - ``scale``, ``decay``: the bonus of step t is ``scale * decay**t * DA`` (t counts the steps
-      since the memory was built).
-    - ``circuit``: the circuit whose sensory path is used (a Circuit, a shipped circuit's name or a
-      file; by default the shipped circuit of the model, else ``cd_misfa``), ``inputs`` edges into
-      the model's extra inputs (``{"progress": "HPC.progress"}``), ``overrides`` the circuit's
-      parameters (``{"HPC.threshold": 0.5}``). EC's ``n_pca`` and ``n_components`` fit the values of
-      an observation's frame (``n_pca`` 3 becomes None, min(3, values), as IncSFA's own default,
-      and ``n_components`` at most the values) unless ``overrides`` sets them; an ``n_pca`` set
-      above the values is an error.
-    - ``path``: ``"slow_features"`` (EC and HPC) or ``"counts"`` (the VTA alone; the default for
-      ``vta.novelty``); ``frames``: steps per pass (:data:`DEFAULT_FRAMES`).
-    - ``contexts``, ``bins``, ``hash_bits``, ``image_size``: how observations become frames and
-      contexts (:class:`~neurocur.rl.observations.ObservationCoder`). The observation space must be
-      a vector Box or an image Box.
-
     ``info`` of every step holds ``"intrinsic_reward"`` (the bonus) and ``"extrinsic_reward"`` (the
     environment's reward); the returned reward is their sum. ``"observation_out_of_bounds"`` (of
     every step and of the reset) is the number of the observation's values outside the observation
     space's bounds, clipped to them in its frame. An observation of another shape, of values that
     are not real numbers, or with a value that is not finite is a one-line ConfigError (a
     ValueError) naming the step of the episode (``reset`` for the reset's) and the index.
+
+    Parameters
+    ----------
+    env : gymnasium.Env
+        The environment; its observation space must be a vector Box or an image Box.
+    model : str
+        A VTA type (``"vta.learning_progress"``, ``"vta.novelty"``, ``"vta.surprise"``, ...; docs/regions.md), or
+        a third-party one from the ``neurocur.regions`` entry points.
+    scale, decay : float
+        The bonus of step t is ``scale * decay**t * DA`` (t counts the steps since the memory was built).
+    params : mapping, optional
+        The model's parameters (``{"boredom": -1.0}``).
+    circuit : Circuit or str or path, optional
+        The circuit whose sensory path is used (a Circuit, a shipped circuit's name or a file; by default the
+        shipped circuit of the model, else ``cd_misfa``).
+    inputs : mapping of str to str, optional
+        Edges into the model's extra inputs (``{"progress": "HPC.progress"}``).
+    overrides : mapping, optional
+        The circuit's parameters (``{"HPC.threshold": 0.5}``). EC's ``n_pca`` and ``n_components`` fit the
+        values of an observation's frame (``n_pca`` 3 becomes None, min(3, values), as IncSFA's own default,
+        and ``n_components`` at most the values) unless ``overrides`` sets them; an ``n_pca`` set above the
+        values is an error.
+    path : str, optional
+        ``"slow_features"`` (EC and HPC) or ``"counts"`` (the VTA alone; the default for ``vta.novelty``).
+    frames : int, optional
+        Steps per pass (:data:`DEFAULT_FRAMES`).
+    contexts : str, optional
+        How observations become contexts (:class:`~neurocur.rl.observations.ObservationCoder`): ``"grid"``,
+        ``"simhash"`` or ``None`` (grid for a vector Box with finite bounds, SimHash otherwise).
+    bins : int
+        Grid cells per dimension.
+    hash_bits : int
+        k of SimHash.
+    image_size : int
+        The largest side of an image frame.
     """
 
     def __init__(self, env: gym.Env, model: str = "vta.learning_progress", *, scale: float = 1.0,
@@ -178,7 +195,15 @@ class IntrinsicRewardVector(VectorWrapper):
     ``info`` holds ``"intrinsic_reward"``, ``"extrinsic_reward"`` and
     ``"observation_out_of_bounds"`` as arrays, one entry per sub-environment (with ``SAME_STEP``, the
     last observation's count plus the reset's); ``decay`` applies once per step of the vector
-    environment. An error names the sub-environment."""
+    environment. An error names the sub-environment.
+
+    Parameters
+    ----------
+    env : gymnasium.vector.VectorEnv
+        The vector environment.
+    model, scale, decay, params, circuit, inputs, overrides, path, frames, contexts, bins, hash_bits, image_size : object
+        As :class:`IntrinsicReward` takes them.
+    """
 
     def __init__(self, env: gym.vector.VectorEnv, model: str = "vta.learning_progress", *, scale: float = 1.0,
                  decay: float = 1.0, params: Mapping | None = None, circuit=None, inputs: Mapping | None = None,

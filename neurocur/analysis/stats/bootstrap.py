@@ -50,7 +50,24 @@ def _resample(n: int, n_boot: int, rng: np.random.Generator) -> np.ndarray:
 def bootstrap_ci(
     values, *, n_boot: int = N_BOOT, confidence: float = 0.95, seed: int = BOOTSTRAP_SEED
 ) -> tuple[float, float]:
-    """Percentile bootstrap interval of the mean of ``values`` (runs resampled with replacement)."""
+    """Percentile bootstrap interval of the mean of ``values`` (runs resampled with replacement).
+
+    Parameters
+    ----------
+    values : array_like
+        One value per run; NaN values are dropped.
+    n_boot : int
+        Number of resamples.
+    confidence : float
+        Coverage of the interval, in (0, 1).
+    seed : int
+        Seed of the fresh ``numpy.random.default_rng`` the resamples draw from.
+
+    Returns
+    -------
+    tuple of float
+        The interval's ``(low, high)``; ``(nan, nan)`` when no values are left.
+    """
     _check(n_boot, confidence)
     x = np.asarray(values, dtype=float)
     x = x[~np.isnan(x)]
@@ -64,9 +81,23 @@ def paired_bootstrap_ci(
 ) -> dict[str, tuple[float, float]]:
     """Percentile bootstrap intervals of paired data, resampling pairs.
 
-    ``x[i]`` and ``y[i]`` are one pair (the same run of two conditions). Returns
-    ``{"a": ..., "b": ..., "difference": ...}``: the intervals of the mean of ``x``, of ``y``
-    and of the mean paired difference ``mean(x − y)``, all from the same resampled pairs.
+    Parameters
+    ----------
+    x, y : array_like
+        1-d, of the same length: ``x[i]`` and ``y[i]`` are one pair (the same run of two
+        conditions). Pairs with a NaN on either side are dropped.
+    n_boot : int
+        Number of resamples.
+    confidence : float
+        Coverage of the interval, in (0, 1).
+    seed : int
+        Seed of the fresh ``numpy.random.default_rng`` the resamples draw from.
+
+    Returns
+    -------
+    dict
+        ``{"a": ..., "b": ..., "difference": ...}``: the intervals of the mean of ``x``, of ``y``
+        and of the mean paired difference ``mean(x − y)``, all from the same resampled pairs.
     """
     _check(n_boot, confidence)
     x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
@@ -87,8 +118,22 @@ def unpaired_bootstrap_ci(
 ) -> dict[str, tuple[float, float]]:
     """Percentile bootstrap intervals of two independent samples, each resampled on its own.
 
-    Returns ``{"a": ..., "b": ..., "difference": ...}``: the intervals of the mean of ``x``,
-    of ``y`` (each as :func:`bootstrap_ci` gives it) and of ``mean(x) − mean(y)``.
+    Parameters
+    ----------
+    x, y : array_like
+        The two samples, of any lengths; NaN values are dropped.
+    n_boot : int
+        Number of resamples.
+    confidence : float
+        Coverage of the interval, in (0, 1).
+    seed : int
+        Seed of the fresh ``numpy.random.default_rng`` the resamples draw from.
+
+    Returns
+    -------
+    dict
+        ``{"a": ..., "b": ..., "difference": ...}``: the intervals of the mean of ``x``,
+        of ``y`` (each as :func:`bootstrap_ci` gives it) and of ``mean(x) − mean(y)``.
     """
     _check(n_boot, confidence)
     x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)

@@ -46,7 +46,18 @@ ADJUSTMENT_NAMES = {"holm": ("Holm", "Holm 1979"), "fdr_bh": ("Benjamini–Hochb
 
 
 def adjustment(method: str | None) -> str | None:
-    """statsmodels' name of the adjustment ``method`` (a key of :data:`ADJUSTMENTS`; None: no adjustment)."""
+    """statsmodels' name of the adjustment ``method`` (a key of :data:`ADJUSTMENTS`; None: no adjustment).
+
+    Parameters
+    ----------
+    method : str or None
+        ``"holm"``, ``"bh"``, ``"fdr_bh"``, ``"none"`` or None.
+
+    Returns
+    -------
+    str or None
+        statsmodels' name, or None.
+    """
     key = "none" if method is None else str(method).lower()
     if key not in ADJUSTMENTS:
         raise ValueError(f"unknown p-value adjustment {method!r}; use one of {list(ADJUSTMENTS)} or None")
@@ -61,6 +72,18 @@ def adjust_pvalues(table: pd.DataFrame, method: str | None = "holm") -> pd.DataF
     ``"bh"`` / ``"fdr_bh"`` (Benjamini & Hochberg 1995) or ``None`` / ``"none"`` (p_adjusted
     = p_value); ``adjustment`` names statsmodels' method (``"holm"``, ``"fdr_bh"``, ``"none"``).
     Adjusted p-values are never below the raw ones.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        Rows with a ``p_value`` column.
+    method : str or None
+        The adjustment (:func:`adjustment`).
+
+    Returns
+    -------
+    pandas.DataFrame
+        A copy with the adjusted p-values.
     """
     name = adjustment(method)
     out = table.copy()
@@ -161,6 +184,30 @@ def compare(
     "Wilcoxon signed-rank (paired by run, n=25 pairs; ...)"), ``method`` as a short code.
     ``p_adjusted`` adjusts ``p_value`` over the metrics of this call (``adjust``: Holm by
     default, see :func:`adjust_pvalues`).
+
+    Parameters
+    ----------
+    runs : pandas.DataFrame
+        Per-run metrics, one row per (condition, run).
+    a, b : str
+        The conditions compared.
+    metric : str or sequence of str, optional
+        The metrics tested (default: every numeric and yes/no metric of :func:`~neurocur.analysis.stats.order.per_run`).
+    paired : bool
+        Pair the runs by ``run`` (the default) or test them as independent samples.
+    adjust : str or None
+        The adjustment of ``p_value`` (:func:`adjust_pvalues`).
+    n_boot : int
+        The bootstrap resamples of each interval.
+    confidence : float
+        The intervals' coverage.
+    seed : int
+        The bootstrap's seed.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per metric.
     """
     conditions = sorted(runs["condition"].unique())
     for name in (a, b):
@@ -197,6 +244,32 @@ def compare_conditions(
     default, in name order), one table adjusted over all its rows (every condition × metric).
 
     Columns: :data:`COMPARE_COLUMNS`; empty (with those columns) when there is nothing to compare.
+
+    Parameters
+    ----------
+    runs : pandas.DataFrame
+        Per-run metrics, one row per (condition, run).
+    reference : str
+        The condition tested against the others.
+    others : sequence of str, optional
+        The other conditions (default: all, in name order).
+    metric : str or sequence of str, optional
+        As in :func:`compare`.
+    paired : bool
+        Pair the runs by ``run`` (the default) or test them as independent samples.
+    adjust : str or None
+        The adjustment of ``p_value`` (:func:`adjust_pvalues`).
+    n_boot : int
+        The bootstrap resamples of each interval.
+    confidence : float
+        The intervals' coverage.
+    seed : int
+        The bootstrap's seed.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns :data:`COMPARE_COLUMNS`.
     """
     conditions = sorted(runs["condition"].unique())
     if reference not in conditions:

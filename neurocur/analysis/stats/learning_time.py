@@ -48,6 +48,20 @@ def learning_times(
     Columns: condition, run, module, source, episode, step, epochs, learnable,
     first_of_source (the first module of that source in the run). A module whose source
     drives no context has epochs NaN.
+
+    Parameters
+    ----------
+    results : Results
+        A results folder's tables (:class:`~neurocur.analysis.results.Results`).
+    since : str
+        ``"previous"`` or ``"start"``: where a module's count of frames begins.
+    epoch : int
+        The frames of an epoch.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per stored module.
     """
     if since not in ("previous", "start"):
         raise ValueError(f"learning_times: since must be 'previous' or 'start', got {since!r}")
@@ -87,6 +101,18 @@ def learning_time_summary(results: Results, *, since: str = "previous") -> pd.Da
 
     Uses the first module of each learnable source in each run. Columns: condition, source,
     n (runs that learned it), mean, sd.
+
+    Parameters
+    ----------
+    results : Results
+        A results folder's tables (:class:`~neurocur.analysis.results.Results`).
+    since : str
+        As in :func:`learning_times`.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per (condition, source).
     """
     require_learning_columns(results.episodes, results.modules, needed_by="learning_time_summary")
     times = learning_times(results, since=since)

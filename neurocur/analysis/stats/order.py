@@ -60,6 +60,20 @@ def clopper_pearson(k: int, n: int, confidence: float = 0.95) -> tuple[float, fl
     """Exact (Clopper–Pearson) two-sided interval for a binomial proportion k/n.
 
     Returns ``(nan, nan)`` when ``n == 0``; the bounds are 0 and 1 at the edges.
+
+    Parameters
+    ----------
+    k : int
+        The successes.
+    n : int
+        The trials.
+    confidence : float
+        The interval's coverage.
+
+    Returns
+    -------
+    (float, float)
+        The interval's ends.
     """
     if not (0 <= k <= n) or int(k) != k or int(n) != n:
         raise ValueError(f"clopper_pearson expected integers 0 <= k <= n, got k={k}, n={n}")
@@ -72,12 +86,34 @@ def clopper_pearson(k: int, n: int, confidence: float = 0.95) -> tuple[float, fl
 
 
 def ordinal_columns(runs: pd.DataFrame) -> list[str]:
-    """The yes/no columns ``first_ok``, ``second_ok``, ... of a :func:`per_run` table, one per learnable source."""
+    """The yes/no columns ``first_ok``, ``second_ok``, ... of a :func:`per_run` table, one per learnable source.
+
+    Parameters
+    ----------
+    runs : pandas.DataFrame
+        A :func:`per_run` table.
+
+    Returns
+    -------
+    list of str
+        The column names, in order.
+    """
     return [f"{o}_ok" for o in _ORDINALS if f"{o}_ok" in runs]
 
 
 def outcome_labels(spec: SourceSpec) -> dict[str, str]:
-    """The row label of each yes/no column of :func:`per_run` ("S-A first", "exact S-A→S-B→S-C", "S-D stored")."""
+    """The row label of each yes/no column of :func:`per_run` ("S-A first", "exact S-A→S-B→S-C", "S-D stored").
+
+    Parameters
+    ----------
+    spec : SourceSpec
+        The world's sources (:class:`~neurocur.contexts.base.SourceSpec`).
+
+    Returns
+    -------
+    dict of str to str
+        By column.
+    """
     labels = {f"{_ORDINALS[k]}_ok": f"{s} {_ORDINALS[k]}" for k, s in enumerate(spec.learnable)}
     labels["exact_order"] = "exact " + "→".join(spec.learnable)
     if spec.unlearnable:
@@ -118,6 +154,16 @@ def sweep_columns(table: pd.DataFrame) -> list[str]:
     A sweep key is always ``"REGION.param"`` or ``"world.KEY"`` (the experiment file's
     ``[sweep]`` table) and the runner adds one column per swept key to every results table;
     no recorded column has a dot in its name.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        A results table.
+
+    Returns
+    -------
+    list of str
+        The column names, in order.
     """
     return [c for c in table.columns if isinstance(c, str) and "." in c]
 
@@ -131,6 +177,16 @@ def per_run(results: Results) -> pd.DataFrame:
     first/second/... (source of that module, "" if none), first_ok/second_ok/... (it is the
     learnable source of that Ω rank), exact_order, unlearnable_stored, n_learned (distinct
     learnable sources with a module), gated_sources, kendall_tau. See the module docstring.
+
+    Parameters
+    ----------
+    results : Results
+        A results folder's tables (:class:`~neurocur.analysis.results.Results`).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per (condition, run).
     """
     episodes, modules = results.episodes, results.modules
     require_order_columns(episodes, modules, needed_by="per_run")
@@ -159,6 +215,18 @@ def order_counts(results: Results, confidence: float = 0.95) -> pd.DataFrame:
 
     Columns: condition, outcome (e.g. "S-A first", "exact S-A→S-B→S-C", "S-D stored"),
     k, n (runs), proportion, ci_low, ci_high.
+
+    Parameters
+    ----------
+    results : Results
+        A results folder's tables (:class:`~neurocur.analysis.results.Results`).
+    confidence : float
+        The intervals' coverage.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per (condition, outcome).
     """
     require_order_columns(results.episodes, results.modules, needed_by="order_counts")
     runs = per_run(results)
@@ -179,6 +247,16 @@ def position_counts(results: Results) -> pd.DataFrame:
     Columns: condition, position (1-based), source, k (runs), n (runs of the condition).
     Every (condition, position, source) combination of the world's sources appears, with
     k = 0 where it never happened; "none" counts runs with fewer modules than the position.
+
+    Parameters
+    ----------
+    results : Results
+        A results folder's tables (:class:`~neurocur.analysis.results.Results`).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per (condition, position, source).
     """
     require_order_columns(results.episodes, results.modules, needed_by="position_counts")
     runs = per_run(results)
@@ -199,6 +277,16 @@ def condition_summary(results: Results) -> pd.DataFrame:
 
     Columns: condition, metric (n_modules, n_learned, gated_sources, kendall_tau), n (runs
     with a defined value), mean, sd (ddof=1; NaN for a single run).
+
+    Parameters
+    ----------
+    results : Results
+        A results folder's tables (:class:`~neurocur.analysis.results.Results`).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per (condition, metric).
     """
     require_order_columns(results.episodes, results.modules, needed_by="condition_summary")
     runs = per_run(results)

@@ -77,6 +77,16 @@ def wilcoxon_signed_rank(x, y) -> dict:
     ``statistic`` is scipy's two-sided statistic min(T+, T−); ``effect_size`` is the
     matched-pairs rank-biserial correlation (T+ − T−)/(T+ + T−) over the non-zero
     differences (Kerby 2014): +1 when ``x`` exceeds ``y`` on every pair that differs.
+
+    Parameters
+    ----------
+    x, y : array_like
+        The two conditions' values, paired by position (1-d, of the same length).
+
+    Returns
+    -------
+    dict
+        ``method``, ``statistic``, ``p_value``, ``effect``, ``effect_size``, ``n_nonzero`` and ``test`` (in words).
     """
     x, y = _paired_arrays(x, y)
     n = len(x)
@@ -115,6 +125,17 @@ def mcnemar_exact(x, y) -> dict:
     discordant pair gives p = 1. ``statistic`` = min(n_ab, n_ba); ``effect_size`` = the
     odds ratio of the discordant pairs n_ab / n_ba (0 or inf at the edges, NaN without
     discordant pairs); ``difference`` = n_ab/n − n_ba/n, the difference in proportions.
+
+    Parameters
+    ----------
+    x, y : array_like of bool
+        The two conditions' values, paired by position (1-d, of the same length).
+
+    Returns
+    -------
+    dict
+        ``method``, ``statistic``, ``p_value``, ``effect``, ``effect_size``, ``n_nonzero``, ``n_ab``, ``n_ba``, ``difference``
+        and ``test`` (in words).
     """
     x, y = _paired_arrays(x, y)
     xb, yb = x.astype(bool), y.astype(bool)
@@ -141,6 +162,16 @@ def mann_whitney(x, y) -> dict:
 
     ``statistic`` = U of ``x`` (scipy's); ``effect_size`` = rank-biserial correlation
     2U/(n_x n_y) − 1, +1 when every value of ``x`` exceeds every value of ``y``.
+
+    Parameters
+    ----------
+    x, y : array_like
+        The two independent samples (NaN dropped).
+
+    Returns
+    -------
+    dict
+        ``method``, ``statistic``, ``p_value``, ``effect``, ``effect_size`` and ``test`` (in words).
     """
     x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
     x, y = x[~np.isnan(x)], y[~np.isnan(y)]
@@ -158,6 +189,16 @@ def fisher_exact(x, y) -> dict:
 
     ``statistic`` and ``effect_size`` = the sample odds ratio (x_yes·y_no)/(x_no·y_yes),
     which can be 0 or inf.
+
+    Parameters
+    ----------
+    x, y : array_like of bool
+        The two independent samples.
+
+    Returns
+    -------
+    dict
+        ``method``, ``statistic``, ``p_value``, ``effect``, ``effect_size`` and ``test`` (in words).
     """
     x, y = np.asarray(x, dtype=bool), np.asarray(y, dtype=bool)
     kx, ky = int(x.sum()), int(y.sum())

@@ -47,7 +47,18 @@ _SHORT_TEST = {"wilcoxon": "Wilcoxon", "mcnemar_exact": "McNemar"}
 
 def paper_range(value: str) -> tuple[float, float, int | None]:
     """A number of the paper as ``(low, high, n)``: a count "18/25" as its proportion (0.72, 0.72, 25),
-    a range "2–3" as (2, 3, None), "≈15" or "0.81" as a point (n None)."""
+    a range "2–3" as (2, 3, None), "≈15" or "0.81" as a point (n None).
+
+    Parameters
+    ----------
+    value : str
+        The number as the paper's table states it: "k/n", "low–high", or a point, optionally after "≈".
+
+    Returns
+    -------
+    tuple
+        ``(low, high, n)``, ``n`` the count's denominator or None.
+    """
     text = value.strip().lstrip("≈~").strip()
     if m := re.fullmatch(r"(\d+)\s*/\s*(\d+)", text):
         k, n = int(m[1]), int(m[2])
@@ -59,7 +70,19 @@ def paper_range(value: str) -> tuple[float, float, int | None]:
 
 def count_reached(k: int, n: int, paper_share: float, confidence: float = 0.95) -> bool | None:
     """Whether the paper's proportion ``paper_share`` lies inside the Clopper–Pearson ``confidence``
-    interval of ``k`` out of ``n``; None when there are no runs."""
+    interval of ``k`` out of ``n``; None when there are no runs.
+
+    Parameters
+    ----------
+    k : int
+        Runs with the outcome.
+    n : int
+        Runs in all.
+    paper_share : float
+        The paper's proportion, in [0, 1].
+    confidence : float
+        Coverage of the Clopper–Pearson interval.
+    """
     low, high = clopper_pearson(k, n, confidence)
     return None if math.isnan(low) else bool(low - 1e-12 <= paper_share <= high + 1e-12)
 
@@ -67,13 +90,35 @@ def count_reached(k: int, n: int, paper_share: float, confidence: float = 0.95) 
 def mean_reached(values, low: float, high: float, *, confidence: float = 0.95, n_boot: int = N_BOOT,
                  seed: int = BOOTSTRAP_SEED) -> bool | None:
     """Whether the percentile bootstrap ``confidence`` interval of the mean of ``values`` meets the
-    paper's ``[low, high]``; None when no value is finite."""
+    paper's ``[low, high]``; None when no value is finite.
+
+    Parameters
+    ----------
+    values : array_like
+        One value per run; NaN values are dropped.
+    low, high : float
+        The paper's range (equal for a point).
+    confidence : float
+        Coverage of the bootstrap interval.
+    n_boot : int
+        Number of resamples.
+    seed : int
+        Seed of the resamples.
+    """
     ci_low, ci_high = bootstrap_ci(values, n_boot=n_boot, confidence=confidence, seed=seed)
     return None if math.isnan(ci_low) else bool(ci_low <= high and low <= ci_high)
 
 
 def differs(p_adjusted: float, alpha: float = 0.05) -> bool | None:
-    """Whether an adjusted p-value is below ``alpha``; None when nothing could be tested (NaN)."""
+    """Whether an adjusted p-value is below ``alpha``; None when nothing could be tested (NaN).
+
+    Parameters
+    ----------
+    p_adjusted : float
+        The adjusted p-value, NaN (or None) when nothing was tested.
+    alpha : float
+        The significance level.
+    """
     return None if p_adjusted is None or math.isnan(p_adjusted) else bool(p_adjusted < alpha)
 
 
@@ -103,6 +148,30 @@ def verdict_table(results: Results, reference: str, control: str, *, alpha: floa
     :func:`mean_reached` at ``confidence``; "—" without a paper number). The learning times are
     not tested ("—": a run has one only for a source it learned). ``attrs["n_tests"]``: the size of
     the Holm family.
+
+    Parameters
+    ----------
+    results : Results
+        The results folder, holding both conditions.
+    reference : str
+        The condition compared (the paper's agent), whose values meet the paper's numbers.
+    control : str
+        The condition it is tested against, paired by run.
+    alpha : float
+        The level of "differs?".
+    confidence : float
+        Coverage of the intervals of "paper within CI?".
+    with_paper : bool
+        Whether to add the paper's column and check its numbers.
+    n_boot : int
+        Resamples of the bootstrap intervals.
+    seed : int
+        Seed of the bootstrap resamples.
+
+    Returns
+    -------
+    pandas.DataFrame
+        The table described above.
     """
     for name in (reference, control):
         if name not in results.conditions:
@@ -161,7 +230,15 @@ def _reached(reported: paper.Reported | None, values: pd.Series, confidence: flo
 def fewest_runs(n_tests: int, alpha: float = 0.05) -> int:
     """The fewest paired runs n whose smallest exact two-sided p-value (2 / 2ⁿ: every pair differs the
     same way, McNemar exact or Wilcoxon signed-rank without ties), multiplied by Holm's ``n_tests``
-    for the smallest p of the family, is below ``alpha``."""
+    for the smallest p of the family, is below ``alpha``.
+
+    Parameters
+    ----------
+    n_tests : int
+        Size of the Holm family.
+    alpha : float
+        The significance level.
+    """
     return max(1, math.floor(math.log2(2 * max(n_tests, 1) / alpha)) + 1)
 
 
@@ -170,7 +247,26 @@ def verdict_notes(results: Results, reference: str, control: str, *, n_tests: in
     """The lines printed under :func:`verdict_table`: the rule of "differs?" (the tests, Holm over
     ``n_tests``, ``alpha``; the smallest exact p-value the runs allow, 2 / 2ⁿ, Holm-adjusted, and
     :func:`fewest_runs`), the rule of "paper within CI?", and one line per condition of ``results``
-    saying what it is (its ``description`` in ``config.toml``; "no description" when it has none)."""
+    saying what it is (its ``description`` in ``config.toml``; "no description" when it has none).
+
+    Parameters
+    ----------
+    results : Results
+        The results folder of the table.
+    reference, control : str
+        The table's two conditions.
+    n_tests : int
+        Size of the table's Holm family (its ``attrs["n_tests"]``).
+    alpha : float
+        The level of "differs?".
+    confidence : float
+        Coverage of the intervals of "paper within CI?".
+
+    Returns
+    -------
+    list of str
+        The lines, in print order.
+    """
     n = int(per_run(results.select([reference])).shape[0])
     floor = 2.0 / 2.0 ** n if n else math.nan
     level = f"{confidence * 100:g} %"
