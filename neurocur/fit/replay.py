@@ -49,7 +49,7 @@ from ..regions.base import NoParams
 from ..regions.free_choice import RecordedSignal
 from ..regions.pfc import DISENGAGE, ENGAGE
 from .data import Behaviour
-from .tape import InputTape, part_circuit, retyped, taped
+from .tape import InputTape, part_circuit, retyped, scoring, taped
 from .trials import Trials
 
 __all__ = ["Replay", "decision_part", "signal_circuit"]
@@ -208,7 +208,9 @@ class Replay:
         self.scored = np.broadcast_to(np.asarray(given) == 0, (len(self.observed),)).copy()
         observed = _observed_outputs(circuit, decision)
         spec = circuit.specs[decision]
-        self._stepped = part_circuit(circuit, self.part, tapes, decision=self._taped_spec(spec), observed=observed)
+        scored = scoring(spec.cls, self.observed)
+        self._stepped = part_circuit(circuit, self.part, tapes, observed=observed, decision=dataclasses.replace(
+            spec, cls=scored, instance=retyped(spec.instance, scored)))
         #: True when no region of the decision part reads a decision output other than the observed ones, so
         #: that the decision's inputs depend on the upstream parameters only (:meth:`_decision_tape`)
         self._separable = not any(k.src == decision and k.dst in self.part and k.signal not in observed
@@ -247,7 +249,8 @@ class Replay:
         """``spec`` as a region that records its inputs and, the decision region, emits and scores the
         observed decisions (:func:`~neurocur.fit.tape.taped`)."""
         observed = (self.actions, self.next_contexts, self.observed) if spec.name == self.decision else None
-        return dataclasses.replace(spec, cls=taped(spec.cls, observed), instance=retyped(spec.instance, observed))
+        cls = taped(spec.cls, observed)
+        return dataclasses.replace(spec, cls=cls, instance=retyped(spec.instance, cls))
 
     # ------------------------------------------------------------------ many thetas
 

@@ -35,7 +35,7 @@ from ..circuit.specs import ports
 from ..config import ConfigError
 from ..regions.base import NoParams, Region, Signal
 
-__all__ = ["TAPE", "InputTape", "Playback", "part_circuit", "retyped", "taped"]
+__all__ = ["TAPE", "InputTape", "Playback", "part_circuit", "retyped", "scoring", "taped"]
 
 #: the name of the :class:`Playback` region in a part's circuit (not a name a circuit file declares)
 TAPE = "<tape>"
@@ -215,23 +215,55 @@ def taped(cls: type, observed):
     return Taped
 
 
-def retyped(instance, observed):
-    """A prebuilt region instance as its :func:`taped` class.
+def scoring(cls: type, decisions):
+    """A subclass of decision region class ``cls`` that keeps, pass by pass, log P of ``decisions[t]`` in
+    ``logp`` (its outputs are its own: in a part's circuit none that the data replace is read).
+
+    Parameters
+    ----------
+    cls : type
+        A decision region class (``log_probability``).
+    decisions : array
+        Per pass, the decision to score.
+
+    Returns
+    -------
+    type
+        The subclass, with ``cls``'s type name.
+    """
+
+    class Scoring(cls):
+        def reset(self, rng) -> None:
+            super().reset(rng)
+            self.logp = []
+
+        def step(self, *inputs):
+            out = super().step(*inputs)
+            self.logp.append(self.log_probability(decisions[len(self.logp)]))
+            return out
+
+    Scoring.__name__ = Scoring.__qualname__ = f"Scoring{cls.__name__}"
+    Scoring.type_name = cls.type_name
+    return Scoring
+
+
+def retyped(instance, cls: type):
+    """A prebuilt region instance as an instance of ``cls`` (a subclass of its class, :func:`taped`, :func:`scoring`).
 
     Parameters
     ----------
     instance : Region or None
         A region spec's prebuilt instance (left untouched).
-    observed : tuple of three arrays, or None
-        As :func:`taped`.
+    cls : type
+        The subclass.
 
     Returns
     -------
     Region or None
-        A copy of ``instance`` of the taped class, or None without an instance.
+        A copy of ``instance`` of class ``cls``, or None without an instance.
     """
     if instance is None:
         return None
     new = copy.deepcopy(instance)
-    new.__class__ = taped(type(instance), observed)
+    new.__class__ = cls
     return new
