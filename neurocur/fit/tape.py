@@ -19,8 +19,9 @@ themselves, and in place of everything else one :class:`Playback` region, which
 region the generator it had in the run (:func:`~neurocur.scheduler.region_seed` keys it by the
 region's name; a drug's stream under it), and :meth:`~neurocur.scheduler.Simulator.run` steps the
 part in the scheduler's order, with its delayed slots and its outputs' initial values.
-:class:`InputTape` stands in for the decision region where only the decision's inputs are wanted
-(the upstream part's outputs for a vectorised decision): it records them without stepping the decision.
+In the part's circuit the decision region is a :func:`scoring` class, which keeps log P of each observed
+decision; :class:`InputTape` stands in for it where only the decision's inputs are wanted (the upstream
+part's outputs for a vectorised decision): it records them without stepping the decision.
 """
 
 from __future__ import annotations
