@@ -14,10 +14,14 @@ draw used (:meth:`~neurocur.regions.lc.LCRole.log_probability`). Design section 
 **Cached replay.** The *decision part* is the decision region and every region on a path
 from a region with a fitted parameter to it (e.g. PFC for eq 14's alpha). Everything else,
 the *learning part*, does not depend on the fitted parameters, so it runs once: the replay
-records every input of the decision part, pass by pass. :meth:`Replay.loglik` then steps
-fresh decision-part regions built with each theta through those inputs, and for a decision
-region that declares a vectorised likelihood (a classmethod ``log_likelihoods``,
-:class:`~neurocur.regions.lc.LCRole`) evaluates all thetas at once.
+records every input of the decision part, pass by pass. :meth:`Replay.loglik` then runs the
+decision part again with each theta, as a circuit of its own that the scheduler builds and steps
+(:func:`~neurocur.fit.tape.part_circuit`: the part's regions, their edges, delayed ones and
+initial values as the scheduler runs them, and a region playing back the recorded inputs from
+outside the part), reset with the run's seed sequence, so every region has the generator it had in
+the run. For a decision region that declares a vectorised likelihood (a classmethod
+``log_likelihoods``, :class:`~neurocur.regions.lc.LCRole`) it evaluates all thetas at once on the
+decision's inputs, which the upstream part (PFC) gives once per upstream theta.
 
 **Trials** (:class:`~neurocur.fit.trials.Trials`, people's choices among options): one pass is
 one trial, the decision chooses the option that the task visits in the same pass, and the world
@@ -32,19 +36,20 @@ counts them: the observations of a BIC or an iBIC are the scored choices, not th
 
 from __future__ import annotations
 
-import copy
 import dataclasses
 from collections.abc import Mapping, Sequence
 
 import networkx as nx
 import numpy as np
 
-from ..circuit import Circuit
+from ..circuit import Circuit, RegionSpec
+from ..circuit.specs import ports
 from ..config import ConfigError
+from ..regions.base import NoParams
 from ..regions.free_choice import RecordedSignal
 from ..regions.pfc import DISENGAGE, ENGAGE
-from ..scheduler import region_seed
 from .data import Behaviour
+from .tape import InputTape, part_circuit, retyped, scoring, taped
 from .trials import Trials
 
 __all__ = ["Replay", "decision_part", "signal_circuit"]
@@ -52,16 +57,50 @@ __all__ = ["Replay", "decision_part", "signal_circuit"]
 
 def signal_circuit(circuit: Circuit, name: str, behaviour: Behaviour, signal: str) -> Circuit:
     """``circuit`` with region ``name`` replaced by a :class:`~neurocur.regions.free_choice.RecordedSignal`
-    emitting the data set's column ``signal`` (signal replay)."""
+    emitting the data set's column ``signal`` (signal replay).
+
+    Parameters
+    ----------
+    circuit : Circuit
+        The model's circuit.
+    name : str
+        The region that would compute the signal (e.g. ``"HPC"``).
+    behaviour : Behaviour
+        The data set; its per-episode column ``signal`` is emitted.
+    signal : str
+        A per-episode column of ``behaviour`` (a ConfigError if it has none).
+
+    Returns
+    -------
+    Circuit
+        The circuit with region ``name`` replaced (``Circuit.replace``).
+    """
     if signal not in behaviour.signals:
         raise ConfigError(behaviour.source, signal, f"a per-episode column '{signal}' for signal replay", "none")
     return circuit.replace(name, RecordedSignal(name, series=behaviour.signals[signal]))
 
 
 def decision_part(circuit: Circuit, decision: str, fitted: Sequence[str]) -> tuple[str, ...]:
-    """The regions that depend on the fitted ``"REGION.param"`` keys on their way to ``decision``, in
-    step order. A fitted region with no path to the decision, or a decision part that feeds the
-    learning part with anything but the observed decision, is a ConfigError (no cached replay)."""
+    """The regions that depend on the fitted ``"REGION.param"`` keys on their way to ``decision``.
+
+    A fitted region with no path to the decision (by edges that are not delayed), a decision part
+    that feeds the learning part with anything but the observed decision, or one that holds the
+    clock region (the episode source) is a ConfigError (no cached replay).
+
+    Parameters
+    ----------
+    circuit : Circuit
+        The model's circuit.
+    decision : str
+        The decision region (an LC model, with probabilities and a ``next_context`` output).
+    fitted : sequence of str
+        The ``"REGION.param"`` keys to be varied.
+
+    Returns
+    -------
+    tuple of str
+        The decision part's regions, in the circuit's step order (the decision region among them).
+    """
     graph = nx.DiGraph()
     graph.add_nodes_from(circuit.specs)
     graph.add_edges_from((k.src, k.dst) for k in circuit.links if not k.delayed)
@@ -84,6 +123,11 @@ def decision_part(circuit: Circuit, decision: str, fitted: Sequence[str]) -> tup
             raise ConfigError("--fit", k.src, "fitted regions whose outputs reach only the decision",
                               f"edge {k}: the learning part would depend on the fitted parameters "
                               "(refit by simulation, neurocur.fit.sbi)")
+    clock = next((n for n in part if circuit.specs[n].cls.is_clock), None)
+    if clock is not None:
+        raise ConfigError("--fit", clock, "fitted regions whose way to the decision does not pass the clock region "
+                          "(the episode source)", f"clock region '{clock}' in the decision part "
+                          f"({', '.join(sorted(part))}): refit by simulation, neurocur.fit.sbi")
     return tuple(n for n in circuit.step_order if n in part)
 
 
@@ -99,12 +143,25 @@ def _observed_outputs(circuit: Circuit, decision: str) -> tuple[str, ...]:
 class Replay:
     """One data set replayed through a circuit (module docstring).
 
-    ``fitted``: the ``"REGION.param"`` keys to be varied (they decide the decision part);
-    ``seed``: the circuit's seed (a results folder's run seed reproduces the run's world).
-    ``behaviour``: episodes (:class:`~neurocur.fit.data.Behaviour`) or a subject's trials
-    (:class:`~neurocur.fit.trials.Trials`, replayed by the world of options with the recorded outcomes).
-    After construction, :attr:`logp` holds the per-episode log-probabilities at the circuit's
-    own parameters, and :meth:`loglik` evaluates any theta on the cached inputs.
+    After construction, :attr:`logp` holds the per-episode log-probabilities at the circuit's own
+    parameters, and :meth:`loglik` evaluates any theta on the cached inputs.
+
+    Parameters
+    ----------
+    circuit : Circuit
+        The model's circuit (with a :class:`~neurocur.regions.free_choice.RecordedSignal` for signal
+        replay, :func:`signal_circuit`).
+    world
+        Its world (a world of options for ``Trials``).
+    seed : int or numpy.random.SeedSequence
+        The circuit's seed (a results folder's run seed reproduces the run's world).
+    behaviour : Behaviour or Trials
+        Episodes (:class:`~neurocur.fit.data.Behaviour`) or a subject's trials
+        (:class:`~neurocur.fit.trials.Trials`, replayed by the world of options with the recorded outcomes).
+    decision : str
+        The decision region.
+    fitted : sequence of str
+        The ``"REGION.param"`` keys to be varied; they decide the decision part (:func:`decision_part`).
     """
 
     def __init__(self, circuit: Circuit, world, seed, behaviour: Behaviour | Trials, *, decision: str = "LC",
@@ -138,15 +195,31 @@ class Replay:
         self._finish(sim)
 
     def _finish(self, sim) -> None:
-        """Keep what the likelihood evaluations read from the one full run ``sim``."""
-        regions, decision = sim.regions, self.decision
+        """Keep what the likelihood evaluations read from the one full run ``sim``: the decision part as a
+        circuit of its own on the recorded inputs (:func:`~neurocur.fit.tape.part_circuit`), with the
+        decision region scoring the observed decisions, and, for a vectorised decision, with an
+        :class:`~neurocur.fit.tape.InputTape` in its place."""
+        regions, decision, circuit = sim.regions, self.decision, self.circuit
         self.seed_sequence = sim.seed_sequence
-        self.tapes = {n: regions[n].tape for n in self.part}
+        tapes = {n: regions[n].tape for n in self.part}
         self.logp = np.array(regions[decision].logp)
         self.episodes = sim.episodes()
         given = self.episodes["given"].to_numpy() if "given" in self.episodes.columns else 0
         self.scored = np.broadcast_to(np.asarray(given) == 0, (len(self.observed),)).copy()
-        self._plan = self._live_inputs()
+        observed = _observed_outputs(circuit, decision)
+        spec = circuit.specs[decision]
+        scored = scoring(spec.cls, self.observed)
+        self._stepped = part_circuit(circuit, self.part, tapes, observed=observed, decision=dataclasses.replace(
+            spec, cls=scored, instance=retyped(spec.instance, scored)))
+        #: True when no region of the decision part reads a decision output other than the observed ones, so
+        #: that the decision's inputs depend on the upstream parameters only (:meth:`_decision_tape`)
+        self._separable = not any(k.src == decision and k.dst in self.part and k.signal not in observed
+                                  for k in circuit.links)
+        self._decision_inputs = tapes[decision]
+        if self._separable and self.part != (decision,):
+            stand_in = InputTape(decision, inputs=ports(spec, "inputs"))
+            self._upstream = part_circuit(circuit, self.part, tapes, observed=observed,
+                                          decision=RegionSpec(decision, InputTape, NoParams(), instance=stand_in))
 
     # ------------------------------------------------------------------ the one full run
 
@@ -156,10 +229,7 @@ class Replay:
     def _run(self, circuit: Circuit, seed):
         specs = dict(circuit.specs)
         for name in self.part:
-            spec = specs[name]
-            observed = (self.actions, self.next_contexts, self.observed) if name == self.decision else None
-            specs[name] = dataclasses.replace(spec, cls=_taped(spec.cls, observed),
-                                              instance=_retyped(spec.instance, observed))
+            specs[name] = self._taped_spec(specs[name])
         sim = Circuit(specs, circuit.links, source=circuit.source, lesions=circuit.lesions).build(self.world, seed)
         if isinstance(self.behaviour, Trials):  # the recorded world checks each visit against the recorded choice
             return sim.run(len(self.observed))
@@ -175,22 +245,12 @@ class Replay:
                 break
         return sim
 
-    def _live_inputs(self):
-        """Per decision-part region, ``(input index, source region, output index, delayed)`` of every
-        input fed by another decision-part region's output that is not the observed decision."""
-        observed = set(_observed_outputs(self.circuit, self.decision))
-        plan = {}
-        for name in self.part:
-            cls = self.circuit.specs[name].cls
-            ins = [s.name for s in cls.inputs]
-            live = []
-            for k in self.circuit.links:
-                if k.dst == name and k.src in self.part and k.input in ins and \
-                        not (k.src == self.decision and k.signal in observed):
-                    outs = [s.name for s in self.circuit.specs[k.src].cls.outputs]
-                    live.append((ins.index(k.input), k.src, outs.index(k.signal), k.delayed))
-            plan[name] = live
-        return plan
+    def _taped_spec(self, spec: RegionSpec) -> RegionSpec:
+        """``spec`` as a region that records its inputs and, the decision region, emits and scores the
+        observed decisions (:func:`~neurocur.fit.tape.taped`)."""
+        observed = (self.actions, self.next_contexts, self.observed) if spec.name == self.decision else None
+        cls = taped(spec.cls, observed)
+        return dataclasses.replace(spec, cls=cls, instance=retyped(spec.instance, cls))
 
     # ------------------------------------------------------------------ many thetas
 
@@ -200,14 +260,37 @@ class Replay:
         return int(self.scored.sum())
 
     def n_scored(self, mask=None) -> int:
-        """The scored decisions among the passes ``mask`` selects (all without one)."""
+        """The scored decisions among the passes ``mask`` selects.
+
+        Parameters
+        ----------
+        mask : array of bool, optional
+            Over the episodes (trials); all of them without one.
+
+        Returns
+        -------
+        int
+            The number of scored decisions (:attr:`scored`) among them.
+        """
         return self.n_obs if mask is None else int(np.sum(self.scored & np.asarray(mask, dtype=bool)))
 
     def loglik(self, theta: Mapping[str, float] | Sequence[Mapping[str, float]], mask=None):
-        """The log-likelihood of the observed decisions at ``theta`` (``{"REGION.param": value}``,
-        only :attr:`fitted` keys), or an array of them for a list of thetas; ``mask`` (a boolean
-        array over the episodes) sums only the episodes it selects (held-out scores). A decision
-        given probability 0 makes it -inf (:meth:`first_impossible` names the episode)."""
+        """The log-likelihood of the observed decisions at ``theta``.
+
+        A decision given probability 0 makes it -inf (:meth:`first_impossible` names the episode).
+
+        Parameters
+        ----------
+        theta : mapping of str to float, or a sequence of them
+            ``{"REGION.param": value}`` with only :attr:`fitted` keys (the circuit's value for the others).
+        mask : array of bool, optional
+            Over the episodes: sums only the episodes it selects (held-out scores).
+
+        Returns
+        -------
+        float or numpy.ndarray
+            The log-likelihood for one theta, an array of them for a sequence.
+        """
         if isinstance(theta, Mapping):
             return float(self.loglik([theta], mask)[0])
         keep = np.ones(len(self.observed), dtype=bool) if mask is None else np.asarray(mask, dtype=bool)
@@ -241,73 +324,63 @@ class Replay:
         inputs = {s.name: [args[i] for args in tape] for i, s in enumerate(spec.cls.inputs)}
         return spec.cls.log_likelihoods(params, inputs, self.observed)
 
-    @property
-    def _separable(self) -> bool:
-        """True when no region before the decision reads a decision output other than the observed ones,
-        so the decision's inputs depend on the upstream parameters only (:meth:`_decision_tape`)."""
-        return not any(src == self.decision for name in self.part if name != self.decision
-                       for _, src, _, _ in self._plan[name])
-
     def _decision_tape(self, upstream: tuple) -> list:
         """The decision region's inputs, pass by pass, with the decision part's upstream regions (e.g.
-        PFC) built with the ``upstream`` parameters; memoised (the last 64), so that many decision
-        parameters cost one upstream pass."""
+        PFC) built with the ``upstream`` parameters and stepped by the scheduler (:meth:`_part_run`);
+        memoised (the last 64), so that many decision parameters cost one upstream pass."""
         if self.part == (self.decision,):
-            return self.tapes[self.decision]
+            return self._decision_inputs
         memo = self.__dict__.setdefault("_memo", {})
         if upstream in memo:
             return memo[upstream]
-        specs = self.circuit.with_params(dict(upstream), source="theta").specs if upstream else self.circuit.specs
-        tape = [args for args, _ in self._passes(specs, step_decision=False)]
+        tape = self._part_run(self._upstream, dict(upstream)).regions[self.decision].tape
         if len(memo) >= 64:
             memo.pop(next(iter(memo)))
         memo[upstream] = tape
         return tape
 
-    def _passes(self, specs, *, step_decision: bool):
-        """The decision part stepped through the cached inputs, fresh regions of ``specs``: yields, pass by
-        pass, the decision region's inputs and the decision region (stepped with them when
-        ``step_decision``; else None, and its outputs keep their initial values, which only a separable
-        part may do)."""
-        names = self.part if step_decision else self.part[:-1]
-        regions = {n: self._fresh(specs[n]) for n in names}
-        outputs = {n: tuple(s.initial for s in specs[n].cls.outputs) for n in self.part}
-        previous = dict(outputs)
-        plan, tapes = self._plan, self.tapes
-        for t in range(len(self.observed)):
-            for name in self.part:
-                args = tapes[name][t]
-                if plan[name]:
-                    args = list(args)
-                    for i, src, j, delayed in plan[name]:
-                        args[i] = (previous if delayed else outputs)[src][j]
-                if name == self.decision:
-                    inputs = tuple(args)
-                if name in regions:
-                    outputs[name] = regions[name].step(*args)
-            previous = dict(outputs)
-            yield inputs, regions.get(self.decision)
-
-    def _fresh(self, spec):
-        """A new region of ``spec``, bound to the world and reset with the generator it had in the run
-        (its decision draws are discarded, the observed decision replaces them; a stream of its own
-        that the draws do not move, such as the FitzHugh–Nagumo LC's input noise, is the run's)."""
-        region = spec.make()
-        region.wired = frozenset(k.signal for k in self.circuit.links if k.src == spec.name)
-        region.bind(self.world)
-        region.reset(np.random.default_rng(region_seed(self.seed_sequence, spec.name)))
-        return region
+    def _part_run(self, part: Circuit, theta: dict):
+        """The decision part's circuit ``part`` with the parameters ``theta``, built on the run's world with
+        the run's seed sequence (so every region is reset with the generator it had in the run: its decision
+        draws are discarded, the observed decision replaces them; a stream of its own that the draws do not
+        move, such as the FitzHugh–Nagumo LC's input noise, is the run's) and run through the recorded passes."""
+        unknown = sorted(k for k in theta if k.split(".", 1)[0] not in self.part)
+        if unknown:
+            raise ConfigError("theta", unknown[0], f"'REGION.param' with REGION one of the decision part "
+                              f"({', '.join(self.part)})", "a region the replay does not step again")
+        circuit = part.with_params(theta, source="theta") if theta else part
+        return circuit.build(self.world, self.seed_sequence).run(len(self.observed))
 
     def episode_logp(self, theta: Mapping[str, float]) -> np.ndarray:
-        """Per episode, log P(observed decision | state, theta): the decision part stepped through the
-        cached inputs with fresh regions built with ``theta``."""
-        specs = self.circuit.with_params(dict(theta), source="theta").specs if theta else self.circuit.specs
-        observed = self.observed
-        return np.array([region.log_probability(observed[t])
-                         for t, (_, region) in enumerate(self._passes(specs, step_decision=True))], dtype=np.float64)
+        """Per episode, log P(observed decision | state, theta): the decision part stepped again on the
+        recorded inputs, by the scheduler, with its regions built with ``theta``.
+
+        Parameters
+        ----------
+        theta : mapping of str to float
+            ``{"REGION.param": value}`` for regions of the decision part (:attr:`part`); the circuit's own
+            value for every other parameter.
+
+        Returns
+        -------
+        numpy.ndarray
+            One log-probability per episode (trial): 0 on a given pass, -inf for a decision of probability 0.
+        """
+        return np.array(self._part_run(self._stepped, dict(theta)).regions[self.decision].logp, dtype=np.float64)
 
     def first_impossible(self, logp: np.ndarray) -> str | None:
-        """The first episode whose observed decision had probability 0, named, or None."""
+        """The first episode whose observed decision had probability 0, named.
+
+        Parameters
+        ----------
+        logp : numpy.ndarray
+            Per-episode log-probabilities (:meth:`episode_logp`).
+
+        Returns
+        -------
+        str or None
+            The data set (subject), the episode (trial) and its decision, or None when none is -inf.
+        """
         bad = np.flatnonzero(np.isneginf(logp))
         if not len(bad):
             return None
@@ -317,48 +390,6 @@ class Replay:
                    "probability 0"
         return (f"data set '{self.behaviour.name}', episode {t} (context {self.behaviour.contexts[t]}, "
                 f"decision {self.observed[t]}): probability 0")
-
-
-def _taped(cls: type, observed):
-    """A subclass of region class ``cls`` that records its step inputs (``tape``) and, for the
-    decision region (``observed`` = (actions, next contexts, scored decisions)), emits the observed
-    decision and keeps log P of it (``logp``)."""
-
-    class Taped(cls):
-        def reset(self, rng) -> None:
-            super().reset(rng)
-            self.tape, self.logp, self.t = [], [], 0
-
-        def step(self, *inputs):
-            self.tape.append(inputs)
-            out = super().step(*inputs)
-            if observed is None:
-                return out
-            t, self.t = self.t, self.t + 1
-            self.logp.append(self.log_probability(observed[2][t]))
-            names = [s.name for s in cls.outputs]
-            out = list(out)
-            self.shown = (int(observed[0][t]), int(observed[1][t]))
-            for value, key in zip(self.shown, ("action", "next_context")):
-                if key in names:
-                    out[names.index(key)] = value
-            return tuple(out)
-
-        def record(self):
-            return (*self.shown, *super().record()[2:]) if observed is not None else super().record()
-
-    Taped.__name__ = Taped.__qualname__ = f"Replayed{cls.__name__}"
-    Taped.type_name = cls.type_name
-    return Taped
-
-
-def _retyped(instance, observed):
-    """A prebuilt region instance as its taped class (a copy; the original is left untouched)."""
-    if instance is None:
-        return None
-    new = copy.deepcopy(instance)
-    new.__class__ = _taped(type(instance), observed)
-    return new
 
 
 def _trial_world(world, trials: Trials, decides: str):
