@@ -49,6 +49,8 @@ class Playback(Region):
     ----------
     name : str
         The region's name in the part's circuit (:data:`TAPE`).
+    params : optional
+        Unused: the region has no parameters.
     outputs : sequence of Signal
         One output per recorded input, named ``"REGION.input"``.
     rows : sequence of tuple
@@ -88,6 +90,8 @@ class InputTape(Region):
     ----------
     name : str
         The decision region's name.
+    params : optional
+        Unused: the region has no parameters (``Region``'s constructor takes them).
     inputs : sequence of Signal
         The decision region's step inputs.
     """

@@ -89,8 +89,7 @@ COMPLETE = ("neurocur.fit", "neurocur.analysis.io", "neurocur.analysis.paper", "
             "neurocur.contexts.base", "neurocur.contexts.sources",
             "neurocur.experiments.conditions", "neurocur.experiments.invariance", "neurocur.experiments.spec")
 #: Files being rewritten elsewhere, pending: their docstrings get Parameters sections after those edits.
-PENDING = {"neurocur/fit/replay.py", "neurocur/fit/hierarchical.py", "neurocur/fit/squarem.py",
-           "neurocur/fit/workers.py", "neurocur/fit/commands.py", "neurocur/fit/cli.py", "neurocur/fit/compare.py",
+PENDING = {"neurocur/fit/commands.py", "neurocur/fit/cli.py", "neurocur/fit/compare.py",
            "neurocur/fit/ten2021_study.py", "neurocur/fit/ten2021_models.py", "neurocur/fit/ten2021_checks.py"}
 
 
