@@ -33,6 +33,18 @@ def region_seed(seed: np.random.SeedSequence, name: str) -> np.random.SeedSequen
     ``SeedSequence(seed.entropy, spawn_key=seed.spawn_key + (crc32(name),))``: it depends
     on the name only, not on the region's position in the circuit file, so adding,
     removing or reordering regions leaves every other region's random stream unchanged.
+
+    Parameters
+    ----------
+    seed : numpy.random.SeedSequence
+        The run's seed.
+    name : str
+        The region's name.
+
+    Returns
+    -------
+    numpy.random.SeedSequence
+        The region's seed.
     """
     return np.random.SeedSequence(seed.entropy, spawn_key=(*seed.spawn_key, zlib.crc32(name.encode("utf-8"))),
                                   pool_size=seed.pool_size)
@@ -41,7 +53,18 @@ def region_seed(seed: np.random.SeedSequence, name: str) -> np.random.SeedSequen
 def world_seed(seed: np.random.SeedSequence) -> np.random.SeedSequence:
     """The seed of a run's world: a child of ``seed`` under a key of its own, :data:`WORLD_KEY`,
     beside the regions' (:func:`region_seed`), so that renaming, adding or removing a region
-    leaves the world (mixing matrices, S-D, clock offsets, episode orders) unchanged."""
+    leaves the world (mixing matrices, S-D, clock offsets, episode orders) unchanged.
+
+    Parameters
+    ----------
+    seed : numpy.random.SeedSequence
+        The run's seed.
+
+    Returns
+    -------
+    numpy.random.SeedSequence
+        The world's seed.
+    """
     return region_seed(seed, WORLD_KEY)
 
 
@@ -54,6 +77,17 @@ class Simulator:
     ``"drugs"`` under the region's. The world's generator (``world.np_random``, gymnasium's)
     is seeded here from :func:`world_seed`, before any region resets: the clock region then
     starts the world's run from it (:class:`~neurocur.regions.sensory.SensoryWorld`).
+
+    Parameters
+    ----------
+    circuit : Circuit
+        The circuit to instantiate.
+    world : World
+        The world its clock region binds to.
+    seed : numpy.random.SeedSequence
+        The run's seed: each region's and the world's generator is a child of it.
+    record_frames : bool
+        Also record the frame probes (one row per frame).
     """
 
     def __init__(self, circuit, world, seed, *, record_frames: bool = False):

@@ -67,7 +67,19 @@ __all__ = ["Circuit", "RegionSpec", "Link"]
 
 
 class Circuit:
-    """A validated, ordered circuit of regions. Immutable: lesions and replacements return new circuits."""
+    """A validated, ordered circuit of regions. Immutable: lesions and replacements return new circuits.
+
+    Parameters
+    ----------
+    regions : mapping of str to RegionSpec
+        The regions by name.
+    links : sequence of Link
+        The edges: source output to destination input, delayed or not.
+    source : str
+        The file named in a message.
+    lesions : sequence, optional
+        The lesions applied (recorded with the circuit).
+    """
 
     def __init__(self, regions, links, *, source: str = PY, lesions=()):
         self.source = str(source)

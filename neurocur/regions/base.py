@@ -95,7 +95,17 @@ class NoParams:
 
 
 class Region:
-    """Base class of all regions. Subclasses are registered with ``@register(name)``."""
+    """Base class of all regions. Subclasses are registered with ``@register(name)``.
+
+    Parameters
+    ----------
+    name : str
+        The region's name in its circuit (default: the class name).
+    params : Params, optional
+        Its parameters, an instance of the class's ``Params``; or give them as keywords instead.
+    **kwargs
+        The parameters as keywords (``Params(**kwargs)``), when ``params`` is not given.
+    """
 
     type_name: ClassVar[str] = ""
     Params: ClassVar[type] = NoParams

@@ -45,7 +45,17 @@ class MixtureVTA(VTARole):
     sense of Barto, Singh & Chentanez 2004, Proc. ICDL). ``w = 0`` is the intrinsic model,
     ``w = 1`` the extrinsic reward alone. ``intrinsic_params`` are the intrinsic model's own
     (``{ boredom = -100.0 }``, ``{ scale = 6.0 }``). The intrinsic model sees the same inputs;
-    drugs act on the mixed level only."""
+    drugs act on the mixed level only.
+
+    Parameters
+    ----------
+    name : str
+        The region's name in its circuit (default: the class name).
+    params : Params, optional
+        Its parameters, an instance of the class's ``Params``; or give them as keywords instead.
+    **kwargs
+        The parameters as keywords (``Params(**kwargs)``), when ``params`` is not given.
+    """
 
     Params = MixtureParams
 
