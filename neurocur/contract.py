@@ -19,7 +19,21 @@ __all__ = ["Column", "EPISODE_COLUMNS", "MODULE_COLUMNS", "require_columns"]
 @dataclass(frozen=True)
 class Column:
     """A column of a results table: its name, kind (as :class:`~neurocur.regions.base.Probe`),
-    unit, meaning and the circuit role (region name in ``neurocur/circuits/cd_misfa.toml``) producing it."""
+    unit, meaning and the circuit role (region name in ``neurocur/circuits/cd_misfa.toml``) producing it.
+
+    Parameters
+    ----------
+    name : str
+        The column's name.
+    kind : str
+        ``"float"``, ``"int"``, ``"bool"`` or ``"category"``.
+    unit : str
+        Its unit.
+    doc : str
+        What it means.
+    role : str
+        The circuit role (region name) producing it.
+    """
 
     name: str
     kind: str
@@ -60,7 +74,17 @@ MODULE_COLUMNS = (
 
 
 def require_columns(table, names, *, needed_by: str) -> None:
-    """Raise ValueError when ``table`` lacks any of ``names``, naming the role that produces each."""
+    """Raise ValueError when ``table`` lacks any of ``names``, naming the role that produces each.
+
+    Parameters
+    ----------
+    table : DataFrame
+        The table checked.
+    names : sequence of str
+        The columns it must have.
+    needed_by : str
+        What needs them, named in the message.
+    """
     missing = [n for n in names if n not in table.columns]
     if missing:
         roles = {c.name: c.role for c in MODULE_COLUMNS + EPISODE_COLUMNS}  # the episodes table's roles win

@@ -26,7 +26,17 @@ _KIND_DTYPE = {"float": np.float64, "int": np.int64, "bool": bool}
 
 
 class Recorder:
-    """Buffers for the probes of the regions ``[(name, probes, frame_probes), ...]``."""
+    """Buffers for the probes of the regions ``[(name, probes, frame_probes), ...]``.
+
+    Parameters
+    ----------
+    regions : sequence of (str, sequence of Probe, sequence of Probe)
+        Each region's name, episode probes and frame probes.
+    record_frames : bool
+        Also buffer the frame probes.
+    capacity : int
+        The rows each buffer holds before it grows.
+    """
 
     def __init__(self, regions, *, record_frames: bool = False, capacity: int = 1024):
         self.regions = [(name, tuple(p), tuple(fp)) for name, p, fp in regions]

@@ -31,7 +31,15 @@ class UnknownType(KeyError):
 
 
 class Registry:
-    """Named classes of one kind (``"region"``, ``"world"``), plus the entry points of ``group``."""
+    """Named classes of one kind (``"region"``, ``"world"``), plus the entry points of ``group``.
+
+    Parameters
+    ----------
+    kind : str
+        What it registers, named in messages (``"region"``, ``"world"``).
+    group : str
+        The entry-point group a third-party package registers its classes under.
+    """
 
     def __init__(self, kind: str, group: str):
         self.kind = kind

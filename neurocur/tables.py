@@ -32,7 +32,18 @@ __all__ = ["check_keys", "deep_merge", "load_toml", "require", "resolve_file", "
 def load_toml(path) -> dict:
     """Read a TOML file into a dict; a missing, unreadable or binary file, a directory, a FIFO or
     other file that is not a regular file (never opened for reading: it could block), a syntax
-    error or tables nested too deeply for the parser is a ConfigError."""
+    error or tables nested too deeply for the parser is a ConfigError.
+
+    Parameters
+    ----------
+    path : str or Path
+        The TOML file.
+
+    Returns
+    -------
+    dict
+        Its tables and values.
+    """
     path = Path(path)
     try:
         fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | os.O_CLOEXEC)
@@ -61,7 +72,21 @@ def load_toml(path) -> dict:
 
 
 def check_keys(table: Mapping, allowed, *, source, prefix: str = "", required=()) -> None:
-    """Raise ConfigError for a key of ``table`` outside ``allowed`` or a missing required key."""
+    """Raise ConfigError for a key of ``table`` outside ``allowed`` or a missing required key.
+
+    Parameters
+    ----------
+    table : mapping
+        A TOML table.
+    allowed : collection of str
+        The keys it may have.
+    source : str
+        The file named in the message.
+    prefix : str
+        The table's dotted path, prefixed to a key in the message.
+    required : collection of str
+        The keys it must have.
+    """
     for key in required:
         if key not in table:
             raise ConfigError(source, join_key(prefix, key), "this key to be present", "nothing")
@@ -75,7 +100,30 @@ _MISSING = object()
 
 
 def require(table: Mapping, key: str, types, *, source, prefix: str = "", expected: str, default=_MISSING):
-    """Return ``table[key]`` checked against ``types`` (bool never passes for int/float)."""
+    """Return ``table[key]`` checked against ``types`` (bool never passes for int/float).
+
+    Parameters
+    ----------
+    table : mapping
+        A TOML table.
+    key : str
+        The key read.
+    types : type or tuple of type
+        The types its value may have.
+    source : str
+        The file named in a message.
+    prefix : str
+        The table's dotted path, prefixed to the key in a message.
+    expected : str
+        What a message says was expected.
+    default : optional
+        The value when the key is absent (without one, an absent key is a ConfigError).
+
+    Returns
+    -------
+    object
+        The checked value.
+    """
     if key not in table:
         if default is not _MISSING:
             return default
@@ -88,7 +136,20 @@ def require(table: Mapping, key: str, types, *, source, prefix: str = "", expect
 
 
 def deep_merge(base: Mapping, override: Mapping) -> dict:
-    """A new dict: ``override`` merged into ``base``; nested tables merge, other values replace."""
+    """A new dict: ``override`` merged into ``base``; nested tables merge, other values replace.
+
+    Parameters
+    ----------
+    base : mapping
+        The table merged into.
+    override : mapping
+        The table whose values win.
+
+    Returns
+    -------
+    dict
+        The merged table (neither argument is changed).
+    """
     out = dict(base)
     for key, value in override.items():
         if isinstance(value, Mapping) and isinstance(out.get(key), Mapping):
@@ -110,7 +171,18 @@ atexit.register(_extracted.close)
 def shipped_files(kind: str) -> dict[str, Path]:
     """The TOML files of ``kind`` (``"circuit"``, ``"experiment"`` or ``"invariance"``) shipped in the
     package, by name. Experiments and invariance demonstrations share ``experiments_data/``; a file
-    with a top-level :data:`INVARIANCE_KEY` is an invariance demonstration."""
+    with a top-level :data:`INVARIANCE_KEY` is an invariance demonstration.
+
+    Parameters
+    ----------
+    kind : str
+        ``"circuit"``, ``"experiment"`` or ``"invariance"``.
+
+    Returns
+    -------
+    dict of str to Path
+        The files by name.
+    """
     folder = importlib.resources.files("neurocur").joinpath(SHIPPED[kind])
     if not folder.is_dir():
         return {}
@@ -133,7 +205,26 @@ def resolve_file(value, base_dir: Path, kind: str, *, source, key) -> Path:
     path, ends with ``.toml`` or contains a path separator (returned as ``base_dir / value``,
     not resolved); otherwise the name of a shipped file of ``kind``. A directory never shadows a
     shipped name (``--out icub`` leaves ``icub`` the shipped experiment). An unknown name is a
-    ConfigError (``source``, ``key``) listing the names."""
+    ConfigError (``source``, ``key``) listing the names.
+
+    Parameters
+    ----------
+    value : str
+        A path or a shipped file's name.
+    base_dir : Path
+        The folder a relative path is taken from.
+    kind : str
+        ``"circuit"``, ``"experiment"`` or ``"invariance"``.
+    source : str
+        The file named in a message.
+    key : str or None
+        The key named in a message.
+
+    Returns
+    -------
+    Path
+        The file.
+    """
     text = os.fspath(value)
     path = Path(base_dir) / text
     seps = tuple(s for s in (os.sep, os.altsep) if s)
