@@ -9,7 +9,20 @@ __all__ = ["int_at_least"]
 
 
 def int_at_least(low: int, expected: str):
-    """An argparse type: an integer >= ``low``; the error says ``expected``."""
+    """An argparse type: an integer >= ``low``; the error says ``expected``.
+
+    Parameters
+    ----------
+    low : int
+        The smallest integer accepted.
+    expected : str
+        What the error message says was expected.
+
+    Returns
+    -------
+    callable
+        The argparse type: a string to its integer.
+    """
     def convert(text: str) -> int:
         try:
             value = int(text)

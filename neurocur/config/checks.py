@@ -24,12 +24,42 @@ _FRACTION = ParamSpec(float, low=0.0, high=1.0, low_open=True)
 
 
 def check_positive_int(value, name: str, *, source="<python>") -> int:
-    """``value`` as an int >= 1, else a :class:`~.errors.ConfigError` naming ``source`` and ``name``."""
+    """``value`` as an int >= 1, else a :class:`~.errors.ConfigError` naming ``source`` and ``name``.
+
+    Parameters
+    ----------
+    value : int
+        The value checked.
+    name : str
+        Its key, named in a message.
+    source : str
+        The file named in a message.
+
+    Returns
+    -------
+    int
+        The value.
+    """
     return _POSITIVE_INT.coerce(value, source=source, key=name)
 
 
 def check_fraction(value, name: str, *, source="<python>") -> float:
-    """``value`` as a float in (0, 1], else a :class:`~.errors.ConfigError` naming ``source`` and ``name``."""
+    """``value`` as a float in (0, 1], else a :class:`~.errors.ConfigError` naming ``source`` and ``name``.
+
+    Parameters
+    ----------
+    value : float
+        The value checked.
+    name : str
+        Its key, named in a message.
+    source : str
+        The file named in a message.
+
+    Returns
+    -------
+    float
+        The value.
+    """
     return _FRACTION.coerce(value, source=source, key=name)
 
 
@@ -38,6 +68,22 @@ def check_block(X, *, name: str = "X", n_features: int | None = None, min_rows: 
 
     Raises ``ValueError`` for a wrong number of dimensions, a non-numeric dtype,
     too few rows, a feature count other than ``n_features``, or NaN/inf values.
+
+    Parameters
+    ----------
+    X : array_like
+        The block of samples.
+    name : str
+        Its name in a message.
+    n_features : int, optional
+        The number of columns it must have.
+    min_rows : int
+        The fewest rows it may have.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``X`` as a C-contiguous float64 array.
     """
     arr = np.asarray(X)
     if arr.dtype.kind not in "biuf":
@@ -56,11 +102,34 @@ def check_block(X, *, name: str = "X", n_features: int | None = None, min_rows: 
 
 
 def check_nonconstant(X: np.ndarray, *, name: str = "X") -> None:
-    """Raise ``ValueError`` when every column of ``X`` is constant (zero variance)."""
+    """Raise ``ValueError`` when every column of ``X`` is constant (zero variance).
+
+    Parameters
+    ----------
+    X : numpy.ndarray
+        The block of samples (time, features).
+    name : str
+        Its name in the message.
+    """
     if X.shape[0] < 2 or not np.any(np.ptp(X, axis=0) > 0):
         raise ValueError(f"{name} has zero variance: every feature is constant over time")
 
 
 def check_random_state(random_state, *, name: str = "random_state", source="<python>") -> np.random.Generator:
-    """A ``Generator`` from a seed that :data:`RANDOM_STATE` accepts (a ``Generator`` is returned as it is)."""
+    """A ``Generator`` from a seed that :data:`RANDOM_STATE` accepts (a ``Generator`` is returned as it is).
+
+    Parameters
+    ----------
+    random_state : int, numpy.random.SeedSequence, numpy.random.Generator or None
+        The seed or generator.
+    name : str
+        Its key, named in a message.
+    source : str
+        The file named in a message.
+
+    Returns
+    -------
+    numpy.random.Generator
+        The generator.
+    """
     return np.random.default_rng(RANDOM_STATE.coerce(random_state, source=source, key=name))

@@ -6,7 +6,18 @@ __all__ = ["ConfigError", "describe", "join_key"]
 
 
 def describe(value) -> str:
-    """Short description of a configuration value for error messages: ``-1 (int)``."""
+    """Short description of a configuration value for error messages: ``-1 (int)``.
+
+    Parameters
+    ----------
+    value : object
+        The value.
+
+    Returns
+    -------
+    str
+        Its short description.
+    """
     text = repr(value)
     if len(text) > 60:
         text = text[:57] + "..."
@@ -19,6 +30,17 @@ class ConfigError(ValueError):
     ``source`` is the file (or a label such as ``"<python>"``), ``key`` the dotted key
     (``None`` for the whole file), ``expected`` what would have been valid, ``got`` what
     was found (already described as text).
+
+    Parameters
+    ----------
+    source : str or Path
+        The file, or a label such as ``"<python>"``.
+    key : str or None
+        The dotted key (None for the whole file).
+    expected : str
+        What would have been valid.
+    got : str
+        What was found, described as text (:func:`describe`).
     """
 
     def __init__(self, source, key: str | None, expected: str, got: str):
@@ -39,7 +61,20 @@ class ConfigError(ValueError):
 
 
 def join_key(prefix: str, key: str | None) -> str:
-    """``prefix.key``; an index key (``[2]``) attaches without a dot; either part may be empty."""
+    """``prefix.key``; an index key (``[2]``) attaches without a dot; either part may be empty.
+
+    Parameters
+    ----------
+    prefix : str
+        The table's dotted path.
+    key : str or None
+        The key within it.
+
+    Returns
+    -------
+    str
+        The joined key.
+    """
     if not prefix or not key:
         return key or prefix
     return f"{prefix}{key}" if key.startswith("[") else f"{prefix}.{key}"

@@ -29,7 +29,15 @@ class MissingExtra(ImportError, ValueError):
 @contextmanager
 def extra(name: str, feature: str) -> Iterator[None]:
     """Run the imports of the block; a missing module raises :class:`MissingExtra` naming the
-    extra ``name`` of the feature ``feature`` (e.g. ``"the iCub world"``)."""
+    extra ``name`` of the feature ``feature`` (e.g. ``"the iCub world"``).
+
+    Parameters
+    ----------
+    name : str
+        The extra to install (``pip install neurocur[name]``).
+    feature : str
+        What needs it, named in the message.
+    """
     try:
         yield
     except ModuleNotFoundError as exc:

@@ -18,7 +18,18 @@ __all__ = ["load_npy"]
 def load_npy(path) -> np.ndarray:
     """The array of the ``.npy`` file ``path``; ValueError (one line) for a file that is not a
     ``.npy`` array (a ``.npz`` archive included), holds objects, or whose data is shorter than its
-    header claims."""
+    header claims.
+
+    Parameters
+    ----------
+    path : str or Path
+        The ``.npy`` file.
+
+    Returns
+    -------
+    numpy.ndarray
+        Its array.
+    """
     with open(path, "rb") as fh:
         if fh.read(4) == b"PK\x03\x04":
             raise ValueError("expected a .npy array written by numpy.save, got a .npz archive")

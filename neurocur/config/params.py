@@ -39,6 +39,31 @@ class ParamSpec:
     ``item``-checked values) and ``kind=`` a parameter dataclass (a TOML table turned
     into that class by :func:`make_params`, or an instance of it; with ``shorthand``, the
     name of one of its fields, any other value stands for ``{shorthand: value}``).
+
+    Parameters
+    ----------
+    kind : type
+        ``float``, ``int``, ``bool``, ``str``, ``tuple``, ``dict`` or a parameter dataclass.
+    low, high : float, optional
+        The bounds of a number.
+    low_open, high_open : bool
+        Whether a bound is excluded.
+    choices : tuple of str
+        The accepted strings.
+    optional : bool
+        None is accepted.
+    classes : tuple of type
+        Extra classes whose instances pass unchanged.
+    item : ParamSpec, optional
+        The spec of a sequence's or a table's items.
+    length : int, optional
+        A sequence's exact length.
+    min_length : int
+        A sequence's shortest length.
+    path : bool
+        A string is a file or folder path.
+    shorthand : str, optional
+        The field of a nested dataclass that any other value stands for.
     """
 
     kind: type
@@ -216,7 +241,32 @@ class ParamSpec:
 
 def param(default, kind: type, *, low=None, high=None, low_open=False, high_open=False,
           choices=(), optional=False, path=False, doc: str = ""):
-    """A dataclass field carrying a :class:`ParamSpec` (use inside a frozen dataclass)."""
+    """A dataclass field carrying a :class:`ParamSpec` (use inside a frozen dataclass).
+
+    Parameters
+    ----------
+    default : object
+        The parameter's default.
+    kind : type
+        ``float``, ``int``, ``bool`` or ``str``.
+    low, high : float, optional
+        Its bounds.
+    low_open, high_open : bool
+        Whether a bound is excluded.
+    choices : tuple of str
+        The accepted strings.
+    optional : bool
+        None is accepted.
+    path : bool
+        The value is a file path (made absolute against the file that gives it).
+    doc : str
+        What the parameter means (the docs' tables).
+
+    Returns
+    -------
+    dataclasses.Field
+        The field.
+    """
     spec = ParamSpec(kind, low=low, high=high, low_open=low_open, high_open=high_open, choices=tuple(choices),
                      optional=optional, path=path)
     return spec_param(default, spec, doc=doc)
@@ -227,6 +277,20 @@ def spec_param(default, spec: ParamSpec, *, doc: str = ""):
 
     A table (dict) default is copied for each instance; ``dataclasses.MISSING`` makes the
     parameter required.
+
+    Parameters
+    ----------
+    default : object
+        The parameter's default (``dataclasses.MISSING``: required).
+    spec : ParamSpec
+        Its type and range.
+    doc : str
+        What the parameter means.
+
+    Returns
+    -------
+    dataclasses.Field
+        The field.
     """
     metadata = {"spec": spec, "doc": doc}
     if isinstance(default, dict):
@@ -242,6 +306,22 @@ def learner_param(owner, name: str, default, *, doc: str = ""):
     the learner accepts: ``mca_rate: float = learner_param(IncSFA, "mca_rate", 0.05,
     doc="MCA learning rate")`` in a region, ``eig_cutoff: float = learner_param(CCIPCA,
     "eig_cutoff", 1e-3)`` in IncSFA, which whitens with a CCIPCA.
+
+    Parameters
+    ----------
+    owner : type
+        The class that declares the parameter (a learner).
+    name : str
+        The parameter's name there.
+    default : object
+        Its default here.
+    doc : str
+        What the parameter means.
+
+    Returns
+    -------
+    dataclasses.Field
+        The field.
     """
     return spec_param(default, param_specs(owner)[name], doc=doc)
 
@@ -249,7 +329,18 @@ def learner_param(owner, name: str, default, *, doc: str = ""):
 def param_specs(owner) -> Mapping[str, ParamSpec]:
     """``{name: spec}`` of every field of the dataclass ``owner`` (a class or an instance) that
     carries a spec (made with :func:`param`, :func:`spec_param` or :func:`learner_param`), in
-    field order; read-only."""
+    field order; read-only.
+
+    Parameters
+    ----------
+    owner : type or object
+        A parameter dataclass or an instance.
+
+    Returns
+    -------
+    mapping of str to ParamSpec
+        The specs by field name.
+    """
     return _field_specs(owner if isinstance(owner, type) else type(owner))
 
 
@@ -259,7 +350,22 @@ def _field_specs(cls: type) -> Mapping[str, ParamSpec]:
 
 
 def coerce_params(specs: Mapping[str, ParamSpec], values: Mapping, *, source) -> dict:
-    """``values`` checked and coerced by ``specs[name]``, by name; errors are ConfigErrors naming the key."""
+    """``values`` checked and coerced by ``specs[name]``, by name; errors are ConfigErrors naming the key.
+
+    Parameters
+    ----------
+    specs : mapping of str to ParamSpec
+        The specs by name.
+    values : mapping
+        The values by name.
+    source : str
+        The file named in a message.
+
+    Returns
+    -------
+    dict
+        The coerced values.
+    """
     return {name: specs[name].coerce(value, source=source, key=name) for name, value in values.items()}
 
 
@@ -269,6 +375,13 @@ def check_params(obj, *, source=None) -> None:
     (Fields made with :func:`param`, :func:`spec_param` or :func:`learner_param`.)
 
     Meant to be called from ``__post_init__``. Raises ConfigError naming the field.
+
+    Parameters
+    ----------
+    obj : object
+        A frozen parameter dataclass.
+    source : str, optional
+        The file named in a message.
     """
     source = source or type(obj).__name__
     for f in dataclasses.fields(obj):
@@ -283,7 +396,19 @@ def check_params(obj, *, source=None) -> None:
 
 def check_table(cls, table: Mapping, *, source, prefix: str) -> None:
     """Check each key of a (partial) table of ``cls`` parameters on its own: known, and of the
-    right kind and range. Cross-parameter checks wait for :func:`make_params` on the whole table."""
+    right kind and range. Cross-parameter checks wait for :func:`make_params` on the whole table.
+
+    Parameters
+    ----------
+    cls : type
+        The parameter dataclass.
+    table : mapping
+        A (partial) table of its parameters.
+    source : str
+        The file named in a message.
+    prefix : str
+        The table's dotted path.
+    """
     specs = {f.name: f.metadata.get("spec") for f in dataclasses.fields(cls)}
     for key, value in table.items():
         if key not in specs:
@@ -294,13 +419,45 @@ def check_table(cls, table: Mapping, *, source, prefix: str) -> None:
 
 
 def resolve_paths(cls, table: Mapping, base_dir) -> dict:
-    """A table of ``cls`` parameters with every path parameter made absolute against ``base_dir``."""
+    """A table of ``cls`` parameters with every path parameter made absolute against ``base_dir``.
+
+    Parameters
+    ----------
+    cls : type
+        The parameter dataclass.
+    table : mapping
+        A table of its parameters.
+    base_dir : Path
+        The folder a relative path is taken from.
+
+    Returns
+    -------
+    dict
+        The table with absolute paths.
+    """
     specs = {f.name: f.metadata.get("spec") for f in dataclasses.fields(cls)}
     return {k: specs[k].resolved(v, base_dir) if specs.get(k) is not None else v for k, v in table.items()}
 
 
 def make_params(cls, table: Mapping | None, *, source, prefix: str):
-    """Build the parameter dataclass ``cls`` from a TOML table; errors name file and key."""
+    """Build the parameter dataclass ``cls`` from a TOML table; errors name file and key.
+
+    Parameters
+    ----------
+    cls : type
+        The parameter dataclass.
+    table : mapping or None
+        Its TOML table (None: the defaults).
+    source : str
+        The file named in a message.
+    prefix : str
+        The table's dotted path.
+
+    Returns
+    -------
+    object
+        The parameters.
+    """
     table = dict(table or {})
     names = [f.name for f in dataclasses.fields(cls)]
     for key in table:
@@ -318,6 +475,16 @@ def path_values(obj) -> list[str]:
     dataclass ``obj``, in field order, inside lists, tables and nested parameters too.
 
     Only string values are listed (an array given in place of a file is not a path).
+
+    Parameters
+    ----------
+    obj : object
+        A parameter dataclass.
+
+    Returns
+    -------
+    list of str
+        The path values.
     """
     found: list[str] = []
 
@@ -344,6 +511,16 @@ def params_to_dict(obj) -> dict[str, Any]:
 
     Nested parameters become dicts and sequences lists (:meth:`ParamSpec.plain`), so
     :func:`make_params` rebuilds an equal object from the result.
+
+    Parameters
+    ----------
+    obj : object
+        A parameter dataclass.
+
+    Returns
+    -------
+    dict
+        Its parameters as plain data.
     """
     out = {}
     for f in dataclasses.fields(obj):

@@ -88,7 +88,8 @@ COMPLETE = ("neurocur.fit", "neurocur.analysis.io", "neurocur.analysis.paper", "
             "neurocur.results.lock", "neurocur.results.names", "neurocur.results.safeio", "neurocur.results.store",
             "neurocur.contexts.base", "neurocur.contexts.sources",
             "neurocur.experiments.conditions", "neurocur.experiments.invariance", "neurocur.experiments.spec",
-            "neurocur.scheduler", "neurocur.tables", "neurocur.registry", "neurocur.recording", "neurocur.contract")
+            "neurocur.scheduler", "neurocur.tables", "neurocur.registry", "neurocur.recording", "neurocur.contract",
+            "neurocur.config")
 #: Files being rewritten elsewhere, pending: their docstrings get Parameters sections after those edits.
 PENDING = {"neurocur/fit/commands.py", "neurocur/fit/cli.py", "neurocur/fit/compare.py",
            "neurocur/fit/ten2021_study.py", "neurocur/fit/ten2021_models.py", "neurocur/fit/ten2021_checks.py"}
