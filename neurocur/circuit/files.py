@@ -30,7 +30,15 @@ CIRCUIT_KEYS = ("description", "extends", "regions", "edges", "lesion", "replace
 
 @dataclass(frozen=True)
 class Layer:
-    """One file of an ``extends`` chain: its parsed table and its path."""
+    """One file of an ``extends`` chain: its parsed table and its path.
+
+    Parameters
+    ----------
+    raw : dict
+        The file's parsed table.
+    path : Path
+        The file.
+    """
 
     raw: dict
     path: Path
@@ -46,7 +54,26 @@ def read_chain(path, kind: str, keys, *, read: dict | None = None, chain: tuple[
     checked for keys outside ``keys``. ``kind`` (``"circuit"``, ``"experiment"``) is the kind of file
     an ``extends`` value names: a path relative to the file, or the name of a shipped one
     (:func:`~neurocur.tables.resolve_file`). ``read``: the files read so far (path → table), so
-    that chains sharing a base read it once."""
+    that chains sharing a base read it once.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+    kind : str
+        The kind of file an ``extends`` names.
+    keys : collection of str
+        The top-level keys a file may have.
+    read : dict, optional
+        The files read so far (path to table).
+    chain : tuple of Path
+        The files that extend this one (a cycle is refused).
+
+    Returns
+    -------
+    list of Layer
+        The chain, the furthest base first.
+    """
     path = Path(path).resolve()
     read = {} if read is None else read
     if path not in read:
@@ -68,14 +95,38 @@ def read_chain(path, kind: str, keys, *, read: dict | None = None, chain: tuple[
 
 def circuit_tables(circuit) -> tuple[Path, dict]:
     """``(path, tables)`` of a circuit file: ``circuit`` is a file path or the name of a shipped
-    circuit (:func:`~neurocur.tables.resolve_file`), its tables as :func:`read_circuit_file` reads them."""
+    circuit (:func:`~neurocur.tables.resolve_file`), its tables as :func:`read_circuit_file` reads them.
+
+    Parameters
+    ----------
+    circuit : str or Path
+        A circuit file or a shipped circuit's name.
+
+    Returns
+    -------
+    tuple of (Path, dict)
+        The file and its tables.
+    """
     path = resolve_file(circuit, Path(), "circuit", source=circuit, key=None)
     return path, read_circuit_file(path)
 
 
 def read_circuit_file(path: Path, *, read: dict | None = None) -> dict:
     """Read a circuit file, resolving ``extends``; tag every table with its file and key. ``read``:
-    as :func:`read_chain`'s."""
+    as :func:`read_chain`'s.
+
+    Parameters
+    ----------
+    path : Path
+        The circuit file.
+    read : dict, optional
+        The files read so far (path to table).
+
+    Returns
+    -------
+    dict
+        Its tables, each tagged with its file and key.
+    """
     data = {"regions": {}, "edges": [], "lesion": [], "replace": {}}
     for layer in read_chain(path, "circuit", CIRCUIT_KEYS, read=read):
         add_tables(data, layer.raw, layer.path)
@@ -85,7 +136,24 @@ def read_circuit_file(path: Path, *, read: dict | None = None) -> dict:
 def add_tables(data: dict, raw: dict, source, prefix: str = "") -> dict:
     """``data`` (tables read so far) with the ``regions``, ``edges``, ``lesion`` and ``replace``
     tables of ``raw`` added as a file extending them would add them, each tagged with ``source``
-    and its key (``prefix`` before it: an experiment condition's ``"conditions.NAME."``)."""
+    and its key (``prefix`` before it: an experiment condition's ``"conditions.NAME."``).
+
+    Parameters
+    ----------
+    data : dict
+        The tables read so far.
+    raw : dict
+        A file's parsed table.
+    source : str or Path
+        The file, tagged on each table.
+    prefix : str
+        The dotted path before each key.
+
+    Returns
+    -------
+    dict
+        The tables with ``raw``'s added.
+    """
     regions = require(raw, "regions", dict, source=source, prefix=prefix.rstrip("."),
                       expected="a table of regions", default={})
     for name, table in regions.items():

@@ -29,7 +29,25 @@ class RegionSpec:
     """A declared region: its class and parameters, or a prebuilt (not yet reset) instance,
     and the drugs acting on its neuromodulator (:mod:`neurocur.regions.pharmacology`);
     ``origin`` and ``key``: the file and table that declared it (``regions.NAME``,
-    ``replace.NAME``, ``conditions.C.replace.NAME``), which its errors name."""
+    ``replace.NAME``, ``conditions.C.replace.NAME``), which its errors name.
+
+    Parameters
+    ----------
+    name : str
+        The region's name.
+    cls : type
+        Its class.
+    params : object
+        Its parameters (an instance of ``cls.Params``).
+    instance : Region, optional
+        A prebuilt region, not yet reset.
+    origin : str
+        The file that declared it.
+    drugs : tuple
+        The drugs on its neuromodulator.
+    key : str, optional
+        The table that declared it.
+    """
 
     name: str
     cls: type
@@ -55,7 +73,25 @@ class RegionSpec:
 
 @dataclass(frozen=True)
 class Link:
-    """One edge: ``src.signal -> dst.input``."""
+    """One edge: ``src.signal -> dst.input``.
+
+    Parameters
+    ----------
+    src : str
+        The source region.
+    signal : str
+        Its output.
+    dst : str
+        The destination region.
+    input : str
+        Its input.
+    delayed : bool
+        The edge delivers the previous pass's value (its signal's ``initial`` on the first).
+    origin : str
+        The file that declared it.
+    key : str
+        The table that declared it.
+    """
 
     src: str
     signal: str
@@ -70,7 +106,20 @@ class Link:
 
 
 def ports(spec: RegionSpec, kind: str):
-    """The declared signals of a region; instance-level when they depend on parameters."""
+    """The declared signals of a region; instance-level when they depend on parameters.
+
+    Parameters
+    ----------
+    spec : RegionSpec
+        The region.
+    kind : str
+        ``"inputs"``, ``"learn_inputs"`` or ``"outputs"``.
+
+    Returns
+    -------
+    tuple of Signal
+        The signals.
+    """
     holder = spec.instance if spec.instance is not None else spec.cls
     value = getattr(holder, kind)
     if isinstance(value, property) or callable(value):  # parameter-dependent ports
@@ -79,7 +128,18 @@ def ports(spec: RegionSpec, kind: str):
 
 
 def input_ports(spec: RegionSpec) -> tuple:
-    """Every input a region declares: those its step reads, then those its learn phase reads."""
+    """Every input a region declares: those its step reads, then those its learn phase reads.
+
+    Parameters
+    ----------
+    spec : RegionSpec
+        The region.
+
+    Returns
+    -------
+    tuple of Signal
+        Its inputs.
+    """
     return ports(spec, "inputs") + ports(spec, "learn_inputs")
 
 
@@ -112,7 +172,24 @@ def link_from_table(table: Mapping) -> Link:
 
 def link_between(source: str, target: str, *, delayed: bool = False, key: str) -> Link:
     """The edge ``source -> target`` given from Python as ``"REGION.output"`` and ``"REGION.input"``;
-    a malformed name is a ConfigError at ``key``. Whether the ports exist is checked by the circuit."""
+    a malformed name is a ConfigError at ``key``. Whether the ports exist is checked by the circuit.
+
+    Parameters
+    ----------
+    source : str
+        ``"REGION.output"``.
+    target : str
+        ``"REGION.input"``.
+    delayed : bool
+        A delayed edge.
+    key : str
+        The key named in a message.
+
+    Returns
+    -------
+    Link
+        The edge.
+    """
     ends = []
     for value, what in ((source, "an output"), (target, "an input")):
         region, dot, port = str(value).partition(".")
@@ -149,7 +226,26 @@ def with_params(instance: Region, params) -> Region:
 
 def lesioned(spec: RegionSpec, how, drug: Mapping, *, source, key) -> RegionSpec:
     """``spec`` with the lesion ``how``: a named lesion of its class (parameter overrides,
-    no further keys) or a drug on its neuromodulator (``drug`` holds the drug's parameters)."""
+    no further keys) or a drug on its neuromodulator (``drug`` holds the drug's parameters).
+
+    Parameters
+    ----------
+    spec : RegionSpec
+        The region.
+    how : str
+        A named lesion of its class, or a drug (``clamp``, ``scale``, ``noise``).
+    drug : mapping
+        The drug's parameters.
+    source : str
+        The file named in a message.
+    key : str
+        The key named in a message.
+
+    Returns
+    -------
+    RegionSpec
+        The lesioned region.
+    """
     options = dict(spec.cls.lesions)
     if spec.cls.modulator:
         options.update({name: f"drug on {spec.cls.modulator}" for name in DRUGS})
