@@ -113,11 +113,11 @@ def ports(spec: RegionSpec, kind: str):
     spec : RegionSpec
         The region.
     kind : str
-        ``"inputs"``, ``"learn_inputs"`` or ``"outputs"``.
+        ``"inputs"``, ``"learn_inputs"``, ``"outputs"`` or ``"probes"``.
 
     Returns
     -------
-    tuple of Signal
+    tuple of Signal or Probe
         The signals.
     """
     holder = spec.instance if spec.instance is not None else spec.cls
