@@ -57,15 +57,6 @@ class ExpectedUncertaintyACh(Region):
     counted, valid when the target (column ``cues`` of the frame) is on the side of cue mu*. Recorded: ``ach`` (released),
     ``gamma_star`` (the estimate before the drugs) and ``validity`` (the true validity of the
     trial, the world's marker, for the analysis only).
-
-    Parameters
-    ----------
-    name : str
-        The region's name in its circuit (default: the class name).
-    params : Params, optional
-        Its parameters, an instance of the class's ``Params``; or give them as keywords instead.
-    **kwargs
-        The parameters as keywords (``Params(**kwargs)``), when ``params`` is not given.
     """
 
     Params = ACHParams

@@ -64,15 +64,6 @@ class RetrievalUncertaintyACh(Region):
     best frozen module's error is below threshold, 0 above, NaN no frozen module responds) updates
     the context's counts (R1). Recorded: ``ach`` (released), ``gamma_star`` (before the drugs) and
     ``retrieved``.
-
-    Parameters
-    ----------
-    name : str
-        The region's name in its circuit (default: the class name).
-    params : Params, optional
-        Its parameters, an instance of the class's ``Params``; or give them as keywords instead.
-    **kwargs
-        The parameters as keywords (``Params(**kwargs)``), when ``params`` is not given.
     """
 
     Params = RetrievalACHParams

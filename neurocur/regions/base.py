@@ -95,7 +95,9 @@ class NoParams:
 
 
 class Region:
-    """Base class of all regions. Subclasses are registered with ``@register(name)``.
+    """Base class of all regions. Subclasses are registered with ``@register(name)``; every region class
+    takes the constructor's parameters below (its own ``Params`` class holds the model's parameters,
+    docs/regions.md).
 
     Parameters
     ----------

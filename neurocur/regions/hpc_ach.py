@@ -40,15 +40,6 @@ class HPCACh(HPCROC):
 
     Inputs: HPC's and ``ach`` (this visit's, :class:`~neurocur.regions.ach_retrieval.RetrievalUncertaintyACh`).
     Outputs: HPC's and ``retrieved`` (H2). With ACh always below the threshold it is HPC.
-
-    Parameters
-    ----------
-    name : str
-        The region's name in its circuit (default: the class name).
-    params : Params, optional
-        Its parameters, an instance of the class's ``Params``; or give them as keywords instead.
-    **kwargs
-        The parameters as keywords (``Params(**kwargs)``), when ``params`` is not given.
     """
 
     Params = HPCAChParams

@@ -189,15 +189,6 @@ class GilzenratLC(Region):
     mean before the onset, ``lc_peak`` its peak within ``window`` steps of the onset,
     ``lc_burst`` = peak - baseline, ``lc_rate`` the trial's mean, and ``ne_gain`` the mean gain
     while the stimulus is on.
-
-    Parameters
-    ----------
-    name : str
-        The region's name in its circuit (default: the class name).
-    params : Params, optional
-        Its parameters, an instance of the class's ``Params``; or give them as keywords instead.
-    **kwargs
-        The parameters as keywords (``Params(**kwargs)``), when ``params`` is not given.
     """
 
     Params = GilzenratParams

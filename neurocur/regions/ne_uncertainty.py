@@ -73,15 +73,6 @@ class UnexpectedUncertaintyNE(Region):
     ((0, 0) otherwise). mu* starts at random, with lambda = lambda_0. Recorded: ``ne`` (released), ``attended``, ``switched``, and from the
     world's markers, for the analysis only: ``relevant`` (the true relevant cue) and
     ``changed`` (it differs from the previous trial's).
-
-    Parameters
-    ----------
-    name : str
-        The region's name in its circuit (default: the class name).
-    params : Params, optional
-        Its parameters, an instance of the class's ``Params``; or give them as keywords instead.
-    **kwargs
-        The parameters as keywords (``Params(**kwargs)``), when ``params`` is not given.
     """
 
     Params = NEParams

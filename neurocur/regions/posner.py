@@ -54,15 +54,6 @@ class PosnerDecision(Region):
     ``cued`` (on the side of the attended cue), ``rt`` (samples to the response),
     ``correct`` (the response is the target's side) and ``prior`` (the prior probability the
     observer gave the target's actual side).
-
-    Parameters
-    ----------
-    name : str
-        The region's name in its circuit (default: the class name).
-    params : Params, optional
-        Its parameters, an instance of the class's ``Params``; or give them as keywords instead.
-    **kwargs
-        The parameters as keywords (``Params(**kwargs)``), when ``params`` is not given.
     """
 
     Params = PosnerParams

@@ -86,15 +86,6 @@ class LearningProgressVTA(VTARole):
     undefined, and ``boredom`` (-100) when the episode is familiar (section 4.1.2).
     The memory of previous errors is cleared when a module is stored (the next
     adaptive module starts a new error table).
-
-    Parameters
-    ----------
-    name : str
-        The region's name in its circuit (default: the class name).
-    params : Params, optional
-        Its parameters, an instance of the class's ``Params``; or give them as keywords instead.
-    **kwargs
-        The parameters as keywords (``Params(**kwargs)``), when ``params`` is not given.
     """
 
     Params = LearningProgressParams
@@ -128,15 +119,6 @@ class AbsLearningProgressVTA(LearningProgressVTA):
     (2007, IEEE Trans. Evol. Comput. 11:265), rewarding any change of the error, a fall or a
     rise. Everything else (boredom, undefined errors, the memory cleared on storage) is
     the signed model's (:class:`LearningProgressVTA`).
-
-    Parameters
-    ----------
-    name : str
-        The region's name in its circuit (default: the class name).
-    params : Params, optional
-        Its parameters, an instance of the class's ``Params``; or give them as keywords instead.
-    **kwargs
-        The parameters as keywords (``Params(**kwargs)``), when ``params`` is not given.
     """
 
     def progress(self, before: float, after: float) -> float:
@@ -156,15 +138,6 @@ class NoveltyVTA(VTARole):
     """DA = count-based novelty ``scale / sqrt(N(c))``, N(c) = visits of context c so far
     (this one included). No boredom term; the other inputs are accepted and ignored so
     that it drops into the learning-progress VTA's place.
-
-    Parameters
-    ----------
-    name : str
-        The region's name in its circuit (default: the class name).
-    params : Params, optional
-        Its parameters, an instance of the class's ``Params``; or give them as keywords instead.
-    **kwargs
-        The parameters as keywords (``Params(**kwargs)``), when ``params`` is not given.
     """
 
     Params = NoveltyParams

@@ -35,15 +35,6 @@ class ContentNoveltyVTA(VTARole):
     from nothing. Unlike count novelty (:class:`~neurocur.regions.vta.NoveltyVTA`) it
     falls only as the error falls, not with visits: it stays high on an unlearnable
     context, and a context whose content another context taught is familiar at once.
-
-    Parameters
-    ----------
-    name : str
-        The region's name in its circuit (default: the class name).
-    params : Params, optional
-        Its parameters, an instance of the class's ``Params``; or give them as keywords instead.
-    **kwargs
-        The parameters as keywords (``Params(**kwargs)``), when ``params`` is not given.
     """
 
     Params = ContentNoveltyParams

@@ -46,15 +46,6 @@ class MixtureVTA(VTARole):
     ``w = 1`` the extrinsic reward alone. ``intrinsic_params`` are the intrinsic model's own
     (``{ boredom = -100.0 }``, ``{ scale = 6.0 }``). The intrinsic model sees the same inputs;
     drugs act on the mixed level only.
-
-    Parameters
-    ----------
-    name : str
-        The region's name in its circuit (default: the class name).
-    params : Params, optional
-        Its parameters, an instance of the class's ``Params``; or give them as keywords instead.
-    **kwargs
-        The parameters as keywords (``Params(**kwargs)``), when ``params`` is not given.
     """
 
     Params = MixtureParams

@@ -18,15 +18,6 @@ class SlownessProgressVTA(StateProgressVTA):
     section 4.4 quantifies learning progress as the convergence of this output (Ω, eqs 16-17).
     Wired by ``circuits/vta_slowness_progress.toml``; the dopamine rule is
     :class:`~neurocur.regions.vta_state_progress.StateProgressVTA`'s, only the progress read differs.
-
-    Parameters
-    ----------
-    name : str
-        The region's name in its circuit (default: the class name).
-    params : Params, optional
-        Its parameters, an instance of the class's ``Params``; or give them as keywords instead.
-    **kwargs
-        The parameters as keywords (``Params(**kwargs)``), when ``params`` is not given.
     """
 
     inputs = (*VTARole.inputs, Signal("progress", "float64", (), "EC's drop of the slowest output's delta"))

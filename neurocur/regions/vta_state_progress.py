@@ -29,15 +29,6 @@ class StateProgressVTA(VTARole):
     Reads the role's ports and ``progress`` (``HPC.progress``, wired by
     ``circuits/vta_state_progress.toml``); the error, module-learned and reward inputs are
     accepted and ignored (HPC's stored errors start afresh with each adaptive module).
-
-    Parameters
-    ----------
-    name : str
-        The region's name in its circuit (default: the class name).
-    params : Params, optional
-        Its parameters, an instance of the class's ``Params``; or give them as keywords instead.
-    **kwargs
-        The parameters as keywords (``Params(**kwargs)``), when ``params`` is not given.
     """
 
     Params = LearningProgressParams

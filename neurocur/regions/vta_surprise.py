@@ -30,15 +30,6 @@ class SurpriseVTA(VTARole):
     familiar episode a stored module predicts the content (its error is below HPC's
     threshold), so the agent is not surprised: DA = 0. DA is 0 while the error is
     undefined. No memory across episodes.
-
-    Parameters
-    ----------
-    name : str
-        The region's name in its circuit (default: the class name).
-    params : Params, optional
-        Its parameters, an instance of the class's ``Params``; or give them as keywords instead.
-    **kwargs
-        The parameters as keywords (``Params(**kwargs)``), when ``params`` is not given.
     """
 
     Params = SurpriseParams

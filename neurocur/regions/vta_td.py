@@ -35,15 +35,6 @@ class TDVTA(VTARole):
     first episode there is no previous state: DA = ``r`` and nothing is learned. The
     intrinsic inputs are accepted and ignored: without an extrinsic reward DA is 0.
     With one reward ``r`` on every visit, ``V`` tends to ``r / (1 - gamma)``.
-
-    Parameters
-    ----------
-    name : str
-        The region's name in its circuit (default: the class name).
-    params : Params, optional
-        Its parameters, an instance of the class's ``Params``; or give them as keywords instead.
-    **kwargs
-        The parameters as keywords (``Params(**kwargs)``), when ``params`` is not given.
     """
 
     Params = TDParams
@@ -103,15 +94,6 @@ class TDTrialVTA(Region):
     onset; ``da_reward`` delta at the step the reward is due (column 2), delivered or not;
     ``da_baseline`` the mean delta before the cue; ``omitted`` whether the reward was due and
     not delivered. Weights start at 0, so on the first trial DA fires at the reward only.
-
-    Parameters
-    ----------
-    name : str
-        The region's name in its circuit (default: the class name).
-    params : Params, optional
-        Its parameters, an instance of the class's ``Params``; or give them as keywords instead.
-    **kwargs
-        The parameters as keywords (``Params(**kwargs)``), when ``params`` is not given.
     """
 
     Params = TDTrialParams
