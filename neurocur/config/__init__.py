@@ -1,5 +1,5 @@
 """Configuration: errors that name the file and key (:mod:`.errors`), and the one parameter
-system (:mod:`.params`).
+system (:mod:`.params`, with :mod:`.param_tables` for TOML tables).
 
 Every configuration problem raises :class:`ConfigError`, a ``ValueError`` whose message
 reads ``"<file>: key '<dotted.key>': expected <...>, got <...>"``, so a user can go
@@ -31,20 +31,16 @@ from .checks import (
 )
 from .errors import ConfigError, describe, join_key
 from .extras import MissingExtra, extra
-from .params import (
-    ParamSpec,
+from .param_tables import (
     check_params,
     check_table,
     coerce_params,
-    learner_param,
     make_params,
-    param,
-    param_specs,
     params_to_dict,
     path_values,
     resolve_paths,
-    spec_param,
 )
+from .params import ParamSpec, learner_param, param, param_specs, spec_param
 
 __all__ = [
     "ConfigError",
