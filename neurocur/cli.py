@@ -14,18 +14,16 @@ from __future__ import annotations
 import argparse
 import gc
 import os
-import re
-import shutil
 import signal
 import sys
-import textwrap
 import threading
 from pathlib import Path
 from typing import NoReturn
 
 import numpy as np
 
-from neurocur.config.argtypes import int_at_least
+from neurocur.config.argtypes import int_at_least, mca_eta, memory_size
+from neurocur.config.helpformat import HelpFormatter
 
 EPILOG = """\
 examples:
@@ -47,77 +45,8 @@ time writes into a results folder; resuming refuses changed input files and (unl
 """
 
 
-#: the widest a help text gets, on a terminal however wide
-HELP_WIDTH = 100
-
-
-class _HelpFormatter(argparse.RawDescriptionHelpFormatter):
-    """Help that fits :data:`HELP_WIDTH` columns, or the terminal when it is narrower.
-
-    Descriptions and epilogs keep their lines (the examples' layout) where they fit. A paragraph
-    of prose (unindented lines) with a line too long is filled again; a too long indented line
-    is wrapped at spaces: an example command (``neurocur ...``) into shell continuation lines
-    ending in ``\\``, a line with a column (an example and its comment, two spaces or more apart)
-    under that column, any other line under its own indentation.
-    """
-
-    def __init__(self, prog: str, **kwargs) -> None:
-        kwargs.setdefault("width", min(shutil.get_terminal_size().columns, HELP_WIDTH) - 2)
-        super().__init__(prog, **kwargs)
-
-    def _fill_text(self, text: str, width: int, indent: str) -> str:
-        lines = [indent + line for line in text.splitlines()]
-        out: list[str] = []
-        while lines:
-            line = lines.pop(0)
-            if not line[:1].isspace() and line.strip():  # prose: the paragraph of the following unindented lines
-                paragraph = [line]
-                while lines and lines[0].strip() and not lines[0][:1].isspace():
-                    paragraph.append(lines.pop(0))
-                fits = max(len(part) for part in paragraph) <= width
-                out += paragraph if fits else textwrap.wrap(" ".join(paragraph), width, break_long_words=False,
-                                                            break_on_hyphens=False)
-            else:
-                out += _wrap(line, width)
-        return "".join(line + "\n" for line in out)
-
-
-def _wrap(line: str, width: int) -> list[str]:
-    """The indented ``line`` wrapped to ``width`` columns as :class:`_HelpFormatter` says."""
-    if len(line) <= width:
-        return [line]
-    lead = line[: len(line) - len(line.lstrip())]
-    column = re.match(r"\s*\S.*?\S {2,}(?=\S)", line)
-    if line.lstrip().startswith("neurocur ") and column is None:
-        parts = textwrap.wrap(line, width - 2, subsequent_indent=lead + "    ", break_long_words=False,
-                              break_on_hyphens=False)
-        return [part + " \\" for part in parts[:-1]] + parts[-1:]
-    for hang in ([" " * column.end()] if column is not None else []) + [lead]:  # a word too long for the column
-        parts = textwrap.wrap(line, width, subsequent_indent=hang, break_long_words=False, break_on_hyphens=False)
-        if max(len(part) for part in parts) <= width:
-            break
-    return parts
-
-
 _positive_int = int_at_least(1, "a positive integer")
 _seed = int_at_least(0, "an integer >= 0")
-
-
-def _eta(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number in (0, 0.5], got {text!r}") from None
-    if not 0.0 < value <= 0.5:
-        raise argparse.ArgumentTypeError(f"expected a number in (0, 0.5], got {text!r}")
-    return value
-
-
-def _memory(text: str) -> int:
-    match = re.fullmatch(r"\s*(\d+(?:\.\d+)?)\s*([kmgt]?)i?b?\s*", text.lower())
-    if not match or float(match.group(1)) <= 0:
-        raise argparse.ArgumentTypeError(f"expected a memory size such as 8G or 512M, got {text!r}")
-    return int(float(match.group(1)) * 1024 ** " kmgt".index(match.group(2) or " "))
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -126,7 +55,7 @@ def build_parser() -> argparse.ArgumentParser:
         description="Curiosity-driven modular incremental slow feature analysis (CD-MISFA): "
         "run experiments, draw their figures, measure learning cost.",
         epilog=EPILOG,
-        formatter_class=_HelpFormatter,
+        formatter_class=HelpFormatter,
     )
     from neurocur import __version__
 
@@ -155,7 +84,7 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--set", dest="sets", action="extend", nargs="+", default=[], metavar="KEY=VALUE",
                      help="override a setting: runs, steps, seed, circuit, world.KEY or REGION.param; "
                      "VALUE is a TOML literal (0.3, true, [1, 2], \"text\"; a bare word is a string)")
-    run.add_argument("--max-memory", type=_memory, metavar="SIZE",
+    run.add_argument("--max-memory", type=memory_size, metavar="SIZE",
                      help="memory the workers may use together, e.g. 8G (default: what the machine has available); "
                      "estimated from each condition's first episode before any worker starts")
     run.add_argument("--checkpoint-every", type=int_at_least(0, "an integer >= 0"), metavar="N",
@@ -197,7 +126,7 @@ def build_parser() -> argparse.ArgumentParser:
     omega.add_argument("--seed", type=int, default=0, help="world seed (mixing matrices, S-D, draws of redrawn sources; default 0)")
     omega.add_argument("--set", dest="sets", action="extend", nargs="+", default=[], metavar="KEY=VALUE",
                        help="override a setting of the experiment, e.g. world.normalise=image")
-    omega.add_argument("--eta", type=_eta, default=0.05, help="MCA learning rate (default 0.05)")
+    omega.add_argument("--eta", type=mca_eta, default=0.05, help="MCA learning rate (default 0.05)")
     omega.add_argument("--draws", type=_positive_int, default=10,
                        help="draws of a source redrawn every epoch (default 10)")
 
@@ -223,7 +152,7 @@ def build_parser() -> argparse.ArgumentParser:
         "  neurocur completion zsh > ~/.zfunc/_neurocur      (a folder of your fpath)\n")
     completion.add_argument("shell", choices=("bash", "zsh"), help="the shell")
     for subparser in sub.choices.values():  # every subcommand's help fits HELP_WIDTH, the fit layer's too
-        subparser.formatter_class = _HelpFormatter
+        subparser.formatter_class = HelpFormatter
     return parser
 
 

@@ -4,8 +4,9 @@ checked by argparse, before any folder is made, and a bad one is argparse's one-
 from __future__ import annotations
 
 import argparse
+import re
 
-__all__ = ["int_at_least"]
+__all__ = ["int_at_least", "mca_eta", "memory_size"]
 
 
 def int_at_least(low: int, expected: str):
@@ -33,3 +34,44 @@ def int_at_least(low: int, expected: str):
         return value
 
     return convert
+
+
+def mca_eta(text: str) -> float:
+    """An argparse type: an MCA learning rate η in (0, 0.5] (Ω's, paper eqs 15 and 40).
+
+    Parameters
+    ----------
+    text : str
+        The command line's value.
+
+    Returns
+    -------
+    float
+        The learning rate.
+    """
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number in (0, 0.5], got {text!r}") from None
+    if not 0.0 < value <= 0.5:
+        raise argparse.ArgumentTypeError(f"expected a number in (0, 0.5], got {text!r}")
+    return value
+
+
+def memory_size(text: str) -> int:
+    """An argparse type: a memory size such as ``8G``, ``512M`` or ``1.5GiB``, in bytes (powers of 1024).
+
+    Parameters
+    ----------
+    text : str
+        The command line's value.
+
+    Returns
+    -------
+    int
+        The size in bytes.
+    """
+    match = re.fullmatch(r"\s*(\d+(?:\.\d+)?)\s*([kmgt]?)i?b?\s*", text.lower())
+    if not match or float(match.group(1)) <= 0:
+        raise argparse.ArgumentTypeError(f"expected a memory size such as 8G or 512M, got {text!r}")
+    return int(float(match.group(1)) * 1024 ** " kmgt".index(match.group(2) or " "))
