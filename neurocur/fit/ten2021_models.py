@@ -52,11 +52,13 @@ MODELS = ("random", "perseveration", "pc", "lp", "pc_lp", "pc_lp_time")
 #: The models with a learning-progress component.
 LP_MODELS = ("lp", "pc_lp", "pc_lp_time")
 #: The sets of models a comparison fits (``--models``): each set's models and its models with a learning-progress
-#: component; ``paper`` is hypothesis run 17's, ``persev`` run 19's (the utilities with perseveration beside them).
+#: component; ``paper`` is hypothesis run 17's, ``persev`` run 19's (the utilities with perseveration beside them),
+#: ``time`` run 20's (perseveration + PC + TIME, with and without LP).
 MODEL_SETS = {
     "paper": (MODELS, LP_MODELS),
     "persev": (("perseveration", "persev_pc", "persev_lp", "persev_pc_lp", "persev_pc_lp_time"),
                ("persev_lp", "persev_pc_lp", "persev_pc_lp_time")),
+    "time": (("persev_pc_time", "persev_pc_lp_time"), ("persev_pc_lp_time",)),
 }
 
 

@@ -14,7 +14,7 @@ the 249 scored choices). The likelihood is :mod:`neurocur.fit.ten2021_models`'.
 
 ``recover`` and ``ppc`` (:mod:`neurocur.fit.ten2021_checks`) read the fits ``compare`` wrote. ``--models persev``
 runs hypothesis run 19's models instead (:data:`~neurocur.fit.ten2021_models.MODEL_SETS`: the utility models with
-perseveration beside them).
+perseveration beside them), ``--models time`` run 20's (perseveration + PC + TIME, with and without LP).
 """
 
 from __future__ import annotations
@@ -38,8 +38,10 @@ MASTERY = 13
 LEARNABLE = (0, 1, 2)
 #: The summed protected exceedance probability of the LP models that the rule asks for.
 PXP_LEVEL = 0.95
-#: Per model set, the secondary AIC comparison's models: PC, LP and PC + LP (the paper's Fig. 5a for ``paper``).
-AIC_TRIOS = {"paper": ("pc", "lp", "pc_lp"), "persev": ("persev_pc", "persev_lp", "persev_pc_lp")}
+#: Per model set, the secondary AIC comparison's models: the simpler ones, then the one with LP that is set against the
+#: best of them (PC, LP and PC + LP: the paper's Fig. 5a for ``paper``; hypothesis run 20's two for ``time``).
+AIC_CONTRASTS = {"paper": ("pc", "lp", "pc_lp"), "persev": ("persev_pc", "persev_lp", "persev_pc_lp"),
+                 "time": ("persev_pc_time", "persev_pc_lp_time")}
 
 
 def mastered(choices, outcomes) -> bool:
@@ -91,26 +93,28 @@ def lp_verdict(hierarchical: pd.DataFrame, selection: pd.DataFrame, lp_models: S
             "verdict": "supported" if a and b else "partly supported" if a or b else "not supported"}
 
 
-def paper_comparison(ml: pd.DataFrame, trio: Sequence[str] = AIC_TRIOS["paper"]) -> dict:
-    """The paper's comparison of PC, LP and PC + LP by per-participant AIC.
+def paper_comparison(ml: pd.DataFrame, contrast: Sequence[str] = AIC_CONTRASTS["paper"]) -> dict:
+    """The paper's comparison of PC, LP and PC + LP by per-participant AIC (or of any simpler models against one
+    with LP).
 
     Parameters
     ----------
     ml : DataFrame
         Per-participant maximum-likelihood fits: ``subject``, ``model``, ``aic``.
-    trio : sequence of str
-        The PC, LP and PC + LP models (:data:`AIC_TRIOS`).
+    contrast : sequence of str
+        The simpler models, then the model set against the best of them: PC, LP and PC + LP
+        (:data:`AIC_CONTRASTS`).
 
     Returns
     -------
     dict
-        Each model's mean AIC (``mean_aic_<model>``), the participants whose PC + LP AIC is below the better of PC
-        and LP (``<pc_lp>_better``, and by at least 2, ``<pc_lp>_better_by_2``) and ``participants``.
+        Each model's mean AIC (``mean_aic_<model>``), the participants whose last model's AIC is below the best of
+        the others (``<last>_better``, and by at least 2, ``<last>_better_by_2``) and ``participants``.
     """
-    pc, lp, both = trio
+    *simpler, both = contrast
     aic = ml.pivot(index="subject", columns="model", values="aic")
-    margin = aic[[pc, lp]].min(axis=1) - aic[both]
-    return {**{f"mean_aic_{m}": float(aic[m].mean()) for m in trio},
+    margin = aic[list(simpler)].min(axis=1) - aic[both]
+    return {**{f"mean_aic_{m}": float(aic[m].mean()) for m in contrast},
             f"{both}_better": int((margin > 0).sum()), f"{both}_better_by_2": int((margin >= 2).sum()),
             "participants": int(len(aic))}
 
@@ -142,7 +146,7 @@ def compare_group(sessions: Sequence[Session], *, seed: int, starts: int = 3, n_
     bic = found["ml"].pivot(index="subject", columns="model", values="bic").loc[[s.name for s in sessions], list(names)]
     found["bms_bic"] = bms_rows(-bic.to_numpy() / 2, names)
     found["verdict"] = lp_verdict(found["hierarchical"], found["bms"], lp_models)
-    found["paper"] = paper_comparison(found["ml"], AIC_TRIOS[models])
+    found["paper"] = paper_comparison(found["ml"], AIC_CONTRASTS[models])
     return found
 
 
@@ -299,7 +303,7 @@ def main(argv=None) -> int:
     parser.add_argument("--participants", type=int, default=100, help="participants drawn for model recovery")
     parser.add_argument("--only", choices=("parameters", "models"), help="recover: one of the two recoveries")
     parser.add_argument("--models", choices=tuple(MODEL_SETS), default="paper",
-                        help="the model set: paper (run 17, the default) or persev (run 19)")
+                        help="the model set: paper (run 17, the default), persev (run 19) or time (run 20)")
     args = parser.parse_args(argv)
     if args.step != "compare" and args.fits is None:
         parser.error(f"{args.step} expected --fits DIR, the folder `compare` wrote")

@@ -32,7 +32,7 @@ def experiment():
 
 
 @pytest.mark.parametrize("name", ["random", "perseveration", "pc", "lp", "pc_lp", "pc_lp_time", "persev_pc",
-                                  "persev_lp", "persev_pc_lp", "persev_pc_lp_time"])
+                                  "persev_lp", "persev_pc_lp", "persev_pc_time", "persev_pc_lp_time"])
 def test_an_agent_of_each_condition_replays_exactly(experiment, name):
     condition = experiment.conditions[name]
     trials, episodes = simulate(condition, RAW, np.random.SeedSequence(5), 130, name="agent")

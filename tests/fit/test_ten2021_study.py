@@ -30,7 +30,7 @@ from neurocur.fit.ten2021_models import (
     session_features,
     simulate_sessions,
 )
-from neurocur.fit.ten2021_study import lp_verdict, main, mastered
+from neurocur.fit.ten2021_study import AIC_CONTRASTS, lp_verdict, main, mastered, paper_comparison
 from neurocur.fit.trials import trials_from_table
 
 OPTIONS = ["1D", "I1D", "2D", "R"]
@@ -62,7 +62,7 @@ def test_the_session_likelihood_equals_the_circuit_replay(experiment, simulated)
     trials = trials_of(choices[0], outcomes[0])
     rng = np.random.default_rng(0)
     assert set(experiment.conditions) == {m for names, _ in MODEL_SETS.values() for m in names} | {"random"}
-    for name, bounds in model_bounds(tuple(experiment.conditions)).items():  # every condition, runs 17 and 19
+    for name, bounds in model_bounds(tuple(experiment.conditions)).items():  # every condition, runs 17, 19 and 20
         condition = experiment.conditions[name]
         replay = Replay(condition.circuit, condition.make_world(), None, trials, fitted=list(bounds))
         assert replay.n_obs == session.n_obs
@@ -189,6 +189,21 @@ def test_lp_verdict_by_hand():
     hierarchical.loc[0, "ibic"] = 570.0
     assert lp_verdict(hierarchical, pxp, lp_models)["verdict"] == "partly supported"
     assert lp_verdict(hierarchical, pxp)["lp_pxp"] == 0.0  # run 17's LP models are not in this set
+
+
+def test_the_aic_contrast_by_hand():
+    """The paper's trio (PC + LP against the better of PC and LP) and run 20's pair (one simpler model)."""
+    aic = {"s1": (100.0, 104, 99), "s2": (100.0, 95, 96), "s3": (90.0, 99, 87.5)}
+    ml = pd.DataFrame([{"subject": s, "model": m, "aic": a} for s, row in aic.items()
+                       for m, a in zip(("pc", "lp", "pc_lp"), row)])
+    out = paper_comparison(ml)
+    assert out["pc_lp_better"] == 2 and out["pc_lp_better_by_2"] == 1 and out["participants"] == 3
+    assert out["mean_aic_lp"] == pytest.approx(298 / 3)
+    pair = paper_comparison(ml[ml["model"] != "pc"].replace({"lp": "persev_pc_time", "pc_lp": "persev_pc_lp_time"}),
+                            AIC_CONTRASTS["time"])
+    assert pair["persev_pc_lp_time_better"] == 2 and pair["persev_pc_lp_time_better_by_2"] == 2  # 5, -1, 11.5
+    assert set(pair) == {"mean_aic_persev_pc_time", "mean_aic_persev_pc_lp_time", "persev_pc_lp_time_better",
+                         "persev_pc_lp_time_better_by_2", "participants"}
 
 
 def posted_rows(sid, choices, outcomes, rng):
