@@ -32,7 +32,8 @@ from neurocur.contexts import build_world
 from neurocur.contract import require_columns
 from neurocur.regions.hpc import HPCROC
 
-from .learning import condition_of, fig_neuromodulators, fig_order_counts, fig_reward_function
+from .learning import condition_of, fig_order_counts
+from .reward import fig_neuromodulators, fig_reward_function
 from .sets import FIGURE_SETS, FigureSet
 from .style import caption, condition_colours, figure, style
 

@@ -34,15 +34,9 @@ from neurocur.regions.hpc import HPCROC
 from neurocur.registry import Registry
 from neurocur.results.safeio import atomic_text
 
-from .learning import (
-    fig_cumulative_error,
-    fig_intrinsic_reward,
-    fig_learning_time,
-    fig_neuromodulators,
-    fig_order_counts,
-    fig_reward_function,
-)
+from .learning import fig_cumulative_error, fig_learning_time, fig_order_counts
 from .neuro import fig_efficiency
+from .reward import fig_intrinsic_reward, fig_neuromodulators, fig_reward_function
 from .style import caption_of, save_figures
 from .sweeps import fig_sweep_efficiency
 
