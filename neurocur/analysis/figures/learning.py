@@ -53,7 +53,25 @@ KILO_FRAMES = FuncFormatter(lambda v, _: f"{v / 1000:g}k".replace("-", "−"))
 
 
 def condition_of(table: pd.DataFrame, condition: str | None) -> str:
-    """``condition``, checked to be in ``table``; by default the table's first condition in name order."""
+    """``condition``, checked to be in ``table``; by default the table's first condition in name order.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        A table with a ``condition`` column (the episodes table, or another of the folder's tables).
+    condition : str or None
+        The condition asked for; None for the table's first condition in name order.
+
+    Returns
+    -------
+    str
+        The condition.
+
+    Raises
+    ------
+    ValueError
+        When the table is empty, or ``condition`` is not one of its conditions (the message lists them).
+    """
     conditions = sorted(table["condition"].unique())
     if not conditions:
         raise ValueError("the episodes table is empty")
@@ -65,7 +83,30 @@ def condition_of(table: pd.DataFrame, condition: str | None) -> str:
 
 
 def one_run(episodes: pd.DataFrame, condition: str | None, run: int | None) -> tuple[str, int, pd.DataFrame]:
-    """One run's episodes in episode order: ``run`` of ``condition`` (:func:`condition_of`), by default its first run.
+    """One run's episodes in episode order: ``run`` of ``condition`` (:func:`condition_of`).
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The episodes table (columns ``condition``, ``run``, ``episode``).
+    condition : str or None
+        The condition; None for the first in name order.
+    run : int or None
+        The run; None for the condition's lowest-numbered run.
+
+    Returns
+    -------
+    condition : str
+        The condition.
+    run : int
+        The run.
+    table : pandas.DataFrame
+        The run's rows of ``episodes``, sorted by ``episode``.
+
+    Raises
+    ------
+    ValueError
+        When the condition or the run is not in the table.
     """
     condition = condition_of(episodes, condition)
     table = episodes[episodes["condition"] == condition]
@@ -106,6 +147,34 @@ def fig_cumulative_error(
     other contexts, visited between, hide its fall), in the source's colour
     (:func:`~neurocur.analysis.figures.style.source_colours`); without: one line per cycle (the
     first ``max_cycles``), over every episode. The legend stands outside the data.
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The episodes table (columns ``condition``, ``run``, ``episode``, ``step``, ``n_frames``,
+        ``module_learned`` and ``column``).
+    condition : str or None
+        The condition drawn; None for the first in name order (``condition_of``).
+    run : int or None
+        The run of the left panel; None for the condition's lowest-numbered run.
+    column : str
+        The error column drawn: ``error`` (eq 11 / M, labelled so), or another column, labelled by its name.
+    bin_steps : int
+        Frames per bin of the right panel's curves.
+    max_cycles : int or None
+        Without ``spec``: the cycles drawn, the first ones; None for every cycle. Unused with ``spec``.
+    min_runs : int
+        The fewest runs a bin must have to be drawn on the right panel.
+    spec : SourceSpec or None
+        The world's sources (``Results.spec_of``): one line per stored source, on its contexts; None for one
+        line per cycle, over every episode.
+    threshold : float or None
+        The freeze threshold (the HPC's ``threshold``), drawn dotted on both panels; None draws none.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two panels sharing the log error axis: the run (left), the cycles (right).
     """
     require_columns(episodes, ["condition", "run", "episode", "step", "n_frames", "module_learned", column],
                     needed_by="fig_cumulative_error")
@@ -179,6 +248,21 @@ def fig_learning_time(results: Results, condition: str | None = None, *, since: 
     values (section 4.1.1: S-A 2–3, S-B ≈15, S-C ≈40 epochs,
     :data:`~neurocur.analysis.paper.SYNTHETIC_CURIOUS`) are drawn over each source's bars in black
     (gid ``"paper"``): a diamond at a value, a bar over a range.
+
+    Parameters
+    ----------
+    results : Results
+        A results folder's tables (``neurocur.analysis.results.Results``).
+    condition : str or None
+        The one condition drawn; None for every condition of ``results``, in its order.
+    since : str
+        ``"previous"`` or ``"start"``: where a module's count of frames begins
+        (``neurocur.analysis.stats.learning_time.learning_times``).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One axes: a group of bars per learnable source.
     """
     require_learning_columns(results.episodes, results.modules, needed_by="fig_learning_time")
     times = learning_times(results, since=since)
@@ -254,7 +338,26 @@ def fig_order_counts(results: Results, *, wrap: int = 4, marks: Mapping[str, Map
     (:func:`~neurocur.analysis.stats.report.of_the_paper`) each panel marks the paper's counts of
     its curious agent (section 4.1.4: S-A first 25/25, S-B second 18/25, S-C third 18/25), scaled
     to the panel's runs, with black diamonds (gid ``"paper"``) on their bars; ``marks`` gives other
-    shares to mark (``{source or "none": {position: share of runs}}``) and ``note`` says what they are."""
+    shares to mark (``{source or "none": {position: share of runs}}``) and ``note`` says what they are.
+
+    Parameters
+    ----------
+    results : Results
+        A results folder's tables (``neurocur.analysis.results.Results``).
+    wrap : int
+        Panels per row when the conditions are not a sweep.
+    marks : mapping of str to mapping of int to float, or None
+        Shares of runs to mark with diamonds, ``{source or "none": {position: share}}`` (1-based
+        positions), each scaled to its panel's runs; None marks the paper's counts for the paper's
+        experiment and nothing otherwise; an empty mapping marks nothing.
+    note : str or None
+        The figure's title, saying what ``marks`` are; None for none. Replaced when ``marks`` is None.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        A panel per condition; bars per storage position and source.
+    """
     require_order_columns(results.episodes, results.modules, needed_by="fig_order_counts")
     counts = position_counts(results)
     grid = panel_grid(results.episodes, sorted(counts["condition"].unique()), wrap)

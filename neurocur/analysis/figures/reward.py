@@ -77,6 +77,34 @@ def fig_intrinsic_reward(
     familiar episodes are left out); ``symlog`` makes the y-axis linear only near zero
     (see :func:`fig_neuromodulators`) so the learning-progress rises show beside the boredom
     drops; ``ylim`` clips the y-axis (said in the title). One line (plus the zero line).
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The episodes table (columns ``condition``, ``run``, ``step``, ``da``, ``familiar``).
+    condition : str or None
+        The condition drawn; None for the first in name order.
+    bin_steps : int
+        Frames per bin, > 0.
+    window : int
+        Bins in the centred moving average, >= 1 (1: no smoothing).
+    include_boredom : bool
+        Keep the familiar episodes (their −100 boredom reward); False leaves them out.
+    symlog : bool
+        A symlog y-axis (``neurocur.analysis.figures.layout.symlog_axis``), linear within the 90th
+        percentile of |DA| on unfamiliar episodes; False keeps it linear.
+    ylim : (float, float) or None
+        The y-axis limits, said in the title; None leaves matplotlib's.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One axes: the smoothed mean DA against the global step.
+
+    Raises
+    ------
+    ValueError
+        When ``window`` or ``bin_steps`` is below its range.
     """
     if window < 1:
         raise ValueError(f"window must be a positive number of bins, got {window}")
@@ -115,6 +143,25 @@ def reward_estimates(run: pd.DataFrame, n_contexts: int, alpha: float | str) -> 
     (:mod:`neurocur.regions.pfc`; ``alpha`` a rate in (0, 1] or ``"sample_average"``, n_c
     the context's samples so far); what R_c is in terms of the PFC's model is said in
     :func:`fig_reward_function`.
+
+    Parameters
+    ----------
+    run : pandas.DataFrame
+        One run's episodes in episode order (columns ``context``, the context index, and ``da``).
+    n_contexts : int
+        The world's contexts (every ``context`` is below it).
+    alpha : float or str
+        Eq 14's learning rate, in (0, 1], or ``"sample_average"`` (rate 1 / n_c).
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape (episodes, ``n_contexts``): row t holds each context's estimate after episode t.
+
+    Raises
+    ------
+    ValueError
+        When ``alpha`` is neither a rate in (0, 1] nor ``"sample_average"``.
     """
     require_columns(run, ["context", "da"], needed_by="reward_estimates")
     try:
@@ -157,6 +204,30 @@ def fig_reward_function(
     per context of the world, a step after each episode. With ``symlog`` the y-axis is
     linear only near zero (as in :func:`fig_neuromodulators`), so the rise of the
     learning-progress reward shows beside the boredom-driven drop.
+
+    Parameters
+    ----------
+    results : Results
+        A results folder's tables and config (``neurocur.analysis.results.Results``).
+    run : int or None
+        The run drawn; None for the condition's lowest-numbered run.
+    condition : str or None
+        The condition drawn; None for the first in name order.
+    alpha : float, str or None
+        Eq 14's learning rate (in (0, 1], or ``"sample_average"``); None for the condition's own (see above).
+    symlog : bool
+        A symlog y-axis, linear within the 90th percentile of |DA| on the run's unfamiliar episodes; False
+        keeps it linear.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One axes: a step line per context, in its source's colour.
+
+    Raises
+    ------
+    ValueError
+        When the run visits a context index the condition's world does not have, or ``alpha`` is out of range.
     """
     require_columns(results.episodes, ["condition", "run", "episode", "step", "n_frames", "context", "da", "familiar"],
                     needed_by="fig_reward_function")
@@ -211,6 +282,26 @@ def fig_neuromodulators(
     ``captions``: what each column is, by column (the run's region models' probe docs,
     :meth:`~neurocur.analysis.results.Results.probe_docs`), written above its panel; the NE
     panels' axes span [0, 1] when their values do.
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The episodes table (columns ``condition``, ``run``, ``episode``, ``step``, ``n_frames``,
+        ``module_learned``, ``da``, ``familiar``, ``ne_tonic``, ``ne_phasic``; ``epsilon`` when recorded).
+    run : int or None
+        The run drawn; None for the condition's lowest-numbered run.
+    condition : str or None
+        The condition drawn; None for the first in name order.
+    da_linthresh : float or None
+        Half-width of the DA axis's linear range; None for the 90th percentile of |DA| on the run's
+        unfamiliar episodes (1 when there is none).
+    captions : mapping of str to str or None
+        Text written above a panel, by column; None writes none.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Three or four stacked panels sharing the step axis.
     """
     require_columns(episodes, ["condition", "run", "episode", "step", "n_frames", "module_learned", "da", "familiar",
                                "ne_tonic", "ne_phasic"], needed_by="fig_neuromodulators")
