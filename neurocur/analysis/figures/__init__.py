@@ -1,7 +1,9 @@
 """The figures of a results folder, in matplotlib (imported on first use: :mod:`neurocur.analysis`).
 
-- :mod:`~neurocur.analysis.figures.learning` — paper Figures 4D–G (cumulative error, intrinsic
-  reward, learning time, reward function, storage order, neuromodulators);
+- :mod:`~neurocur.analysis.figures.learning` — paper Figures 4D and 4F (cumulative error,
+  learning time) and the storage order;
+- :mod:`~neurocur.analysis.figures.reward` — paper Figures 4E and 4G (intrinsic reward, reward
+  function) and a run's neuromodulator traces;
 - :mod:`~neurocur.analysis.figures.neuro` — the neuromodulator and behaviour analyses (inverted
   U, occupancy, signals over time, event-locked traces, tonic/phasic NE, efficiency);
 - :mod:`~neurocur.analysis.figures.goldilocks` — engagement against learnability;
@@ -31,6 +33,7 @@ from . import (  # noqa: F401  (registration)
            learning,
            neuro,
            posner,
+           reward,
            sets,
            style,
            sweeps,
@@ -43,9 +46,10 @@ from .invariance import *  # noqa: F403
 from .learning import *  # noqa: F403
 from .neuro import *  # noqa: F403
 from .posner import *  # noqa: F403
+from .reward import *  # noqa: F403
 from .sets import *  # noqa: F403
 from .sweeps import *  # noqa: F403
 from .validation import *  # noqa: F403
 
 __all__ = [*choice_shares.__all__, *goldilocks.__all__, *icub.__all__, *invariance.__all__, *learning.__all__, *neuro.__all__,
-           *posner.__all__, *sets.__all__, *sweeps.__all__, *validation.__all__]
+           *posner.__all__, *reward.__all__, *sets.__all__, *sweeps.__all__, *validation.__all__]

@@ -19,7 +19,24 @@ __all__ = ["fig_choice_shares", "fig_peak_bins"]
 def fig_choice_shares(summaries: Mapping[str, pd.DataFrame], options: Sequence[str], *,
                       trials_per_bin: int | None = None) -> Figure:
     """One panel per ``{group: share_summary table}``: each option's mean share per bin with its
-    interval as a band; the x axis counts bins (or trials, given ``trials_per_bin``)."""
+    interval as a band; the x axis counts bins (or trials, given ``trials_per_bin``).
+
+    Parameters
+    ----------
+    summaries : mapping of str to pandas.DataFrame
+        ``{group: table}``, each table as ``neurocur.analysis.stats.choice_shares.share_summary`` returns it
+        (columns ``bin``, ``option``, ``mean``, ``ci_low``, ``ci_high``, ``n``); one panel per group, in
+        this order.
+    options : sequence of str
+        The options drawn, one line each, in legend order.
+    trials_per_bin : int or None
+        Trials in a bin: the x axis then counts trials (each bin at its last trial); None counts bins.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One row of panels sharing the share axis.
+    """
     for summary in summaries.values():
         require_columns(summary, ["bin", "option", "mean", "ci_low", "ci_high", "n"], needed_by="fig_choice_shares")
     with style():
@@ -40,7 +57,22 @@ def fig_choice_shares(summaries: Mapping[str, pd.DataFrame], options: Sequence[s
 def fig_peak_bins(peaks: Mapping[str, np.ndarray], options: Sequence[str]) -> Figure:
     """One panel per ``{group: peak_bins array (subjects, options)}``: for each option, the
     distribution of the subjects' peak bins as a box (quartiles, whiskers to 1.5 IQR) with its
-    mean as a diamond; subjects who never chose the option are left out (their count is printed)."""
+    mean as a diamond; subjects who never chose the option are left out (their count is printed).
+
+    Parameters
+    ----------
+    peaks : mapping of str to numpy.ndarray
+        ``{group: array}``, each of shape (subjects, options) as
+        ``neurocur.analysis.stats.choice_shares.peak_bins`` returns it (NaN for an option never chosen); one
+        panel per group, in this order.
+    options : sequence of str
+        The option names, in the arrays' column order (drawn top to bottom).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One row of panels sharing the bin axis.
+    """
     with style():
         fig, axes = figure(1, len(peaks), figsize=(4.2 * len(peaks), 3.0), sharex=True)
         for ax, (group, peak) in zip(axes[0], peaks.items()):

@@ -20,7 +20,29 @@ __all__ = ["fig_goldilocks"]
 def fig_goldilocks(table: pd.DataFrame, outcomes: Sequence[str] = tuple(OUTCOMES)) -> Figure:
     """Each outcome per context, the contexts in order of learnability level: per condition the
     mean over runs with its 95 % t interval (one panel per outcome); the x ticks name each
-    context's source and Ω (or "redrawn")."""
+    context's source and Ω (or "redrawn").
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        One row per run and context, as
+        ``neurocur.analysis.stats.goldilocks.engagement_by_learnability`` returns it: columns ``condition``,
+        ``context``, ``level``, ``omega``, ``redrawn`` and each outcome (``source`` names the ticks when
+        present).
+    outcomes : sequence of str
+        The outcome columns, one panel each (the keys of ``OUTCOMES`` by default: share of frames and mean
+        dwell per visit, labelled from it; another column is labelled with its name).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The panels, stacked on a shared context axis.
+
+    Raises
+    ------
+    ValueError
+        When ``table`` lacks a column it reads (``neurocur.contract.require_columns``).
+    """
     require_columns(table, ["condition", "context", "level", "omega", "redrawn", *outcomes], needed_by="fig_goldilocks")
     contexts = table.drop_duplicates("context").sort_values(["level", "context"])
     position = pd.Series(np.arange(len(contexts)), index=contexts["context"].to_numpy())

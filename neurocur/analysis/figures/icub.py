@@ -32,7 +32,8 @@ from neurocur.contexts import build_world
 from neurocur.contract import require_columns
 from neurocur.regions.hpc import HPCROC
 
-from .learning import condition_of, fig_neuromodulators, fig_order_counts, fig_reward_function
+from .learning import condition_of, fig_order_counts
+from .reward import fig_neuromodulators, fig_reward_function
 from .sets import FIGURE_SETS, FigureSet
 from .style import caption, condition_colours, figure, style
 
@@ -56,6 +57,25 @@ def fig_module_error(
     runs reach are left out (a module learns for a different time in each run).
     ``threshold`` draws the freeze threshold (dashed). Runs that never reached this module
     do not count.
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The episodes table of an iCub results folder (columns ``condition``, ``run``, ``step``,
+        ``n_modules``, ``module_learned``, ``error``).
+    module : int
+        The learning module, 0-based (0: Figure 6B, 1: Figure 6C), >= 0.
+    bin_frames : int
+        Frames per bin, > 0.
+    threshold : float or None
+        The freeze threshold, drawn dashed; None draws none.
+    min_runs : int
+        Bins reached by fewer runs are left out (at most the runs that reached the module are asked for).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One axes: a line per condition.
     """
     if module < 0:
         raise ValueError(f"module must be >= 0, got {module}")
@@ -106,6 +126,18 @@ def fig_order(modules: pd.DataFrame, episodes: pd.DataFrame) -> Figure:
     Figure 6C averages the second module's learning over the runs), so no run is without a
     second module. Both are marked on each panel, scaled to its runs: a black diamond on the
     bar of topple first and on the bar of "none" second (at 0).
+
+    Parameters
+    ----------
+    modules : pandas.DataFrame
+        The modules table of an iCub results folder.
+    episodes : pandas.DataFrame
+        Its episodes table.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        ``fig_order_counts`` of the iCub world, with the paper's marks.
     """
     require_order_columns(episodes, modules, needed_by="fig_order")
     first, both = (paper_range(ICUB_CURIOUS[key].value)[0] for key in ("topple first", "both learned"))
@@ -123,6 +155,20 @@ def fig_frames(world, episode_index: int = 0, n_frames: int = 5) -> Figure:
 
     Rows: contexts; columns: ``n_frames`` frames evenly spaced from the first to the last,
     each titled with its frame number, arm state and the object's displacement (cm).
+
+    Parameters
+    ----------
+    world : ICubWorld
+        A built iCub world (``neurocur.contexts.icub.ICubWorld``); its episodes are read from its cache.
+    episode_index : int
+        The episode of each context shown.
+    n_frames : int
+        Frames per context, >= 2.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        A row of frames per context.
     """
     if n_frames < 2:
         raise ValueError(f"n_frames must be >= 2, got {n_frames}")
@@ -165,6 +211,28 @@ def fig_feature_output(
     displacement in cm (right axis, dashed) over the reference episodes, laid end to end
     (vertical lines separate episodes; dots mark the hand's first contact), and |corr|
     between the two over every cached episode of the module's own context (``quality``).
+
+    Parameters
+    ----------
+    features : pandas.DataFrame
+        The slow-feature outputs of a results folder (``neurocur.analysis.stats.icub.load_features``).
+    modules : pandas.DataFrame
+        Its modules table (columns ``condition``, ``run``, ``module``, ``source``, ``quality``,
+        ``other_quality``).
+    condition : str or None
+        The condition drawn; None for the first in name order that has outputs.
+    run : int or None
+        The run drawn; None for the condition's first run with the most modules.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        A panel per stored module and context.
+
+    Raises
+    ------
+    ValueError
+        When the condition, or the run asked for, stored no module.
     """
     require_columns(features, ["condition", "run", "module", "context", "episode_index", "frame", "contact_frame",
                                "displacement", "y0"], needed_by="fig_feature_output (features table)")

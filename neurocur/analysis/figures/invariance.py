@@ -24,6 +24,26 @@ def fig_invariance(demo, *, frame_shape=None, n_frames: int = 4) -> Figure:
 
     ``frame_shape`` (height, width) defaults to the square the frames' pixel count
     makes; ``n_frames`` evenly spaced frames are shown side by side in B and E.
+
+    Parameters
+    ----------
+    demo : InvarianceDemo
+        The demonstration's result (``neurocur.experiments.invariance.InvarianceDemo``).
+    frame_shape : (int, int) or None
+        A frame's (height, width); None for the square its pixel count makes.
+    n_frames : int
+        Frames shown in B and E, from 1 to the demonstration's length.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Six panels: A–C learned, D–F with dimension 1 replaced by noise.
+
+    Raises
+    ------
+    ValueError
+        When the frames are not square and ``frame_shape`` is None, ``frame_shape`` does not hold a frame's
+        pixels, or ``n_frames`` is out of range.
     """
     T, n_pixels = demo.frames.shape
     if frame_shape is None:
@@ -71,7 +91,22 @@ def fig_invariance(demo, *, frame_shape=None, n_frames: int = 4) -> Figure:
 
 def save_invariance(demo, out_dir, *, dpi: int = 120) -> Path:
     """Draw ``demo`` (:func:`fig_invariance`) into ``out_dir/invariance.png``, with its caption
-    (:func:`~neurocur.analysis.figures.style.save_figure`)."""
+    (:func:`~neurocur.analysis.figures.style.save_figure`).
+
+    Parameters
+    ----------
+    demo : InvarianceDemo
+        The demonstration's result.
+    out_dir : str or path
+        The folder written into (created when missing).
+    dpi : int
+        Resolution in dots per inch.
+
+    Returns
+    -------
+    path
+        The PNG file written.
+    """
     path = Path(out_dir) / INVARIANCE_FIGURE
     path.parent.mkdir(parents=True, exist_ok=True)
     return save_figure(fig_invariance(demo), path, dpi)

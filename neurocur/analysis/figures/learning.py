@@ -1,11 +1,14 @@
-"""Seaborn figures of a results folder (paper Figures 4D–G and more).
+"""Seaborn figures of module learning in a results folder (paper Figures 4D, 4F and the storage order).
 
+The estimation error falling within each learning cycle (Figure 4D), the learning time of
+each source (Figure 4F) and which source was stored first, second, third (section 4.1.4).
 Every function returns a :class:`matplotlib.figure.Figure` in the style of
 :mod:`neurocur.analysis.figures.style`; :func:`~neurocur.analysis.figures.sets.write_all` saves
 them as PNG. Each checks on entry
 that its tables have the columns it reads (:func:`neurocur.contract.require_columns`), so
-a table without, say, an LC's columns gives an error naming them and the role producing
-them; a column that only some region models record (``epsilon``) is drawn when present.
+a table without, say, a module table's columns gives an error naming them and the role producing
+them. The reward and neuromodulator figures of a run (Figures 4E, 4G) are in
+:mod:`~neurocur.analysis.figures.reward`, which shares this module's choice of condition and run.
 """
 
 from __future__ import annotations
@@ -26,23 +29,17 @@ from neurocur.analysis.stats.learning_time import learning_time_summary, learnin
 from neurocur.analysis.stats.order import position_counts, require_order_columns
 from neurocur.analysis.stats.report import of_the_paper
 from neurocur.analysis.stats.verdict import paper_range
-from neurocur.config import ConfigError
 from neurocur.contexts.base import SourceSpec
 from neurocur.contract import require_columns
-from neurocur.regions.pfc import PFCLSPI, SAMPLE_AVERAGE, PFCParams, eq14_rate, reward_update
 
-from .layout import panel_grid, symlog_axis
+from .layout import panel_grid
 from .style import caption, condition_colours, figure, source_colours, style
 
 __all__ = [
     "condition_of",
     "fig_cumulative_error",
-    "fig_intrinsic_reward",
     "fig_learning_time",
-    "fig_reward_function",
     "fig_order_counts",
-    "fig_neuromodulators",
-    "reward_estimates",
 ]
 
 #: The y label of :func:`fig_cumulative_error` for the ``error`` column (eq 11 / M).
@@ -51,14 +48,30 @@ CUMULATIVE_ERROR = "cumulative error ξ / M (eq 11)"
 EVENT_GID = "module_learned"
 #: gid of the marks of the paper's numbers (Luciw et al. 2013), so they can be told from the model's.
 PAPER_GID = "paper"
-#: Episodes in the running median drawn over a per-episode trace (:func:`fig_neuromodulators`).
-TRACE_WINDOW = 25
 #: Frames in thousands on a step axis: "150k".
 KILO_FRAMES = FuncFormatter(lambda v, _: f"{v / 1000:g}k".replace("-", "−"))
 
 
 def condition_of(table: pd.DataFrame, condition: str | None) -> str:
-    """``condition``, checked to be in ``table``; by default the table's first condition in name order."""
+    """``condition``, checked to be in ``table``; by default the table's first condition in name order.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        A table with a ``condition`` column (the episodes table, or another of the folder's tables).
+    condition : str or None
+        The condition asked for; None for the table's first condition in name order.
+
+    Returns
+    -------
+    str
+        The condition.
+
+    Raises
+    ------
+    ValueError
+        When the table is empty, or ``condition`` is not one of its conditions (the message lists them).
+    """
     conditions = sorted(table["condition"].unique())
     if not conditions:
         raise ValueError("the episodes table is empty")
@@ -69,7 +82,32 @@ def condition_of(table: pd.DataFrame, condition: str | None) -> str:
     return condition
 
 
-def _one_run(episodes: pd.DataFrame, condition: str | None, run: int | None) -> tuple[str, int, pd.DataFrame]:
+def one_run(episodes: pd.DataFrame, condition: str | None, run: int | None) -> tuple[str, int, pd.DataFrame]:
+    """One run's episodes in episode order: ``run`` of ``condition`` (:func:`condition_of`).
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The episodes table (columns ``condition``, ``run``, ``episode``).
+    condition : str or None
+        The condition; None for the first in name order.
+    run : int or None
+        The run; None for the condition's lowest-numbered run.
+
+    Returns
+    -------
+    condition : str
+        The condition.
+    run : int
+        The run.
+    table : pandas.DataFrame
+        The run's rows of ``episodes``, sorted by ``episode``.
+
+    Raises
+    ------
+    ValueError
+        When the condition or the run is not in the table.
+    """
     condition = condition_of(episodes, condition)
     table = episodes[episodes["condition"] == condition]
     runs = sorted(table["run"].unique())
@@ -78,24 +116,6 @@ def _one_run(episodes: pd.DataFrame, condition: str | None, run: int | None) -> 
     if run not in runs:
         raise ValueError(f"run {run} not in condition {condition!r}; have runs {runs}")
     return condition, int(run), table[table["run"] == run].sort_values("episode")
-
-
-def _binned(table: pd.DataFrame, column: str, bin_steps: int) -> pd.DataFrame:
-    """Per-run mean of ``column`` over bins of ``bin_steps`` global steps (bin centre as step)."""
-    if bin_steps <= 0:
-        raise ValueError(f"bin_steps must be a positive number of frames, got {bin_steps}")
-    binned = table.assign(step=table["step"] // bin_steps * bin_steps + bin_steps / 2)
-    return binned.groupby(["run", "step"], as_index=False)[column].mean()
-
-
-def _progress_linthresh(table: pd.DataFrame) -> float:
-    """Linear range of a symlog DA axis: the 90th percentile of |DA| on unfamiliar episodes.
-
-    Keeps the small learning-progress rewards readable beside the −100 boredom rewards.
-    """
-    progress = np.abs(table.loc[~table["familiar"].astype(bool), "da"].to_numpy(dtype=float))
-    progress = progress[np.isfinite(progress) & (progress > 0)]
-    return float(np.percentile(progress, 90)) if progress.size else 1.0
 
 
 def fig_cumulative_error(
@@ -127,12 +147,40 @@ def fig_cumulative_error(
     other contexts, visited between, hide its fall), in the source's colour
     (:func:`~neurocur.analysis.figures.style.source_colours`); without: one line per cycle (the
     first ``max_cycles``), over every episode. The legend stands outside the data.
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The episodes table (columns ``condition``, ``run``, ``episode``, ``step``, ``n_frames``,
+        ``module_learned`` and ``column``).
+    condition : str or None
+        The condition drawn; None for the first in name order (``condition_of``).
+    run : int or None
+        The run of the left panel; None for the condition's lowest-numbered run.
+    column : str
+        The error column drawn: ``error`` (eq 11 / M, labelled so), or another column, labelled by its name.
+    bin_steps : int
+        Frames per bin of the right panel's curves.
+    max_cycles : int or None
+        Without ``spec``: the cycles drawn, the first ones; None for every cycle. Unused with ``spec``.
+    min_runs : int
+        The fewest runs a bin must have to be drawn on the right panel.
+    spec : SourceSpec or None
+        The world's sources (``Results.spec_of``): one line per stored source, on its contexts; None for one
+        line per cycle, over every episode.
+    threshold : float or None
+        The freeze threshold (the HPC's ``threshold``), drawn dotted on both panels; None draws none.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two panels sharing the log error axis: the run (left), the cycles (right).
     """
     require_columns(episodes, ["condition", "run", "episode", "step", "n_frames", "module_learned", column],
                     needed_by="fig_cumulative_error")
     condition = condition_of(episodes, condition)
     table = episodes[episodes["condition"] == condition]
-    _, run, single = _one_run(episodes, condition, run)
+    _, run, single = one_run(episodes, condition, run)
     by_source = spec is not None
     cycles = error_cycles(table, column, bin_steps, context_sources=spec.context_sources if by_source else None)
     if max_cycles is not None and not by_source:
@@ -187,53 +235,6 @@ def fig_cumulative_error(
                    "aligned to the storage that ends the cycle (log axis)")
 
 
-def fig_intrinsic_reward(
-    episodes: pd.DataFrame,
-    condition: str | None = None,
-    *,
-    bin_steps: int = 1000,
-    window: int = 5,
-    include_boredom: bool = True,
-    symlog: bool = True,
-    ylim: tuple[float, float] | None = None,
-) -> Figure:
-    """Figure 4E: the run-averaged, smoothed intrinsic reward (DA) vs global step.
-
-    DA is averaged per run over bins of ``bin_steps`` frames, averaged over runs, then
-    smoothed by a centred moving average of ``window`` bins. The boredom reward (−100 on
-    familiar episodes) is included as in the paper unless ``include_boredom=False`` (then
-    familiar episodes are left out); ``symlog`` makes the y-axis linear only near zero
-    (see :func:`fig_neuromodulators`) so the learning-progress rises show beside the boredom
-    drops; ``ylim`` clips the y-axis (said in the title). One line (plus the zero line).
-    """
-    if window < 1:
-        raise ValueError(f"window must be a positive number of bins, got {window}")
-    require_columns(episodes, ["condition", "run", "step", "da", "familiar"], needed_by="fig_intrinsic_reward")
-    condition = condition_of(episodes, condition)
-    table = episodes[episodes["condition"] == condition]
-    if not include_boredom:
-        table = table[~table["familiar"].astype(bool)]
-    mean = _binned(table, "da", bin_steps).groupby("step")["da"].mean()
-    smooth = mean.rolling(window, center=True, min_periods=1).mean()
-    with style():
-        fig, axes = figure()
-        ax = axes[0, 0]
-        colour = condition_colours(sorted(episodes["condition"].unique()))[condition]
-        sns.lineplot(x=smooth.index, y=smooth.to_numpy(), ax=ax, errorbar=None, color=colour)
-        ax.axhline(0.0, color="0.5", lw=0.8, ls=":")
-        note = "boredom −100 included" if include_boredom else "familiar episodes left out"
-        if symlog:
-            symlog_axis(ax, _progress_linthresh(table))
-            note += "; symlog axis"
-        if ylim is not None:
-            ax.set_ylim(*ylim)
-            note += f"; y clipped to [{ylim[0]:g}, {ylim[1]:g}]"
-        ax.set(xlabel="global step (frames)", ylabel="intrinsic reward (DA)",
-               title=f"Figure 4E. Smoothed intrinsic reward — {condition} ({note})")
-    return caption(fig, "Figure 4E (section 4.1.4)",
-                   f"{condition}: the intrinsic reward (DA) averaged over runs and smoothed, against the global step")
-
-
 def fig_learning_time(results: Results, condition: str | None = None, *, since: str = "previous") -> Figure:
     """Figure 4F: learning time per learnable source in epochs, mean ± sd over the runs that learned
     it, the statistic of the order table: the bars are
@@ -247,6 +248,21 @@ def fig_learning_time(results: Results, condition: str | None = None, *, since: 
     values (section 4.1.1: S-A 2–3, S-B ≈15, S-C ≈40 epochs,
     :data:`~neurocur.analysis.paper.SYNTHETIC_CURIOUS`) are drawn over each source's bars in black
     (gid ``"paper"``): a diamond at a value, a bar over a range.
+
+    Parameters
+    ----------
+    results : Results
+        A results folder's tables (``neurocur.analysis.results.Results``).
+    condition : str or None
+        The one condition drawn; None for every condition of ``results``, in its order.
+    since : str
+        ``"previous"`` or ``"start"``: where a module's count of frames begins
+        (``neurocur.analysis.stats.learning_time.learning_times``).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One axes: a group of bars per learnable source.
     """
     require_learning_columns(results.episodes, results.modules, needed_by="fig_learning_time")
     times = learning_times(results, since=since)
@@ -309,89 +325,6 @@ def _paper_learning_times(ax, sources) -> None:
         label = None
 
 
-def reward_estimates(run: pd.DataFrame, n_contexts: int, alpha: float | str) -> np.ndarray:
-    """(n_episodes, n_contexts): each context's reward estimate R_c after each episode of one run.
-
-    ``run`` is one run's episodes in episode order, from its first. R_c starts at 0 (as the
-    PFC's reward model) and every episode but the first applies eq 14 to the estimate of
-    its context, ``R_c <- reward_update(R_c, DA, eq14_rate(alpha, n_c))``
-    (:mod:`neurocur.regions.pfc`; ``alpha`` a rate in (0, 1] or ``"sample_average"``, n_c
-    the context's samples so far); what R_c is in terms of the PFC's model is said in
-    :func:`fig_reward_function`.
-    """
-    require_columns(run, ["context", "da"], needed_by="reward_estimates")
-    try:
-        PFCParams(alpha=alpha)  # the PFC's own check of eq 14's rate
-    except ConfigError:
-        raise ValueError(f"alpha must be in (0, 1] or {SAMPLE_AVERAGE!r} (eq 14's learning rate), got {alpha!r}") from None
-    da = run["da"].to_numpy(dtype=float)
-    contexts = run["context"].to_numpy()
-    estimate = np.zeros(n_contexts)
-    samples = np.zeros(n_contexts, dtype=np.int64)
-    estimates = np.empty((len(run), n_contexts))
-    for t, (c, reward) in enumerate(zip(contexts, da)):
-        if t > 0:  # the PFC has no previous context at the first episode and leaves its model as it is
-            samples[c] += 1
-            estimate[c] = reward_update(estimate[c], reward, eq14_rate(alpha, samples[c]))
-        estimates[t] = estimate
-    return estimates
-
-
-def fig_reward_function(
-    results: Results,
-    run: int | None = None,
-    condition: str | None = None,
-    *,
-    alpha: float | str | None = None,
-    symlog: bool = True,
-) -> Figure:
-    """Figure 4G: the reward function per context over time, for one run.
-
-    The PFC's reward model is ``R[o, a, o']`` per (previous context, action, context); after
-    each episode but the run's first it applies eq 14, ``R <- (1 - alpha) R + alpha * DA``
-    (:func:`neurocur.regions.pfc.reward_update`), to the entry of the episode's previous
-    context ``o``, previous action ``a`` and context ``o'``, with the episode's DA. The
-    plotted R_c (:func:`reward_estimates`) applies the same updates, with the same DA, in
-    the same order, to one value per context ``c = o'``: it is the reward model the PFC
-    would have if it pooled its entries ``R[., ., c]`` over the previous context and action,
-    starting from 0. ``alpha`` is eq 14's learning rate; by default the condition's own: the ``alpha`` of its
-    circuit's :class:`~neurocur.regions.pfc.PFCLSPI` region in the results folder's config.toml
-    (:meth:`~neurocur.analysis.results.Results.region_param`), else ``PFCParams().alpha``. One line
-    per context of the world, a step after each episode. With ``symlog`` the y-axis is
-    linear only near zero (as in :func:`fig_neuromodulators`), so the rise of the
-    learning-progress reward shows beside the boredom-driven drop.
-    """
-    require_columns(results.episodes, ["condition", "run", "episode", "step", "n_frames", "context", "da", "familiar"],
-                    needed_by="fig_reward_function")
-    condition, run, table = _one_run(results.episodes, condition, run)
-    if alpha is None:
-        alpha = results.region_param(PFCLSPI, "alpha").get(condition, PFCParams().alpha)
-    alpha = alpha if isinstance(alpha, str) else float(alpha)  # a rate, or "sample_average"
-    spec = results.spec_of(condition)
-    n_contexts = len(spec.context_names)
-    if table["context"].max() >= n_contexts:
-        raise ValueError(f"episodes visit context {table['context'].max()} but the world has {n_contexts}")
-    estimates = reward_estimates(table, n_contexts, alpha)
-    steps = table["step"].to_numpy() + table["n_frames"].to_numpy()
-    with style():
-        fig, axes = figure()
-        ax = axes[0, 0]
-        colours = source_colours(spec.context_sources)
-        for c, (name, source) in enumerate(zip(spec.context_names, spec.context_sources)):
-            shown = spec.context_sources[:c].count(source)      # a second context of a source: dashed
-            ax.plot(steps, estimates[:, c], drawstyle="steps-post", color=colours[source],
-                    ls=("-", "--", ":", "-.")[shown % 4], label=f"{name} ({source})")
-        ax.set(xlabel="global step (frames)", ylabel="estimated reward R(context)",
-               title=f"Figure 4G. Reward function — {condition}, run {run} "
-                     f"(eq 14, {'sample average' if alpha == SAMPLE_AVERAGE else f'α={alpha:g}'})")
-        if symlog:
-            symlog_axis(ax, _progress_linthresh(table))
-        ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0))
-    return caption(fig, "Figure 4G (section 4.1.4)",
-                   f"{condition}, run {run}: the reward estimated for each context (eq 14) over the run, "
-                   "coloured by the context's source")
-
-
 def fig_order_counts(results: Results, *, wrap: int = 4, marks: Mapping[str, Mapping[int, float]] | None = None,
                      note: str | None = None) -> Figure:
     """Which source was stored 1st/2nd/3rd, counted over runs (runs without any module count
@@ -405,7 +338,26 @@ def fig_order_counts(results: Results, *, wrap: int = 4, marks: Mapping[str, Map
     (:func:`~neurocur.analysis.stats.report.of_the_paper`) each panel marks the paper's counts of
     its curious agent (section 4.1.4: S-A first 25/25, S-B second 18/25, S-C third 18/25), scaled
     to the panel's runs, with black diamonds (gid ``"paper"``) on their bars; ``marks`` gives other
-    shares to mark (``{source or "none": {position: share of runs}}``) and ``note`` says what they are."""
+    shares to mark (``{source or "none": {position: share of runs}}``) and ``note`` says what they are.
+
+    Parameters
+    ----------
+    results : Results
+        A results folder's tables (``neurocur.analysis.results.Results``).
+    wrap : int
+        Panels per row when the conditions are not a sweep.
+    marks : mapping of str to mapping of int to float, or None
+        Shares of runs to mark with diamonds, ``{source or "none": {position: share}}`` (1-based
+        positions), each scaled to its panel's runs; None marks the paper's counts for the paper's
+        experiment and nothing otherwise; an empty mapping marks nothing.
+    note : str or None
+        The figure's title, saying what ``marks`` are; None for none. Replaced when ``marks`` is None.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        A panel per condition; bars per storage position and source.
+    """
     require_order_columns(results.episodes, results.modules, needed_by="fig_order_counts")
     counts = position_counts(results)
     grid = panel_grid(results.episodes, sorted(counts["condition"].unique()), wrap)
@@ -464,61 +416,3 @@ def _paper_positions(results: Results) -> dict[str, dict[int, float]]:
 
 
 _ORDINAL_WORDS = ("first", "second", "third", "fourth", "fifth", "sixth", "seventh", "eighth")
-
-
-def fig_neuromodulators(
-    episodes: pd.DataFrame,
-    run: int | None = None,
-    condition: str | None = None,
-    *,
-    da_linthresh: float | None = None,
-    captions: Mapping[str, str] | None = None,
-) -> Figure:
-    """DA, NE tonic, NE phasic and ε per episode for one run, module storage marked.
-
-    Stacked panels sharing the step axis; each has the episodes as light dots, one line (their
-    running median over :data:`TRACE_WINDOW` episodes: the NE signals jump between levels from
-    one episode to the next, and a line through every episode is a dense hatching), in the
-    condition's colour, plus a dashed vertical line (gid ``"module_learned"``) at every module
-    storage. The ε panel is drawn only when the
-    table has an ``epsilon`` column (the epsilon-greedy LC records it; other LC models need
-    not), so there are three or four panels. DA is drawn on a symlog axis (linear within
-    ``±da_linthresh``, default the 90th percentile of |DA| on unfamiliar episodes) so the
-    −100 boredom rewards and the small learning-progress rewards both show (:func:`~neurocur.analysis.figures.layout.symlog_axis`).
-    ``captions``: what each column is, by column (the run's region models' probe docs,
-    :meth:`~neurocur.analysis.results.Results.probe_docs`), written above its panel; the NE
-    panels' axes span [0, 1] when their values do.
-    """
-    require_columns(episodes, ["condition", "run", "episode", "step", "n_frames", "module_learned", "da", "familiar",
-                               "ne_tonic", "ne_phasic"], needed_by="fig_neuromodulators")
-    condition, run, table = _one_run(episodes, condition, run)
-    steps = table["step"].to_numpy()
-    events = (table["step"] + table["n_frames"])[table["module_learned"].astype(bool)].to_numpy()
-    if da_linthresh is None:
-        da_linthresh = _progress_linthresh(table)
-    panels = [("da", "DA (intrinsic reward)"), ("ne_tonic", "NE tonic"), ("ne_phasic", "NE phasic")]
-    if "epsilon" in table:
-        panels.append(("epsilon", "ε"))
-    colour = condition_colours(sorted(episodes["condition"].unique()))[condition]
-    with style():
-        fig, axes = figure(len(panels), 1, figsize=(8.0, 1.75 * len(panels)), sharex=True)
-        for ax, (column, label) in zip(axes[:, 0], panels):
-            values = table[column].to_numpy(dtype=float)
-            ax.scatter(steps, values, s=2, color=colour, alpha=0.25, lw=0, rasterized=True)
-            ax.plot(steps, pd.Series(values).rolling(TRACE_WINDOW, center=True, min_periods=1).median().to_numpy(),
-                    color=colour, lw=1.2)
-            for x in events:
-                ax.axvline(x, color="0.3", ls="--", lw=0.8, gid=EVENT_GID)
-            ax.set_ylabel(label)
-            if column != "da" and np.nanmin(values, initial=0.0) >= 0.0 and np.nanmax(values, initial=0.0) <= 1.0:
-                ax.set_ylim(-0.05, 1.05)
-            if captions and column in captions:
-                ax.set_title(f"{label}: {captions[column]}", loc="left", fontsize="small")
-        symlog_axis(axes[0, 0], da_linthresh)
-        fig.suptitle(f"Neuromodulators — {condition}, run {run}\n(dots: episodes; line: running median over "
-                     f"{TRACE_WINDOW} episodes; dashed: module stored)", fontsize="medium")
-        axes[-1, 0].set_xlabel("global step (frames)")
-        axes[-1, 0].xaxis.set_major_formatter(KILO_FRAMES)
-    return caption(fig, "none: the model's neuromodulators (the paper has no figure of them)",
-                   f"{condition}, run {run}: DA, NE tonic, NE phasic (and ε) per episode with their running median, "
-                   "module storage marked")

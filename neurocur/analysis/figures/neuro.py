@@ -70,6 +70,29 @@ def fig_inverted_u(
     two lines of :func:`~neurocur.analysis.stats.inverted_u.two_lines` (each drawn with its slope
     through the mean of its side) and the break (dotted); the title gives both slopes, their
     one-sided p-values and the verdict.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        One row per observation (e.g. per run and level), with the columns ``x`` and ``y`` (and ``run``
+        and ``by`` when given).
+    x : str
+        The level column.
+    y : str
+        The performance column.
+    run : str or None
+        The column naming each row's run (the test's run intercepts); None for none.
+    by : str or None
+        A panel per value of this column; None for one panel.
+    alpha : float
+        The level of each one-sided slope test, in (0, 1).
+    paired : bool
+        Give each run observed at two or more levels its own intercept in the test.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        A row of panels sharing the y-axis.
     """
     require_columns(table, [x, y], needed_by="fig_inverted_u")
     groups = _groups(table, by)
@@ -106,6 +129,27 @@ def fig_occupancy(table: pd.DataFrame, contexts, spec=None, *, hue: str = "condi
     ``table``: :func:`~neurocur.analysis.stats.dwell.occupancy`. The shares of the chosen contexts
     are summed per run and bin; one line per ``hue`` (the mean over runs, 95 % bootstrap
     interval).
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        ``neurocur.analysis.stats.dwell.occupancy`` of the episodes.
+    contexts : int, str or sequence of int or str
+        The contexts whose shares are summed: indices, or names (which need ``spec``).
+    spec : SourceSpec, mapping of str to SourceSpec, or None
+        The world's sources, or each condition's by condition, to name contexts; None for indices only.
+    hue : str
+        A line per value of this column.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One axes: the share of frames against the global step.
+
+    Raises
+    ------
+    ValueError
+        When a context is neither an index nor a name of the condition's world.
     """
     require_columns(table, ["condition", "run", "bin", "step", "context", "share", hue], needed_by="fig_occupancy")
     keep = np.zeros(len(table), dtype=bool)
@@ -124,7 +168,26 @@ def fig_occupancy(table: pd.DataFrame, contexts, spec=None, *, hue: str = "condi
 def fig_over_time(table: pd.DataFrame, column: str, *, hue: str = "condition", ylabel: str | None = None,
                   title: str | None = None) -> Figure:
     """A binned per-run quantity against time, e.g. :func:`~neurocur.analysis.stats.dwell.signal_over_time`
-    (DA in a noise context): one line per ``hue``, the mean over runs with its 95 % bootstrap interval."""
+    (DA in a noise context): one line per ``hue``, the mean over runs with its 95 % bootstrap interval.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        One row per run and bin (columns ``run``, ``step``, ``column`` and ``hue``).
+    column : str
+        The quantity drawn.
+    hue : str
+        A line per value of this column.
+    ylabel : str or None
+        The y label; None for ``column``.
+    title : str or None
+        The title; None for the column and the number of runs.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One axes: the quantity against the global step.
+    """
     require_columns(table, ["run", "step", column, hue], needed_by="fig_over_time")
     with style():
         fig, axes = figure()
@@ -141,6 +204,19 @@ def fig_event_locked(table: pd.DataFrame, *, hue: str = "condition") -> Figure:
     ``table``: :func:`~neurocur.analysis.stats.event_locked.event_locked_average` (its ``ci_low`` and
     ``ci_high`` are the bands; pass ``by_context=True`` output with ``hue="context"`` for one
     condition at a time).
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        ``neurocur.analysis.stats.event_locked.event_locked_average`` of the episodes (columns ``event``,
+        ``signal``, ``lag``, ``mean``, ``ci_low``, ``ci_high`` and ``hue``).
+    hue : str
+        A line per value of this column.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        A row of panels per signal, a column per event.
     """
     require_columns(table, ["event", "signal", "lag", "mean", "ci_low", "ci_high", hue], needed_by="fig_event_locked")
     signals, kinds = list(dict.fromkeys(table["signal"])), list(dict.fromkeys(table["event"]))
@@ -171,7 +247,24 @@ def fig_event_locked(table: pd.DataFrame, *, hue: str = "condition") -> Figure:
 
 def fig_tonic_phasic(table: pd.DataFrame, tonic: str = "ne_tonic", phasic: str = "ne_phasic", *,
                      hue: str = "condition") -> Figure:
-    """Phasic against tonic NE, one point per run and context (:func:`~neurocur.analysis.stats.event_locked.tonic_phasic`)."""
+    """Phasic against tonic NE, one point per run and context (:func:`~neurocur.analysis.stats.event_locked.tonic_phasic`).
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        ``neurocur.analysis.stats.event_locked.tonic_phasic`` of the episodes.
+    tonic : str
+        The tonic NE column (x).
+    phasic : str
+        The phasic NE column (y).
+    hue : str
+        A colour per value of this column.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One scatter plot.
+    """
     require_columns(table, [tonic, phasic, hue], needed_by="fig_tonic_phasic")
     with style():
         fig, axes = figure(figsize=(5.0, 4.0))
@@ -192,6 +285,24 @@ def fig_efficiency(table: pd.DataFrame, tests: pd.DataFrame, a: str, b: str) -> 
     against the reference ``a`` read from ``tests`` (every condition against ``a``, adjusted
     together), so the figure and the table show the same adjusted p-value; the title names the
     adjustment and the family's size.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        The efficiency per run (columns ``condition``, ``run``, ``learned_all``,
+        ``frames_to_learn_all_censored``, ``frames_unlearnable``, ``horizon``).
+    tests : pandas.DataFrame
+        The efficiency family of the paired tests (columns ``metric``, ``method``, ``b``, ``p_adjusted``,
+        ``adjustment``, ``n_tests``, ``n_pairs``).
+    a : str
+        The reference condition, drawn left.
+    b : str
+        The condition tested against it, drawn right.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two panels, each run of a seed joined to its pair.
     """
     require_columns(table, ["condition", "run", "learned_all", "frames_to_learn_all_censored", "frames_unlearnable",
                             "horizon"], needed_by="fig_efficiency")

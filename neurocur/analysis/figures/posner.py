@@ -40,7 +40,22 @@ def fig_posner(episodes: pd.DataFrame, by_validity: pd.DataFrame, per_run: pd.Da
     """Top: ACh, NE and 1 - validity over the first run of the first condition, changes and switches
     marked. Bottom left: the validity effect (reaction time, invalid - valid) against the validity, per
     condition (mean over runs). Bottom middle: ACh against 1 - validity (the identity dashed).
-    Bottom right: per condition, trials to adopt a new relevant cue and false switches per 1000 trials."""
+    Bottom right: per condition, trials to adopt a new relevant cue and false switches per 1000 trials.
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The episodes table of a ``posner`` world (the trace of the first condition's lowest-numbered run).
+    by_validity : pandas.DataFrame
+        ``neurocur.analysis.stats.posner.posner_by_validity`` of it.
+    per_run : pandas.DataFrame
+        ``neurocur.analysis.stats.posner.posner_per_run`` of it; its order of conditions is the figure's.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The trace on top, three panels below.
+    """
     conditions = list(dict.fromkeys(per_run["condition"]))
     with style():
         fig, axes = figure(2, 3, figsize=(12.0, 7.5), gridspec_kw={"height_ratios": [1, 1.1]})

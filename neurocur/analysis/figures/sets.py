@@ -34,15 +34,9 @@ from neurocur.regions.hpc import HPCROC
 from neurocur.registry import Registry
 from neurocur.results.safeio import atomic_text
 
-from .learning import (
-    fig_cumulative_error,
-    fig_intrinsic_reward,
-    fig_learning_time,
-    fig_neuromodulators,
-    fig_order_counts,
-    fig_reward_function,
-)
+from .learning import fig_cumulative_error, fig_learning_time, fig_order_counts
 from .neuro import fig_efficiency
+from .reward import fig_intrinsic_reward, fig_neuromodulators, fig_reward_function
 from .style import caption_of, save_figures
 from .sweeps import fig_sweep_efficiency
 
@@ -129,7 +123,18 @@ class StandardFigures(FigureSet):
 
 
 def figure_set(results: Results) -> FigureSet:
-    """The figure set of ``results``' world type (:class:`StandardFigures` unless one is registered)."""
+    """The figure set of ``results``' world type (:class:`StandardFigures` unless one is registered).
+
+    Parameters
+    ----------
+    results : Results
+        A results folder's tables and config.
+
+    Returns
+    -------
+    FigureSet
+        A new instance of the set registered for the folder's one world type, else of ``StandardFigures``.
+    """
     types = results.world_types
     if len(types) == 1 and (kind := types.pop()) in FIGURE_SETS:
         return FIGURE_SETS.get(kind)()
@@ -139,7 +144,20 @@ def figure_set(results: Results) -> FigureSet:
 def task_report(results_dir: str | Path, *, tables: tuple[pd.DataFrame, pd.DataFrame] | None = None
                 ) -> pd.DataFrame | None:
     """:meth:`FigureSet.report` of a results folder's figure set (None for a module-learning
-    world); ``tables``: the folder's ``(episodes, modules)`` when already loaded."""
+    world); ``tables``: the folder's ``(episodes, modules)`` when already loaded.
+
+    Parameters
+    ----------
+    results_dir : str or path
+        A results folder written by ``neurocur run``.
+    tables : (pandas.DataFrame, pandas.DataFrame) or None
+        The folder's episodes and modules tables, already loaded; None reads them.
+
+    Returns
+    -------
+    pandas.DataFrame or None
+        The task's statistics over runs, or None when the folder's summary is the module-learning one.
+    """
     results = Results.load(results_dir, tables=tables)
     return figure_set(results).report(results)
 
@@ -190,5 +208,20 @@ def write_figures(results_dir: str | Path, out_dir: str | Path | None = None, *,
 
 def write_all(results_dir: str | Path, out_dir: str | Path | None = None, *, dpi: int = 120) -> list[Path]:
     """:func:`write_figures`' written paths: every figure of a results folder as PNG, the tables they
-    show as CSV and :data:`INDEX`."""
+    show as CSV and :data:`INDEX`.
+
+    Parameters
+    ----------
+    results_dir : str or path
+        A results folder written by ``neurocur run``.
+    out_dir : str or path or None
+        Where to write; None for ``results_dir/figures``.
+    dpi : int
+        The PNGs' resolution.
+
+    Returns
+    -------
+    list of path
+        The files written.
+    """
     return write_figures(results_dir, out_dir, dpi=dpi)[0]

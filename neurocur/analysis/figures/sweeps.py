@@ -33,7 +33,20 @@ def sweep_matrix(table: pd.DataFrame, metric: str) -> pd.DataFrame:
     """The mean of ``metric`` over each condition's runs of the per-run ``table`` (e.g.
     :func:`~neurocur.analysis.stats.efficiency.efficiency_per_run`), as a matrix: a row per base
     condition, a column per sweep point (its label, in the order of the swept values); NaN where a
-    base condition lacks the point."""
+    base condition lacks the point.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        One row per run, with ``condition``, the sweep's columns and ``metric``.
+    metric : str
+        The column averaged.
+
+    Returns
+    -------
+    pandas.DataFrame
+        The means, indexed by base condition (``condition``), a column per sweep point (``point``).
+    """
     require_columns(table, ["condition", metric], needed_by="sweep_matrix")
     means = table.groupby("condition")[metric].mean()
     grid = panel_grid(table, sorted(means.index), wrap=len(means))
@@ -45,7 +58,19 @@ def sweep_matrix(table: pd.DataFrame, metric: str) -> pd.DataFrame:
 
 def fig_sweep_efficiency(table: pd.DataFrame) -> Figure:
     """Heatmaps of :data:`SWEEP_METRICS` over a sweep's conditions and points (:func:`sweep_matrix`),
-    each cell annotated with its value; ``table``: :func:`~neurocur.analysis.stats.efficiency.efficiency_per_run`."""
+    each cell annotated with its value; ``table``: :func:`~neurocur.analysis.stats.efficiency.efficiency_per_run`.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        The efficiency per run of a sweep's results (columns ``condition``, ``run``, ``learned_all``,
+        ``frames_to_learn_all_censored`` and the sweep's).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        A heatmap per metric, side by side.
+    """
     require_columns(table, ["condition", "run", *SWEEP_METRICS], needed_by="fig_sweep_efficiency")
     matrices = {metric: sweep_matrix(table.astype({"learned_all": float}), metric) for metric in SWEEP_METRICS}
     rows, columns = next(iter(matrices.values())).shape

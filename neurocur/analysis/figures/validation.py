@@ -30,7 +30,21 @@ __all__ = ["fig_vigilance", "fig_conditioning", "fig_blocks", "fig_relearning", 
 
 def fig_vigilance(episodes: pd.DataFrame, per_run: pd.DataFrame):
     """Left: the LC's baseline and its peak to targets and to distractors, per mode (bars, mean over
-    runs; dots, runs). Right: hit rate, false-alarm rate and d' per mode."""
+    runs; dots, runs). Right: hit rate, false-alarm rate and d' per mode.
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The episodes table; not read (``per_run`` holds what is drawn).
+    per_run : pandas.DataFrame
+        ``neurocur.analysis.stats.validation.vigilance_per_run`` of the folder; its order of conditions is
+        the figure's.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two panels: the LC's response, and the performance.
+    """
     with style():
         fig, axes = figure(1, 2, figsize=(9.0, 3.6))
         conditions = list(dict.fromkeys(per_run["condition"]))
@@ -61,7 +75,19 @@ def fig_vigilance(episodes: pd.DataFrame, per_run: pd.DataFrame):
 
 def fig_conditioning(episodes: pd.DataFrame):
     """DA at the cue and at the reward's time over training trials (mean over runs; omitted trials
-    marked), the baseline, and the omission dip (Schultz et al. 1997, Fig. 1)."""
+    marked), the baseline, and the omission dip (Schultz et al. 1997, Fig. 1).
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The episodes table of a ``conditioning`` world (columns ``episode``, ``omitted``, ``da_cue``,
+        ``da_reward``, ``da_baseline``).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two panels: DA over trials, and the three cases of their Fig. 1.
+    """
     with style():
         fig, axes = figure(1, 2, figsize=(9.0, 3.6), gridspec_kw={"width_ratios": [2, 1]})
         ax = axes[0, 0]
@@ -94,7 +120,21 @@ def fig_conditioning(episodes: pd.DataFrame):
 
 def fig_blocks(episodes: pd.DataFrame, block_visits: int):
     """Per condition (rows): the reward, the LC's tonic drive and the share of disengage decisions
-    over visits (moving averages of ``block_visits // 25`` visits, mean over runs), blocks marked."""
+    over visits (moving averages of ``block_visits // 25`` visits, mean over runs), blocks marked.
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The episodes table of a ``reward_blocks`` world (columns ``condition``, ``episode``, ``action``,
+        ``reward``, ``ne_tonic``).
+    block_visits : int
+        Visits per block of the world, > 0.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        A panel per condition, sharing the visit axis.
+    """
     conditions = list(dict.fromkeys(episodes["condition"]))
     width = max(1, block_visits // 25)
     with style():
@@ -119,7 +159,22 @@ def fig_blocks(episodes: pd.DataFrame, block_visits: int):
 
 def fig_relearning(per_run: pd.DataFrame, a: str, b: str):
     """Frames from the swap to the first module of the swapped-in source, per run, ``b`` and ``a``
-    side by side (a line joins the two runs of a seed; hollow markers: censored, not re-learned)."""
+    side by side (a line joins the two runs of a seed; hollow markers: censored, not re-learned).
+
+    Parameters
+    ----------
+    per_run : pandas.DataFrame
+        ``neurocur.analysis.stats.validation.relearning_per_run`` of the folder.
+    a : str
+        The condition drawn right; it must have each of ``b``'s runs.
+    b : str
+        The condition drawn left, whose runs are paired.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One axes: the two conditions' runs, joined by seed.
+    """
     with style():
         fig, axes = figure(1, 1, figsize=(4.5, 3.8))
         ax = axes[0, 0]
