@@ -36,7 +36,18 @@ def _behaviour(table: pd.DataFrame, condition: str, columns) -> pd.DataFrame:
 def degenerate_conditions(results: Results) -> dict[str, str]:
     """Each condition whose runs repeat another's exactly (:data:`BEHAVIOUR_COLUMNS`, the same
     runs), mapped to the condition kept in its place (see the module docstring); empty when
-    every condition behaved differently. Conditions of different worlds are never compared."""
+    every condition behaved differently. Conditions of different worlds are never compared.
+
+    Parameters
+    ----------
+    results : neurocur.analysis.results.Results
+        A results folder's tables (its episodes and modules) and the sources of each condition's world (``specs``).
+
+    Returns
+    -------
+    dict of str to str
+        ``{repeating condition: condition kept}``.
+    """
     order = [c for c in results.specs if c in set(results.conditions)]
     order += [c for c in results.conditions if c not in order]
     first = [c for c in (results.reference, results.control) if c in order]

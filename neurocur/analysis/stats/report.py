@@ -96,6 +96,24 @@ def comparison_rows(tests: pd.DataFrame, conditions, reference: str, spec: Sourc
     p-value with the pairs it rests on ("0.0023 (n=25)"; McNemar: "0.031 (7 of 25
     discordant)"); "—" for the reference and where nothing could be tested. Columns:
     ``conditions``. Empty when ``tests`` is.
+
+    Parameters
+    ----------
+    tests : pandas.DataFrame
+        One family of tests, with ``COMPARE_COLUMNS``.
+    conditions : iterable of str
+        The table's columns, in order.
+    reference : str
+        The condition the others were tested against.
+    spec : SourceSpec
+        The sources of the conditions' world.
+    horizon : float, optional
+        The cut-off of the censored frames, in the censored metric's label; None: not named.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Text cells, indexed by ``outcome`` (the rows' labels).
     """
     conditions = list(conditions)
     if not len(tests):
@@ -118,7 +136,18 @@ def comparison_rows(tests: pd.DataFrame, conditions, reference: str, spec: Sourc
 def family_note(tests: pd.DataFrame) -> str:
     """How the p-values of ``tests`` (rows of a family) were adjusted, in words: the pairing, the
     adjustment and the family's size, e.g. "paired; Holm, 8 tests". The order table's rows and the
-    efficiency figure's titles both say it so."""
+    efficiency figure's titles both say it so.
+
+    Parameters
+    ----------
+    tests : pandas.DataFrame
+        Rows of one adjusted family (``compare`` columns); the first row is read.
+
+    Returns
+    -------
+    str
+        The note.
+    """
     row = tests.iloc[0]
     paired = "" if pd.isna(row["n_pairs"]) else "paired; "
     return f"{paired}{ADJUSTMENT_NAMES[row['adjustment']][0]}, {int(row['n_tests'])} tests"
@@ -147,6 +176,31 @@ def paired_tests(
     The one computation of these p-values: the order table (:func:`paired_test_rows`), the
     summary and the efficiency figure (:func:`~neurocur.analysis.figures.neuro.fig_efficiency`)
     all read it, so that each shows the same adjusted p-value over the same family.
+
+    Parameters
+    ----------
+    results : neurocur.analysis.results.Results
+        A results folder's tables.
+    reference : str
+        The condition tested against the others.
+    adjust : str or None
+        The adjustment of each family's p-values (``"holm"``, ``"bh"`` / ``"fdr_bh"``,
+        ``"none"`` or None).
+    horizon : float, optional
+        The cut-off of the censored frames to learn all; None: the shortest run.
+    exclude_degenerate : bool
+        Leave the conditions whose runs repeat another's out of the tests.
+    paired : bool
+        Pair the runs by ``run`` (the default) or test them as independent samples.
+    n_boot : int
+        The bootstrap resamples of each interval.
+    seed : int
+        The bootstrap's seed.
+
+    Returns
+    -------
+    dict of str to pandas.DataFrame
+        ``{"efficiency": ..., "order": ...}``, each with ``COMPARE_COLUMNS``.
     """
     degenerate = degenerate_conditions(results) if exclude_degenerate else {}
     others = [c for c in results.conditions if c != reference and c not in degenerate]
@@ -160,7 +214,20 @@ def paired_tests(
 
 def reference_group(results: Results, reference: str) -> Results:
     """The conditions of ``results`` whose world shows the same sources as ``reference``'s: those
-    :func:`paired_tests` compares with it (in the order table and the efficiency figure alike)."""
+    :func:`paired_tests` compares with it (in the order table and the efficiency figure alike).
+
+    Parameters
+    ----------
+    results : neurocur.analysis.results.Results
+        A results folder's tables.
+    reference : str
+        One of its conditions.
+
+    Returns
+    -------
+    neurocur.analysis.results.Results
+        ``results`` restricted to those conditions (``reference`` among them).
+    """
     return results.select([c for c, s in results.specs.items() if s == results.spec_of(reference)])
 
 
@@ -175,7 +242,27 @@ def paired_test_rows(
     """The order table's test rows (:func:`comparison_rows`) of the two families of
     :func:`paired_tests` against ``reference``: the efficiency metrics, then the order metrics
     (:data:`TABLE_TESTS`). With ``exclude_degenerate`` (the default), a last row,
-    :data:`DEGENERATE_NOTE`, names each left-out condition and the condition it repeats."""
+    :data:`DEGENERATE_NOTE`, names each left-out condition and the condition it repeats.
+
+    Parameters
+    ----------
+    results : neurocur.analysis.results.Results
+        A results folder's tables, its conditions sharing one world's sources.
+    reference : str
+        The condition tested against the others.
+    adjust : str or None
+        The adjustment of each family's p-values (``"holm"``, ``"bh"`` / ``"fdr_bh"``,
+        ``"none"`` or None).
+    horizon : float, optional
+        The cut-off of the censored frames to learn all; None: the shortest run.
+    exclude_degenerate : bool
+        Leave the conditions whose runs repeat another's out of the tests.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Text cells, indexed by ``outcome``, one column per condition.
+    """
     spec = results.spec
     horizon = censoring_horizon(results) if horizon is None else horizon
     families = paired_tests(results, reference, adjust=adjust, horizon=horizon, exclude_degenerate=exclude_degenerate)
@@ -214,6 +301,30 @@ def order_table(
     per condition. The paper columns are there only for the paper's experiments: the synthetic
     world in one of :data:`~neurocur.analysis.paper.EXPERIMENTS` (by the ``name`` of the folder's
     ``config.toml``; tables in memory: the synthetic world).
+
+    Parameters
+    ----------
+    results : neurocur.analysis.results.Results
+        A results folder's tables, its conditions sharing one world's sources.
+    reference : str, optional
+        The condition the others are tested against; None: no test rows.
+    adjust : str or None
+        The adjustment of each family's p-values (``"holm"``, ``"bh"`` / ``"fdr_bh"``,
+        ``"none"`` or None).
+    horizon : float, optional
+        The cut-off of the censored frames to learn all; None: the shortest run.
+    exclude_degenerate : bool
+        Leave the conditions whose runs repeat another's out of the tests.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Text cells, indexed by ``outcome``.
+
+    Raises
+    ------
+    ValueError
+        When a column is missing or the conditions' worlds differ.
     """
     require_order_columns(results.episodes, results.modules, needed_by="order_table")
     require_learning_columns(results.episodes, results.modules, needed_by="order_table")
@@ -255,7 +366,18 @@ def order_table(
 
 def of_the_paper(results: Results) -> bool:
     """Whether ``results`` are the paper's synthetic experiment: its world, and one of
-    :data:`~neurocur.analysis.paper.EXPERIMENTS` (or no recorded experiment name: tables in memory)."""
+    :data:`~neurocur.analysis.paper.EXPERIMENTS` (or no recorded experiment name: tables in memory).
+
+    Parameters
+    ----------
+    results : neurocur.analysis.results.Results
+        A results folder's tables.
+
+    Returns
+    -------
+    bool
+        True for the paper's synthetic experiment.
+    """
     return results.spec == SYNTHETIC and results.config.get("name") in (None, *paper.EXPERIMENTS)
 
 
@@ -302,6 +424,34 @@ def summary(
     bootstrap, and ``degenerate``: each condition left out of the comparisons because its runs repeat
     another's, :func:`~neurocur.analysis.stats.degenerate.degenerate_conditions`, with that other).
     NaN and infinities are written as null.
+
+    Parameters
+    ----------
+    results : neurocur.analysis.results.Results
+        A results folder's tables, its conditions sharing one world's sources.
+    reference : str, optional
+        The condition compared against the others; None: the experiment's reference.
+    exclude_degenerate : bool
+        Leave the conditions whose runs repeat another's out of the tests.
+    paired : bool
+        Pair the runs by ``run`` (the default) or test them as independent samples.
+    adjust : str or None
+        The adjustment of each family's p-values (``"holm"``, ``"bh"`` / ``"fdr_bh"``,
+        ``"none"`` or None).
+    n_boot : int
+        The bootstrap resamples of each interval.
+    seed : int
+        The bootstrap's seed.
+
+    Returns
+    -------
+    dict
+        The keys above, with plain Python values.
+
+    Raises
+    ------
+    ValueError
+        When a column is missing or the conditions' worlds differ.
     """
     require_order_columns(results.episodes, results.modules, needed_by="summary")
     require_learning_columns(results.episodes, results.modules, needed_by="summary")
