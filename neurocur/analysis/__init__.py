@@ -50,9 +50,10 @@ world type with ``write_all`` (every figure of a results folder as PNG files).
 
 Not re-exported: :mod:`~neurocur.analysis.paper` (the paper's numbers, with their sections),
 :mod:`~neurocur.analysis.stats.reproduction` (the reproduction study's table),
-:mod:`~neurocur.analysis.stats.icub` (the iCub experiment's tables) and
+:mod:`~neurocur.analysis.stats.icub` (the iCub experiment's tables),
 :mod:`~neurocur.analysis.stats.reward_model` (the value estimator's eq-14 model replayed from a
-run's recorded DA and decisions).
+run's recorded DA and decisions) and :mod:`~neurocur.analysis.stats.keys` (the columns that
+identify a run, contexts by index or by name: what the statistics' modules share).
 """
 
 import ast

@@ -29,7 +29,7 @@ from neurocur.analysis.results import Results
 from neurocur.contexts.base import SourceSpec
 from neurocur.contract import require_columns
 
-from .dwell import run_keys
+from .keys import run_keys
 
 __all__ = ["error_cycles", "cycle_behaviour"]
 

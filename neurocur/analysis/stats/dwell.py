@@ -24,57 +24,25 @@ Definitions:
 
 Contexts are indices in the tables; a ``spec`` (a :class:`~neurocur.contexts.base.SourceSpec`,
 or one per condition as :func:`~neurocur.analysis.io.source_specs` returns) names them and
-their sources, and lets contexts be given by name.
+their sources, and lets contexts be given by name (:mod:`~neurocur.analysis.stats.keys`).
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 
 import numpy as np
 import pandas as pd
 
-from neurocur.contexts.base import SourceSpec
 from neurocur.contract import require_columns
 
 from .bootstrap import BOOTSTRAP_SEED, N_BOOT, bootstrap_ci
-from .order import sweep_columns
+from .keys import Spec, context_indices, run_keys, spec_of
 
 __all__ = ["visits", "engagement", "engagement_summary", "occupancy", "signal_over_time", "share_after"]
 
 #: The columns the dwell analyses read (``condition`` and ``run`` are added by the loader).
 EPISODE_COLUMNS = ("condition", "run", "episode", "step", "context", "n_frames")
-
-Spec = SourceSpec | Mapping[str, SourceSpec] | None
-
-
-def run_keys(table: pd.DataFrame) -> list[str]:
-    """The columns that identify a run: condition, run and the swept keys of a sweep."""
-    return ["condition", "run", *sweep_columns(table)]
-
-
-def spec_of(spec: Spec, condition: str) -> SourceSpec | None:
-    """The :class:`SourceSpec` of ``condition``: ``spec`` itself, or its entry in a per-condition mapping."""
-    if spec is None or isinstance(spec, SourceSpec):
-        return spec
-    if condition not in spec:
-        raise ValueError(f"no source spec for condition {condition!r}; have {sorted(spec)}")
-    return spec[condition]
-
-
-def context_indices(contexts, spec: SourceSpec | None, *, needed_by: str) -> list[int]:
-    """Context indices of ``contexts`` (indices, or names of ``spec``'s contexts)."""
-    items = [contexts] if isinstance(contexts, (str, int, np.integer)) else list(contexts)
-    out = []
-    for item in items:
-        if isinstance(item, (int, np.integer)):
-            out.append(int(item))
-        elif spec is not None and item in spec.context_names:
-            out.append(spec.context_names.index(item))
-        else:
-            have = "no spec to name contexts" if spec is None else f"contexts {list(spec.context_names)}"
-            raise ValueError(f"{needed_by}: unknown context {item!r}; give an index or a name ({have})")
-    return out
 
 
 def _sorted(episodes: pd.DataFrame, needed_by: str) -> pd.DataFrame:

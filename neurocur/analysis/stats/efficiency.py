@@ -46,7 +46,7 @@ from neurocur.contract import require_columns
 
 from .bootstrap import BOOTSTRAP_SEED, N_BOOT, bootstrap_ci
 from .comparison import compare
-from .dwell import run_keys
+from .keys import run_keys
 from .order import clopper_pearson
 
 __all__ = ["EFFICIENCY_TESTS", "censoring_horizon", "efficiency_per_run", "efficiency_summary", "compare_efficiency"]

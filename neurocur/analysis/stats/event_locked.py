@@ -41,7 +41,7 @@ from scipy import stats as sps
 from neurocur.contract import require_columns
 
 from .bootstrap import BOOTSTRAP_SEED, N_BOOT, bootstrap_ci
-from .dwell import run_keys
+from .keys import run_keys
 
 __all__ = ["EVENTS", "events", "event_locked_average", "tonic_phasic", "tonic_phasic_correlation"]
 

@@ -35,8 +35,9 @@ from neurocur.contract import require_columns
 from neurocur.results import ResultsStore
 
 from .comparison import adjust_pvalues
-from .dwell import Spec, engagement
+from .dwell import engagement
 from .inverted_u import inverted_u_test
+from .keys import Spec
 
 __all__ = ["OUTCOMES", "world_learnability", "engagement_by_learnability", "goldilocks_tests"]
 
