@@ -21,9 +21,11 @@ polars, read through the store's checks; ``narrow(order_tables(DIR))`` the order
 - :mod:`~neurocur.analysis.stats.bootstrap` — percentile bootstrap intervals over runs and pairs;
 - :mod:`~neurocur.analysis.stats.sweeps` — every sweep point against a reference point, every
   condition against a reference condition at each point;
-- :mod:`~neurocur.analysis.stats.report` — the order table beside the paper's numbers, its paired
+- :mod:`~neurocur.analysis.stats.report` — the order table beside the paper's numbers and its paired
   tests (``paired_tests``: the one computation of the adjusted p-values the table, the summary and
-  the efficiency figure show), and the summary;
+  the efficiency figure show);
+- :mod:`~neurocur.analysis.stats.folder_summary` — the summary of a results folder, every statistic
+  in one JSON-serialisable dict (``summary.json``);
 - :mod:`~neurocur.analysis.stats.verdict` — per statistic, whether the reference differs from the
   control and whether the paper's number is reached (``verdict_text(DIR)``: as ``neurocur run``
   prints it under the order table);
@@ -80,6 +82,7 @@ from neurocur.analysis.stats import (
     dwell,
     efficiency,
     event_locked,
+    folder_summary,
     learning_time,
     order,
     report,
@@ -95,6 +98,7 @@ from neurocur.analysis.stats.degenerate import *  # noqa: F403
 from neurocur.analysis.stats.dwell import *  # noqa: F403
 from neurocur.analysis.stats.efficiency import *  # noqa: F403
 from neurocur.analysis.stats.event_locked import *  # noqa: F403
+from neurocur.analysis.stats.folder_summary import *  # noqa: F403
 from neurocur.analysis.stats.learning_time import *  # noqa: F403
 from neurocur.analysis.stats.order import *  # noqa: F403
 from neurocur.analysis.stats.report import *  # noqa: F403
@@ -106,7 +110,7 @@ from neurocur.contexts.synthetic import SYNTHETIC as SYNTHETIC
 
 _EAGER = ["dataset", "load", "narrow", "order_tables", "verdict_text", "run_dirs", "source_specs", "throughput", "write_summary", "Results", "SourceSpec",
           "SYNTHETIC", *order.__all__, *learning_time.__all__, *comparison.__all__, *significance.__all__,
-          *bootstrap.__all__, *sweeps.__all__, *report.__all__, *dwell.__all__, *efficiency.__all__,
+          *bootstrap.__all__, *sweeps.__all__, *report.__all__, *folder_summary.__all__, *dwell.__all__, *efficiency.__all__,
           *event_locked.__all__, *cycles.__all__, *degenerate.__all__, *choice_shares.__all__, *verdict.__all__]
 
 #: Re-exported, but imported on first use (PEP 562): they import matplotlib, seaborn or

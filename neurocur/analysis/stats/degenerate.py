@@ -7,7 +7,7 @@ then repeats another condition's runs exactly: the same contexts, the same decis
 frames, the same stored modules, run for run. Compared with the reference it only repeats that
 condition's test, and it would enlarge the multiple-comparison family for nothing; so the order
 table and the summary report it as such and leave it out of their families by default
-(:func:`~neurocur.analysis.stats.report.order_table`, :func:`~neurocur.analysis.stats.report.summary`).
+(:func:`~neurocur.analysis.stats.report.order_table`, :func:`~neurocur.analysis.stats.folder_summary.summary`).
 
 Which of the identical conditions is kept: the reference (the experiment's first condition),
 else the declared control (:attr:`~neurocur.analysis.results.Results.control`), else the first
