@@ -58,7 +58,7 @@ def world_learnability(results_dir: str | Path, condition: str | None = None, *,
     condition : str, optional
         The condition whose world is built; None: the first in ``config.toml``.
     eta : float
-        The learning rate η of Ω (eq 40).
+        The MCA learning rate η with which Ω (eq 40) is measured.
     draws : int
         Fresh draws of a redrawn source.
     seed : int
@@ -73,7 +73,8 @@ def world_learnability(results_dir: str | Path, condition: str | None = None, *,
     Raises
     ------
     ValueError
-        When the folder has no conditions or ``condition`` is not one of them.
+        When the folder has no conditions, ``condition`` is not one of them, or its world is
+        neither synthetic nor episodic (no frames to measure Ω on).
     """
     conditions = (ResultsStore(results_dir).config() or {}).get("conditions", {})
     if not conditions:
