@@ -21,9 +21,11 @@ polars, read through the store's checks; ``narrow(order_tables(DIR))`` the order
 - :mod:`~neurocur.analysis.stats.bootstrap` — percentile bootstrap intervals over runs and pairs;
 - :mod:`~neurocur.analysis.stats.sweeps` — every sweep point against a reference point, every
   condition against a reference condition at each point;
-- :mod:`~neurocur.analysis.stats.report` — the order table beside the paper's numbers, its paired
+- :mod:`~neurocur.analysis.stats.report` — the order table beside the paper's numbers and its paired
   tests (``paired_tests``: the one computation of the adjusted p-values the table, the summary and
-  the efficiency figure show), and the summary;
+  the efficiency figure show);
+- :mod:`~neurocur.analysis.stats.folder_summary` — the summary of a results folder, every statistic
+  in one JSON-serialisable dict (``summary.json``);
 - :mod:`~neurocur.analysis.stats.verdict` — per statistic, whether the reference differs from the
   control and whether the paper's number is reached (``verdict_text(DIR)``: as ``neurocur run``
   prints it under the order table);
@@ -50,9 +52,10 @@ world type with ``write_all`` (every figure of a results folder as PNG files).
 
 Not re-exported: :mod:`~neurocur.analysis.paper` (the paper's numbers, with their sections),
 :mod:`~neurocur.analysis.stats.reproduction` (the reproduction study's table),
-:mod:`~neurocur.analysis.stats.icub` (the iCub experiment's tables) and
+:mod:`~neurocur.analysis.stats.icub` (the iCub experiment's tables),
 :mod:`~neurocur.analysis.stats.reward_model` (the value estimator's eq-14 model replayed from a
-run's recorded DA and decisions).
+run's recorded DA and decisions) and :mod:`~neurocur.analysis.stats.keys` (the columns that
+identify a run, contexts by index or by name: what the statistics' modules share).
 """
 
 import ast
@@ -79,6 +82,7 @@ from neurocur.analysis.stats import (
     dwell,
     efficiency,
     event_locked,
+    folder_summary,
     learning_time,
     order,
     report,
@@ -94,6 +98,7 @@ from neurocur.analysis.stats.degenerate import *  # noqa: F403
 from neurocur.analysis.stats.dwell import *  # noqa: F403
 from neurocur.analysis.stats.efficiency import *  # noqa: F403
 from neurocur.analysis.stats.event_locked import *  # noqa: F403
+from neurocur.analysis.stats.folder_summary import *  # noqa: F403
 from neurocur.analysis.stats.learning_time import *  # noqa: F403
 from neurocur.analysis.stats.order import *  # noqa: F403
 from neurocur.analysis.stats.report import *  # noqa: F403
@@ -105,7 +110,7 @@ from neurocur.contexts.synthetic import SYNTHETIC as SYNTHETIC
 
 _EAGER = ["dataset", "load", "narrow", "order_tables", "verdict_text", "run_dirs", "source_specs", "throughput", "write_summary", "Results", "SourceSpec",
           "SYNTHETIC", *order.__all__, *learning_time.__all__, *comparison.__all__, *significance.__all__,
-          *bootstrap.__all__, *sweeps.__all__, *report.__all__, *dwell.__all__, *efficiency.__all__,
+          *bootstrap.__all__, *sweeps.__all__, *report.__all__, *folder_summary.__all__, *dwell.__all__, *efficiency.__all__,
           *event_locked.__all__, *cycles.__all__, *degenerate.__all__, *choice_shares.__all__, *verdict.__all__]
 
 #: Re-exported, but imported on first use (PEP 562): they import matplotlib, seaborn or

@@ -23,7 +23,8 @@ from neurocur.results.runinfo import run_number
 
 from .results import Results, source_specs
 from .stats.efficiency import censoring_horizon
-from .stats.report import of_the_paper, order_table, paired_test_rows, reference_group, summary
+from .stats.folder_summary import summary
+from .stats.report import of_the_paper, order_table, paired_test_rows, reference_group
 from .stats.verdict import verdict_notes, verdict_table
 
 __all__ = ["dataset", "load", "run_dirs", "source_specs", "order_tables", "narrow", "verdict_text", "throughput",
@@ -206,7 +207,7 @@ def narrow(table: pd.DataFrame, width: int = 100) -> str:
 
 
 def write_summary(results_dir: str | Path, *, tables: tuple[pd.DataFrame, pd.DataFrame] | None = None) -> dict:
-    """Aggregate every finished run into ``summary.json`` (:func:`~neurocur.analysis.stats.report.summary`).
+    """Aggregate every finished run into ``summary.json`` (:func:`~neurocur.analysis.stats.folder_summary.summary`).
 
     One summary when every condition's world has the same sources, else one per condition.
     The reference of the comparisons is the first condition of the folder's ``config.toml``

@@ -39,7 +39,33 @@ N_PERMUTATIONS = 10_000
 def share_array(trials: pd.DataFrame, options: Sequence[str], *, n_bins: int = 10) -> tuple[np.ndarray, list]:
     """Each subject's share of choices per bin and option, shape ``(subjects, n_bins, options)``,
     and the subjects in order of first appearance. Trial *i* of a subject's *n* (in ``trial``
-    order) falls in bin ``floor(i * n_bins / n)``, so 250 choices make 10 bins of 25."""
+    order) falls in bin ``floor(i * n_bins / n)``, so 250 choices make 10 bins of 25.
+
+    Parameters
+    ----------
+    trials : pandas.DataFrame
+        One row per choice, with the columns ``subject``, ``trial`` (order within the subject)
+        and ``choice`` (one of ``options``).
+    options : sequence of str
+        The options' names, in the order of the array's last axis.
+    n_bins : int
+        Number of bins each subject's choices are cut into; every subject needs at least this
+        many choices.
+
+    Returns
+    -------
+    shares : numpy.ndarray
+        Shape ``(subjects, n_bins, options)``: the fraction of each bin's choices that went to
+        each option (each bin's row sums to 1).
+    subjects : list
+        The subjects, in the order of the array's first axis.
+
+    Raises
+    ------
+    ValueError
+        When a column is missing, a choice is not among ``options``, or a subject has fewer
+        than ``n_bins`` choices.
+    """
     missing = [c for c in ("subject", "trial", "choice") if c not in trials.columns]
     if missing:
         raise ValueError(f"share_array expected the columns subject, trial, choice, got no {missing[0]!r}")
@@ -65,7 +91,27 @@ def share_summary(shares: np.ndarray, options: Sequence[str], *, confidence: flo
                   seed: int = BOOTSTRAP_SEED) -> pd.DataFrame:
     """One row per bin and option: ``bin`` (1-based), ``option``, ``mean`` share over subjects,
     ``ci_low``/``ci_high`` (percentile bootstrap over subjects,
-    :func:`~neurocur.analysis.stats.bootstrap.bootstrap_ci`) and ``n`` subjects."""
+    :func:`~neurocur.analysis.stats.bootstrap.bootstrap_ci`) and ``n`` subjects.
+
+    Parameters
+    ----------
+    shares : numpy.ndarray
+        Shape ``(subjects, bins, options)``, as ``share_array`` returns it.
+    options : sequence of str
+        The options' names, in the order of the last axis.
+    confidence : float
+        Coverage of each bootstrap interval, in (0, 1).
+    n_boot : int
+        Number of bootstrap resamples of each interval.
+    seed : int
+        Seed of each interval's resamples.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns ``bin``, ``option``, ``mean``, ``ci_low``, ``ci_high``, ``n``; bins in order,
+        options in ``options``' order within each bin.
+    """
     rows = []
     for b in range(shares.shape[1]):
         for k, option in enumerate(options):
@@ -77,7 +123,19 @@ def share_summary(shares: np.ndarray, options: Sequence[str], *, confidence: flo
 
 def peak_bins(shares: np.ndarray) -> np.ndarray:
     """Each subject's peak bin per option, shape ``(subjects, options)``: the 1-based bin of the
-    largest share, the mean position when several bins tie, NaN for an option never chosen."""
+    largest share, the mean position when several bins tie, NaN for an option never chosen.
+
+    Parameters
+    ----------
+    shares : numpy.ndarray
+        Shape ``(subjects, bins, options)``, as ``share_array`` returns it.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape ``(subjects, options)``, float: the peak bins (1-based), NaN where an option was
+        never chosen.
+    """
     top = shares.max(axis=1, keepdims=True)
     at_top = shares == top
     position = np.arange(1, shares.shape[1] + 1)[None, :, None]
@@ -87,7 +145,20 @@ def peak_bins(shares: np.ndarray) -> np.ndarray:
 
 def ordered_peaks(peaks: np.ndarray, order: Sequence[int]) -> np.ndarray:
     """Per subject: 1.0 when the peaks of the options ``order`` (indices) rise strictly in that
-    order, 0.0 when they do not, NaN when one of them has no peak."""
+    order, 0.0 when they do not, NaN when one of them has no peak.
+
+    Parameters
+    ----------
+    peaks : numpy.ndarray
+        Shape ``(subjects, options)``, as ``peak_bins`` returns it.
+    order : sequence of int
+        Indices of the options (the last axis of ``peaks``), in the order their peaks should come.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape ``(subjects,)``: 1.0, 0.0 or NaN per subject.
+    """
     chosen = peaks[:, list(order)]
     ordered = np.all(np.diff(chosen, axis=1) > 0, axis=1).astype(float)
     return np.where(np.isnan(chosen).any(axis=1), np.nan, ordered)
@@ -95,7 +166,20 @@ def ordered_peaks(peaks: np.ndarray, order: Sequence[int]) -> np.ndarray:
 
 def share_change(shares: np.ndarray, option: int) -> np.ndarray:
     """Per subject: the option's mean share over the later half of the bins minus the earlier
-    half (the middle bin left out when their number is odd)."""
+    half (the middle bin left out when their number is odd).
+
+    Parameters
+    ----------
+    shares : numpy.ndarray
+        Shape ``(subjects, bins, options)``, as ``share_array`` returns it.
+    option : int
+        Index of the option (the last axis of ``shares``).
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape ``(subjects,)``: the change in share, positive for a rise.
+    """
     half = shares.shape[1] // 2
     return shares[:, -half:, option].mean(axis=1) - shares[:, :half, option].mean(axis=1)
 
@@ -121,7 +205,30 @@ def permutation_tests(groups: Mapping[str, np.ndarray], order: Sequence[int], fa
     a fall), each against shuffles of every subject's bins in time. One row per group and
     statistic: ``observed``, ``n`` (subjects that count: those with all the peaks for the order),
     ``null_mean``, ``p_value`` (one-sided, the claimed direction), ``p_opposite`` (one-sided, the
-    other direction) and ``p_holm`` (Holm over all the rows). Deterministic by ``seed``."""
+    other direction) and ``p_holm`` (Holm over all the rows). Deterministic by ``seed``.
+
+    Parameters
+    ----------
+    groups : mapping of str to numpy.ndarray
+        ``{group name: shares}``, each of shape ``(subjects, bins, options)`` as ``share_array``
+        returns it; group *g* (in the mapping's order) draws from
+        ``numpy.random.default_rng([seed, g])``.
+    order : sequence of int
+        Indices of the options whose peaks should rise in that order (as in ``ordered_peaks``).
+    falling : int
+        Index of the option whose share should fall (as in ``share_change``).
+    n_permutations : int
+        Number of shuffles of each group's bins.
+    seed : int
+        Seed of the shuffles.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns ``group``, ``statistic`` (``"ordered peaks"`` or ``"change in share"``),
+        ``observed``, ``n``, ``null_mean``, ``p_value``, ``p_opposite``, ``p_holm``; two rows
+        per group.
+    """
     rows = []
     for g, (name, shares) in enumerate(groups.items()):
         rng = np.random.default_rng([seed, g])

@@ -29,7 +29,7 @@ from neurocur.analysis.results import Results
 from neurocur.contexts.base import SourceSpec
 from neurocur.contract import require_columns
 
-from .dwell import run_keys
+from .keys import run_keys
 
 __all__ = ["error_cycles", "cycle_behaviour"]
 
@@ -49,6 +49,30 @@ def error_cycles(episodes: pd.DataFrame, column: str = "error", bin_frames: int 
     storing episode (the source the cycle's module is stored from) are kept, and a ``source``
     column names it (after cycle); the error of the other contexts, which the agent visits
     between, is what makes the mean over all episodes flat.
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The episodes table, with ``condition``, ``run``, ``episode``, ``step``, ``n_frames``,
+        ``module_learned``, ``column`` (and ``context`` when ``context_sources`` is given).
+    column : str
+        The column averaged (by default the HPC's context error, eq 11 divided by M).
+    bin_frames : int
+        Width of each bin, in frames; a positive integer.
+    context_sources : sequence, optional
+        The source each context shows, by context index; None (the default) keeps every episode
+        of the cycle.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per (run, cycle, bin), the columns above; empty (with those columns) when no run
+        stored a module.
+
+    Raises
+    ------
+    ValueError
+        When ``bin_frames`` is not a positive integer or a needed column is missing.
     """
     if int(bin_frames) != bin_frames or bin_frames < 1:
         raise ValueError(f"error_cycles: bin_frames must be a positive integer number of frames, got {bin_frames!r}")
@@ -102,6 +126,24 @@ def cycle_behaviour(results: Results) -> pd.DataFrame:
 
     Columns: condition, run, the swept keys, cycle (1 = ended by the first module), module,
     source, then the numbers above.
+
+    Parameters
+    ----------
+    results : neurocur.analysis.results.Results
+        A results folder's tables: its episodes (``condition``, ``run``, ``episode``,
+        ``context``, ``n_frames``, ``familiar``, ``action``), its modules (``condition``,
+        ``run``, ``module``, ``episode``, ``source``), and each condition's world (for the
+        source each context shows).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per stored module, the columns above; a run that stored none has no row.
+
+    Raises
+    ------
+    ValueError
+        When a needed column is missing.
     """
     episodes, modules = results.episodes, results.modules
     require_columns(episodes, ["condition", "run", "episode", "context", "n_frames", "familiar", "action"],

@@ -7,7 +7,7 @@ then repeats another condition's runs exactly: the same contexts, the same decis
 frames, the same stored modules, run for run. Compared with the reference it only repeats that
 condition's test, and it would enlarge the multiple-comparison family for nothing; so the order
 table and the summary report it as such and leave it out of their families by default
-(:func:`~neurocur.analysis.stats.report.order_table`, :func:`~neurocur.analysis.stats.report.summary`).
+(:func:`~neurocur.analysis.stats.report.order_table`, :func:`~neurocur.analysis.stats.folder_summary.summary`).
 
 Which of the identical conditions is kept: the reference (the experiment's first condition),
 else the declared control (:attr:`~neurocur.analysis.results.Results.control`), else the first
@@ -36,7 +36,18 @@ def _behaviour(table: pd.DataFrame, condition: str, columns) -> pd.DataFrame:
 def degenerate_conditions(results: Results) -> dict[str, str]:
     """Each condition whose runs repeat another's exactly (:data:`BEHAVIOUR_COLUMNS`, the same
     runs), mapped to the condition kept in its place (see the module docstring); empty when
-    every condition behaved differently. Conditions of different worlds are never compared."""
+    every condition behaved differently. Conditions of different worlds are never compared.
+
+    Parameters
+    ----------
+    results : neurocur.analysis.results.Results
+        A results folder's tables (its episodes and modules) and the sources of each condition's world (``specs``).
+
+    Returns
+    -------
+    dict of str to str
+        ``{repeating condition: condition kept}``.
+    """
     order = [c for c in results.specs if c in set(results.conditions)]
     order += [c for c in results.conditions if c not in order]
     first = [c for c in (results.reference, results.control) if c in order]

@@ -24,57 +24,25 @@ Definitions:
 
 Contexts are indices in the tables; a ``spec`` (a :class:`~neurocur.contexts.base.SourceSpec`,
 or one per condition as :func:`~neurocur.analysis.io.source_specs` returns) names them and
-their sources, and lets contexts be given by name.
+their sources, and lets contexts be given by name (:mod:`~neurocur.analysis.stats.keys`).
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 
 import numpy as np
 import pandas as pd
 
-from neurocur.contexts.base import SourceSpec
 from neurocur.contract import require_columns
 
 from .bootstrap import BOOTSTRAP_SEED, N_BOOT, bootstrap_ci
-from .order import sweep_columns
+from .keys import Spec, context_indices, run_keys, spec_of
 
 __all__ = ["visits", "engagement", "engagement_summary", "occupancy", "signal_over_time", "share_after"]
 
 #: The columns the dwell analyses read (``condition`` and ``run`` are added by the loader).
 EPISODE_COLUMNS = ("condition", "run", "episode", "step", "context", "n_frames")
-
-Spec = SourceSpec | Mapping[str, SourceSpec] | None
-
-
-def run_keys(table: pd.DataFrame) -> list[str]:
-    """The columns that identify a run: condition, run and the swept keys of a sweep."""
-    return ["condition", "run", *sweep_columns(table)]
-
-
-def spec_of(spec: Spec, condition: str) -> SourceSpec | None:
-    """The :class:`SourceSpec` of ``condition``: ``spec`` itself, or its entry in a per-condition mapping."""
-    if spec is None or isinstance(spec, SourceSpec):
-        return spec
-    if condition not in spec:
-        raise ValueError(f"no source spec for condition {condition!r}; have {sorted(spec)}")
-    return spec[condition]
-
-
-def context_indices(contexts, spec: SourceSpec | None, *, needed_by: str) -> list[int]:
-    """Context indices of ``contexts`` (indices, or names of ``spec``'s contexts)."""
-    items = [contexts] if isinstance(contexts, (str, int, np.integer)) else list(contexts)
-    out = []
-    for item in items:
-        if isinstance(item, (int, np.integer)):
-            out.append(int(item))
-        elif spec is not None and item in spec.context_names:
-            out.append(spec.context_names.index(item))
-        else:
-            have = "no spec to name contexts" if spec is None else f"contexts {list(spec.context_names)}"
-            raise ValueError(f"{needed_by}: unknown context {item!r}; give an index or a name ({have})")
-    return out
 
 
 def _sorted(episodes: pd.DataFrame, needed_by: str) -> pd.DataFrame:
@@ -113,6 +81,20 @@ def visits(episodes: pd.DataFrame, spec: Spec = None) -> pd.DataFrame:
     ``context_name`` and ``source`` when ``spec`` is given), first_episode, step (global
     frame at the visit's start), n_episodes, frames (dwell), censored (the run's last
     visit, cut by the run's end).
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The episodes table, one row per episode, with at least ``condition``, ``run``,
+        ``episode``, ``step``, ``context``, ``n_frames``.
+    spec : SourceSpec or mapping of str to SourceSpec, optional
+        The sources of the world, or of each condition's world by condition name; names the
+        contexts (``context_name``, ``source``). None: contexts stay indices.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per visit, the columns above, in run and visit order.
     """
     table = _sorted(episodes, "visits")
     keys = run_keys(table)
@@ -142,6 +124,21 @@ def engagement(episodes: pd.DataFrame, spec: Spec = None) -> pd.DataFrame:
     Columns: condition, run, the swept keys, context (with ``context_name``, ``source``),
     n_visits, mean_dwell_frames, mean_dwell_episodes (per visit, censored last visit
     included; see :func:`visits`), frames (in the context), share (of the run's frames).
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The episodes table, one row per episode, with at least ``condition``, ``run``,
+        ``episode``, ``step``, ``context``, ``n_frames``.
+    spec : SourceSpec or mapping of str to SourceSpec, optional
+        The sources of the world, or of each condition's world by condition name: every one of
+        its contexts gets a row, named (``context_name``, ``source``). None: only the contexts
+        seen in the table, as indices.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per (run, context), the columns above.
     """
     table = visits(episodes, None)
     keys = run_keys(table) if len(table) else run_keys(episodes)
@@ -169,6 +166,28 @@ def occupancy(episodes: pd.DataFrame, bin_frames: int = 10_000, spec: Spec = Non
     context), share (frames over the run's frames in the bin; the last bin of a run may be
     partial). Within an episode every frame counts one, so an episode straddling a bin
     boundary is split at it.
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The episodes table, one row per episode, with at least ``condition``, ``run``,
+        ``episode``, ``step``, ``context``, ``n_frames``.
+    bin_frames : int
+        Width of each bin, in global frames; a positive integer.
+    spec : SourceSpec or mapping of str to SourceSpec, optional
+        The sources of the world, or of each condition's world by condition name: every one of
+        its contexts gets a row, named (``context_name``, ``source``). None: only the contexts
+        seen in the table, as indices.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per (run, bin, context), the columns above.
+
+    Raises
+    ------
+    ValueError
+        When ``bin_frames`` is not a positive integer or a column is missing.
     """
     if int(bin_frames) != bin_frames or bin_frames < 1:
         raise ValueError(f"occupancy: bin_frames must be a positive integer number of frames, got {bin_frames!r}")
@@ -225,6 +244,31 @@ def share_after(
     whole run), frames_after (all frames after the event), frames_in (those in
     ``contexts``), share (frames_in / frames_after; NaN without an event or without frames
     after it).
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The episodes table, one row per episode, with at least ``condition``, ``run``,
+        ``episode``, ``step``, ``context``, ``n_frames``.
+    contexts : int, str or sequence of int or str
+        The contexts counted: indices, or names of ``spec``'s contexts.
+    events : pandas.DataFrame, optional
+        One row per (condition, run) with the columns ``condition``, ``run``, ``episode``: the
+        event's episode. None: the whole run counts.
+    spec : SourceSpec or mapping of str to SourceSpec, optional
+        The sources of the world, or of each condition's world by condition name; needed only
+        to give ``contexts`` by name.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per run, the columns above.
+
+    Raises
+    ------
+    ValueError
+        When a column is missing, a context is unknown, or ``events`` has more than one row for
+        a run.
     """
     table = _sorted(episodes, "share_after")
     keys = run_keys(table)
@@ -267,6 +311,27 @@ def engagement_summary(
     Columns: condition, context (with ``context_name``, ``source``), n_runs, share, share_ci_low,
     share_ci_high, n_runs_visited (runs that visited the context), dwell_frames (the mean over
     those runs of their mean dwell per visit), dwell_ci_low, dwell_ci_high.
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The episodes table, one row per episode, with at least ``condition``, ``run``,
+        ``episode``, ``step``, ``context``, ``n_frames``.
+    spec : SourceSpec or mapping of str to SourceSpec, optional
+        The sources of the world, or of each condition's world by condition name: every one of
+        its contexts gets a row, named (``context_name``, ``source``). None: only the contexts
+        seen in the table, as indices.
+    n_boot : int
+        Number of bootstrap resamples of each interval.
+    confidence : float
+        Coverage of each interval, in (0, 1).
+    seed : int
+        Seed of each interval's resamples.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per (condition, context), the columns above.
     """
     table = engagement(episodes, spec).drop(columns=["context_name", "source"], errors="ignore")
     rows = []
@@ -290,6 +355,32 @@ def signal_over_time(
     An episode belongs to the bin of its first frame. One row per (run, bin) with such episodes.
     Columns: condition, run, the swept keys, bin, step (the bin's first frame), n_episodes, and
     ``column`` (the mean over the bin's episodes with a value).
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The episodes table, one row per episode, with at least ``condition``, ``run``,
+        ``episode``, ``step``, ``context``, ``n_frames`` and ``column``.
+    column : str
+        The recorded signal averaged (a column of ``episodes``).
+    bin_frames : int
+        Width of each bin, in global frames; a positive integer.
+    contexts : int, str or sequence of int or str, optional
+        The contexts whose episodes count: indices, or names of ``spec``'s contexts; None: all.
+    spec : SourceSpec or mapping of str to SourceSpec, optional
+        The sources of the world, or of each condition's world by condition name; needed only
+        to give ``contexts`` by name.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per (run, bin) with episodes in ``contexts``, the columns above.
+
+    Raises
+    ------
+    ValueError
+        When ``bin_frames`` is not a positive integer, a column is missing or a context is
+        unknown.
     """
     if int(bin_frames) != bin_frames or bin_frames < 1:
         raise ValueError(f"signal_over_time: bin_frames must be a positive integer number of frames, "

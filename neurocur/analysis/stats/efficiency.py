@@ -46,7 +46,7 @@ from neurocur.contract import require_columns
 
 from .bootstrap import BOOTSTRAP_SEED, N_BOOT, bootstrap_ci
 from .comparison import compare
-from .dwell import run_keys
+from .keys import run_keys
 from .order import clopper_pearson
 
 __all__ = ["EFFICIENCY_TESTS", "censoring_horizon", "efficiency_per_run", "efficiency_summary", "compare_efficiency"]
@@ -95,7 +95,18 @@ def _run_row(eps: pd.DataFrame, mods: pd.DataFrame | None, spec: SourceSpec) -> 
 
 
 def censoring_horizon(results: Results) -> float:
-    """The frames of the shortest run of ``results``: the common cut-off T of the censored times."""
+    """The frames of the shortest run of ``results``: the common cut-off T of the censored times.
+
+    Parameters
+    ----------
+    results : neurocur.analysis.results.Results
+        A results folder's tables; its episodes table's ``n_frames`` are summed per run.
+
+    Returns
+    -------
+    float
+        The shortest run's frames; NaN when there are no runs.
+    """
     frames = results.episodes.groupby(["condition", "run"])["n_frames"].sum()
     return float(frames.min()) if len(frames) else math.nan
 
@@ -112,6 +123,25 @@ def efficiency_per_run(results: Results, *, horizon: float | None = None) -> pd.
     learned_all_episode (the storing episode; NaN), frames_to_learn_all (NaN when not all),
     frames_to_learn_all_censored (censored at ``horizon``), frames_unlearnable,
     share_unlearnable, n_modules, modules_per_1e5, horizon.
+
+    Parameters
+    ----------
+    results : neurocur.analysis.results.Results
+        A results folder's tables: its episodes (``condition``, ``run``, ``episode``,
+        ``context``, ``n_frames``), its modules (``condition``, ``run``, ``module``, ``source``,
+        ``episode``), and each condition's world (which sources are learnable).
+    horizon : float, optional
+        The cut-off T, in frames; at most the shortest run. None: the shortest run.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per (condition, run), the columns above.
+
+    Raises
+    ------
+    ValueError
+        When a column is missing or ``horizon`` is past the shortest run.
     """
     episodes, modules = results.episodes, results.modules
     require_efficiency_columns(episodes, modules, needed_by="efficiency_per_run")
@@ -150,6 +180,22 @@ def efficiency_summary(
     (every run; its mean is the restricted mean), frames_unlearnable, modules_per_1e5 (percentile
     bootstrap interval of the mean over runs). Columns: condition, metric, label, n (runs with
     a value), mean, ci_low, ci_high, median, min, max.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        An ``efficiency_per_run`` table.
+    n_boot : int
+        Number of bootstrap resamples of each interval.
+    confidence : float
+        Coverage of each interval, in (0, 1) (``learned_all``'s Clopper–Pearson interval too).
+    seed : int
+        Seed of each interval's resamples.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per (condition, metric), the columns above.
     """
     require_columns(table, ["condition", "run", *EFFICIENCY_LABELS], needed_by="efficiency_summary")
     rows = []
@@ -187,6 +233,27 @@ def compare_efficiency(
     pairs and Holm's adjustment (Holm 1979) over the four (``adjust``). Columns:
     :data:`~neurocur.analysis.stats.comparison.COMPARE_COLUMNS`; ``difference`` < 0 in frames means
     ``a`` learned sooner.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        An ``efficiency_per_run`` table.
+    a, b : str
+        The conditions compared.
+    adjust : str or None
+        The multiple-comparison adjustment over the four metrics (``"holm"``, ``"bh"`` /
+        ``"fdr_bh"``, ``"none"`` or None), as in ``compare``.
+    n_boot : int
+        Number of bootstrap resamples of each interval.
+    confidence : float
+        Coverage of each interval, in (0, 1).
+    seed : int
+        Seed of each interval's resamples.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per metric of ``EFFICIENCY_TESTS``.
     """
     require_columns(table, ["condition", "run", *EFFICIENCY_TESTS], needed_by="compare_efficiency")
     return compare(table, a, b, list(EFFICIENCY_TESTS), paired=True, adjust=adjust, n_boot=n_boot,

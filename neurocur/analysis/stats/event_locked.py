@@ -41,7 +41,7 @@ from scipy import stats as sps
 from neurocur.contract import require_columns
 
 from .bootstrap import BOOTSTRAP_SEED, N_BOOT, bootstrap_ci
-from .dwell import run_keys
+from .keys import run_keys
 
 __all__ = ["EVENTS", "events", "event_locked_average", "tonic_phasic", "tonic_phasic_correlation"]
 
@@ -80,6 +80,24 @@ def events(episodes: pd.DataFrame, kinds: str | Sequence[str] | None = None) -> 
     """Every event of ``kinds`` (default: every kind of :data:`EVENTS` whose column the table has).
 
     Columns: condition, run, the swept keys, event, episode, context (of the event's episode).
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The episodes table, with ``condition``, ``run``, ``episode``, ``context`` and the
+        column of each kind (``EVENTS``).
+    kinds : str or sequence of str, optional
+        Event kinds, keys of ``EVENTS``; None: every kind whose column the table has.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per event, the columns above, grouped by kind in ``kinds``' order.
+
+    Raises
+    ------
+    ValueError
+        When a kind is unknown or a column is missing.
     """
     kinds = _kinds(episodes, kinds)
     table = _sorted(episodes, [EVENTS[k] for k in kinds], "events")
@@ -128,6 +146,39 @@ def event_locked_average(
     [context], event, signal, lag (episodes after the event; 0 is the event's episode),
     n_runs (runs with the event and a value at that lag), n_events, mean (of the per-run
     means), ci_low, ci_high (NaN for the t interval with fewer than two runs).
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The episodes table, with ``condition``, ``run``, ``episode``, ``context``, the
+        signals and the column of each kind (``EVENTS``).
+    signals : str or sequence of str, optional
+        The signals averaged, columns of ``episodes``; None: ``default_signals``.
+    kinds : str or sequence of str, optional
+        Event kinds, keys of ``EVENTS``; None: every kind whose column the table has.
+    window : int
+        Lags either side of the event, in episodes; non-negative.
+    by_context : bool
+        One curve per context of the event's episode (adds a ``context`` column).
+    interval : str
+        ``"bootstrap"`` or ``"t"``.
+    confidence : float
+        Coverage of each interval, in (0, 1).
+    n_boot : int
+        Number of bootstrap resamples of each interval (``interval="bootstrap"``).
+    seed : int
+        Seed of each bootstrap interval's resamples.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per (condition, [context], event, signal, lag), the columns above.
+
+    Raises
+    ------
+    ValueError
+        When ``window`` is negative or not whole, ``interval`` unknown, a kind unknown or a
+        column missing.
     """
     if int(window) != window or window < 0:
         raise ValueError(f"event_locked_average: window must be a non-negative number of episodes, got {window!r}")
@@ -186,6 +237,21 @@ def tonic_phasic(episodes: pd.DataFrame, tonic: str = "ne_tonic", phasic: str = 
 
     Columns: condition, run, the swept keys, context, n_episodes, and the two signals' means
     under their own names (``tonic``, ``phasic``).
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The episodes table, with ``condition``, ``run``, ``episode``, ``context``,
+        ``tonic`` and ``phasic``.
+    tonic : str
+        The column of tonic NE.
+    phasic : str
+        The column of phasic NE.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per (run, context), the columns above.
     """
     table = _sorted(episodes, [tonic, phasic], "tonic_phasic")
     keys = run_keys(table)
@@ -202,6 +268,24 @@ def tonic_phasic_correlation(
     One row per condition. Columns: condition, n_runs (runs where ρ is defined: both signals
     vary), mean_rho (mean of the per-run ρ), ci_low, ci_high (Student's t over the runs),
     rhos (the per-run values, in run order).
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The episodes table, with ``condition``, ``run``, ``episode``, ``context``,
+        ``tonic`` and ``phasic``.
+    tonic : str
+        The column of tonic NE.
+    phasic : str
+        The column of phasic NE.
+    confidence : float
+        Coverage of the t interval, in (0, 1).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per condition, the columns above. A run needs at least three episodes with
+        both values for its ρ.
     """
     table = _sorted(episodes, [tonic, phasic], "tonic_phasic_correlation")
     rows = []

@@ -35,8 +35,9 @@ from neurocur.contract import require_columns
 from neurocur.results import ResultsStore
 
 from .comparison import adjust_pvalues
-from .dwell import Spec, engagement
+from .dwell import engagement
 from .inverted_u import inverted_u_test
+from .keys import Spec
 
 __all__ = ["OUTCOMES", "world_learnability", "engagement_by_learnability", "goldilocks_tests"]
 
@@ -48,7 +49,33 @@ def world_learnability(results_dir: str | Path, condition: str | None = None, *,
                        draws: int = 10, seed: int = 0) -> pd.DataFrame:
     """The learnability table (:func:`~neurocur.contexts.learnability.learnability`) of the world of
     ``condition`` (default: the first) in the results folder's ``config.toml``, its world reset
-    with ``seed`` (Ω of a replayed source does not depend on the mixing drawn)."""
+    with ``seed`` (Ω of a replayed source does not depend on the mixing drawn).
+
+    Parameters
+    ----------
+    results_dir : str or path
+        The results folder; its ``config.toml`` must list the conditions.
+    condition : str, optional
+        The condition whose world is built; None: the first in ``config.toml``.
+    eta : float
+        The MCA learning rate η with which Ω (eq 40) is measured.
+    draws : int
+        Fresh draws of a redrawn source.
+    seed : int
+        Seed of the world's reset and of the draws.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per context: ``context``, ``context_name``, ``source``, ``redrawn``, ``omega``,
+        the ``omega_draw_*`` columns, ``pca_dims`` and ``level``.
+
+    Raises
+    ------
+    ValueError
+        When the folder has no conditions, ``condition`` is not one of them, or its world is
+        neither synthetic nor episodic (no frames to measure Ω on).
+    """
     conditions = (ResultsStore(results_dir).config() or {}).get("conditions", {})
     if not conditions:
         raise ValueError(f"world_learnability: {results_dir} has no config.toml with conditions")
@@ -66,7 +93,29 @@ def world_learnability(results_dir: str | Path, condition: str | None = None, *,
 def engagement_by_learnability(episodes: pd.DataFrame, levels: pd.DataFrame, spec: Spec = None) -> pd.DataFrame:
     """Engagement per run and context (:func:`~neurocur.analysis.stats.dwell.engagement`) with the
     context's ``omega``, ``redrawn`` and ``level`` from ``levels`` (a learnability table),
-    joined on the context index."""
+    joined on the context index.
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The episodes table (as ``engagement`` reads it).
+    levels : pandas.DataFrame
+        A learnability table with ``context``, ``omega``, ``redrawn`` and ``level`` (and the
+        ``context_name`` and ``source`` taken when ``spec`` does not give them), as
+        ``world_learnability`` returns it.
+    spec : SourceSpec or mapping of str to SourceSpec, optional
+        The sources of the world, or of each condition's world, as in ``engagement``.
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``engagement``'s rows with ``omega``, ``redrawn`` and ``level`` added.
+
+    Raises
+    ------
+    ValueError
+        When a column is missing, or ``levels`` has a context more than once.
+    """
     require_columns(levels, ["context", "omega", "redrawn", "level"], needed_by="engagement_by_learnability (levels)")
     table = engagement(episodes, spec)
     extra = [c for c in ("context_name", "source") if c not in table]
@@ -80,7 +129,27 @@ def goldilocks_tests(table: pd.DataFrame, outcomes: Sequence[str] = tuple(OUTCOM
     :func:`~neurocur.analysis.stats.inverted_u.inverted_u_test`'s columns, then ``p_value`` (the
     larger one-sided p of the two slopes: the test of an interior peak), ``p_adjusted``
     (``method`` over the conditions of each outcome), ``adjustment`` and ``n_tests``.
-    ``kwargs`` go to ``inverted_u_test`` (``alpha``, ``n_boot``, ...)."""
+    ``kwargs`` go to ``inverted_u_test`` (``alpha``, ``n_boot``, ...).
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        One row per (run, context): ``condition``, ``run``, ``level`` and the outcomes, as
+        ``engagement_by_learnability`` returns it.
+    outcomes : sequence of str
+        The outcome columns tested (default: the keys of ``OUTCOMES``).
+    method : str or None
+        The adjustment over the conditions of each outcome (``"holm"``, ``"bh"`` /
+        ``"fdr_bh"``, ``"none"`` or None), as in ``adjust_pvalues``.
+    **kwargs
+        Keyword arguments of ``inverted_u_test`` (``alpha``, ``paired``, ``n_boot``,
+        ``confidence``, ``seed``).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per (outcome, condition), outcomes in order.
+    """
     require_columns(table, ["condition", "run", "level", *outcomes], needed_by="goldilocks_tests")
     blocks = []
     for outcome in outcomes:

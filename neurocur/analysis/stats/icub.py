@@ -30,7 +30,20 @@ __all__ = ["ICUB", "load_features", "learning_segments", "encoding_table", "arm_
 
 
 def load_features(results_dir: str | Path) -> pd.DataFrame:
-    """Every run's ``features.parquet`` as one table (condition, run, module, context, ...)."""
+    """Every run's ``features.parquet`` as one table (condition, run, module, context, ...).
+
+    Parameters
+    ----------
+    results_dir : str or path
+        The results folder of an iCub experiment.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Every run's features, with ``condition`` and ``run``; empty (with the columns condition,
+        run, module, context, episode_index, frame, state, displacement, contact_frame, y0) when
+        no run has any.
+    """
     return ResultsStore(results_dir).load_table("features", ["condition", "run", "module", "context", "episode_index",
                                                              "frame", "state", "displacement", "contact_frame", "y0"])
 
@@ -41,6 +54,22 @@ def learning_segments(episodes: pd.DataFrame) -> pd.DataFrame:
     ``learning_module`` (0-based) is the adaptive module during the episode: the library
     size before it (``n_modules`` minus the module stored at this episode). ``frames_in``
     counts the frames since that module started learning (its first episode's ``step``).
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The episodes table, with ``condition``, ``run``, ``step``, ``n_modules`` and
+        ``module_learned``.
+
+    Returns
+    -------
+    pandas.DataFrame
+        A copy of ``episodes`` with the two columns added.
+
+    Raises
+    ------
+    ValueError
+        When a column is missing.
     """
     require_columns(episodes, ["condition", "run", "step", "n_modules", "module_learned"],
                     needed_by="learning_segments")
@@ -57,6 +86,18 @@ def encoding_table(modules: pd.DataFrame) -> pd.DataFrame:
     Columns: condition, source, n (runs with such a module), and the mean ± sd over those
     modules of ``quality`` (|corr| with the displacement), ``arm_corr``, ``other_quality``
     and ``context_corr`` (see the module docstring).
+
+    Parameters
+    ----------
+    modules : pandas.DataFrame
+        The modules table of an iCub experiment, with ``condition``, ``run``, ``module``,
+        ``source`` and the scores above (a score it lacks gives NaN).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per (condition, source); each score as ``<score>_mean`` and ``<score>_sd`` (NaN
+        for fewer than two modules).
     """
     require_columns(modules, ["condition", "run", "module", "source"], needed_by="encoding_table")
     metrics = ["quality", "arm_corr", "other_quality", "context_corr"]
@@ -84,6 +125,25 @@ def arm_invariance(features: pd.DataFrame, modules: pd.DataFrame) -> pd.DataFram
     ignores the arm, 1: the arm moves y₀ as much as the object does); ``jump`` = |mean
     y₀ from 10 frames after contact on − mean y₀ before contact| / sd(y₀).
     One row per stored module: condition, run, module, source and those four columns.
+
+    Parameters
+    ----------
+    features : pandas.DataFrame
+        The features table (``load_features``).
+    modules : pandas.DataFrame
+        The modules table, with ``condition``, ``run``, ``module`` and ``source`` (one of the
+        iCub's context names).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per module of ``features``, the columns above; ``rest_sd_ratio`` and ``jump``
+        are NaN when y₀ is constant.
+
+    Raises
+    ------
+    ValueError
+        When a column is missing.
     """
     require_columns(features, ["condition", "run", "module", "context", "frame", "contact_frame", "state",
                                "displacement", "y0"], needed_by="arm_invariance (features table)")
@@ -108,6 +168,19 @@ def arm_invariance(features: pd.DataFrame, modules: pd.DataFrame) -> pd.DataFram
 
 
 def first_module_counts(episodes: pd.DataFrame, modules: pd.DataFrame) -> pd.DataFrame:
-    """Order outcomes per condition ("topple first", "roll second", ...) with 95 % intervals."""
+    """Order outcomes per condition ("topple first", "roll second", ...) with 95 % intervals.
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The episodes table of an iCub experiment.
+    modules : pandas.DataFrame
+        Its modules table.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per (condition, outcome).
+    """
     require_order_columns(episodes, modules, needed_by="first_module_counts")
     return order_counts(episodes, modules, ICUB)

@@ -77,6 +77,24 @@ def level_means(
     """Mean of ``y`` per level of ``x`` (per group of ``by``), with Student's t interval over the runs.
 
     Columns: the ``by`` columns, ``x``, n, mean, sd, ci_low, ci_high (NaN for one run).
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        One row per observation (a run at a level).
+    x : str
+        The column of the level.
+    y : str
+        The column averaged.
+    by : str or sequence of str, optional
+        The grouping columns (e.g. the model); None: one group.
+    confidence : float
+        Coverage of the t interval, in (0, 1).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per group and level, the columns above.
     """
     groups = [] if by is None else ([by] if isinstance(by, str) else list(by))
     require_columns(table, [*groups, x, y], needed_by="level_means")
@@ -166,6 +184,32 @@ def two_lines(
     Returns a dict: n, n_levels, break_point (the Robin Hood break x_c), n_low, n_high
     (observations on each side), slope1, se1, t1, p1 (one-sided, slope1 > 0), slope2, se2, t2,
     p2 (one-sided, slope2 < 0), interior_peak (p1 < alpha and p2 < alpha), alpha, test.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        One row per observation (a run at a level); rows with a non-finite ``x`` or ``y`` are dropped.
+    x : str
+        The column of the level.
+    y : str
+        The column of the performance.
+    run : str or None
+        The column of the run id (for the run intercepts); None: no run intercepts.
+    alpha : float
+        Level of each one-sided slope test, in (0, 1).
+    paired : bool
+        Give each run observed at two or more levels its own intercept.
+
+    Returns
+    -------
+    dict
+        The entries above.
+
+    Raises
+    ------
+    ValueError
+        When ``alpha`` is outside (0, 1), ``x`` has fewer than 3 levels, no level is repeated,
+        or a column is missing.
     """
     if not 0.0 < alpha < 1.0:
         raise ValueError(f"two_lines: alpha must be in (0, 1), got {alpha}")
@@ -190,6 +234,24 @@ def quadratic_fit(table: pd.DataFrame, x: str, y: str, run: str | None = "run", 
 
     Returns a dict: quad_c1, quad_c2, quad_se2, quad_p (one-sided, c2 < 0), vertex
     (−c1 / (2 c2) when c2 < 0, else NaN).
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        One row per observation (a run at a level); rows with a non-finite ``x`` or ``y`` are dropped.
+    x : str
+        The column of the level.
+    y : str
+        The column of the performance.
+    run : str or None
+        The column of the run id (for the run intercepts); None: no run intercepts.
+    paired : bool
+        Give each run observed at two or more levels its own intercept.
+
+    Returns
+    -------
+    dict
+        The entries above.
     """
     xv, yv, runs = _clean(table, x, y, run, "quadratic_fit")
     centre = xv.mean()
@@ -217,6 +279,26 @@ def peak_location(
     Returns a dict: peak_level, peak_ci_low, peak_ci_high, vertex_ci_low, vertex_ci_high,
     vertex_defined (the share of resamples whose quadratic is concave; the vertex interval is
     over those).
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        One row per observation (a run at a level); rows with a non-finite ``x`` or ``y`` are dropped.
+    x : str
+        The column of the level.
+    y : str
+        The column of the performance.
+    n_boot : int
+        Number of bootstrap resamples.
+    confidence : float
+        Coverage of the intervals, in (0, 1).
+    seed : int
+        Seed of the resamples.
+
+    Returns
+    -------
+    dict
+        The entries above.
     """
     xv, yv, _ = _clean(table, x, y, None, "peak_location")
     levels, index, counts, level_mean = _level_stats(xv, yv)
@@ -260,6 +342,34 @@ def inverted_u_test(
     interior_peak, alpha, test), :func:`quadratic_fit`'s (quad_c1, quad_c2, quad_se2, quad_p,
     vertex) and :func:`peak_location`'s (peak_level, peak_ci_low, peak_ci_high, vertex_ci_low,
     vertex_ci_high, vertex_defined).
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        One row per observation (a run at a level); rows with a non-finite ``x`` or ``y`` are dropped.
+    x : str
+        The column of the level.
+    y : str
+        The column of the performance.
+    run : str or None
+        The column of the run id (for the run intercepts); None: no run intercepts.
+    by : str or sequence of str, optional
+        The grouping columns (e.g. the model); None: one group.
+    alpha : float
+        Level of each one-sided slope test of ``two_lines``, in (0, 1).
+    paired : bool
+        Give each run observed at two or more levels its own intercept.
+    n_boot : int
+        Number of bootstrap resamples of ``peak_location``.
+    confidence : float
+        Coverage of the intervals, in (0, 1).
+    seed : int
+        Seed of the resamples.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per group, the columns above.
     """
     groups = [] if by is None else ([by] if isinstance(by, str) else list(by))
     require_columns(table, groups, needed_by="inverted_u_test")

@@ -29,7 +29,19 @@ AFTER_CHANGE = 20
 def with_blocks(episodes: pd.DataFrame) -> pd.DataFrame:
     """``episodes`` sorted by condition, run and trial, with ``block`` (changes so far in the run),
     ``position`` (trials since the block began), ``late`` (in the block's second half, by the
-    block's own length) and ``on_cue`` (the attended cue is the relevant one)."""
+    block's own length) and ``on_cue`` (the attended cue is the relevant one).
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The episodes table of a ``posner`` world, with ``condition``, ``run``, ``episode``,
+        ``changed``, ``attended`` and ``relevant``.
+
+    Returns
+    -------
+    pandas.DataFrame
+        A sorted copy with the four columns added.
+    """
     ep = episodes.sort_values(["condition", "run", "episode"], kind="stable").reset_index(drop=True)
     runs = [ep["condition"], ep["run"]]
     ep["block"] = ep["changed"].astype(int).groupby(runs).cumsum()
@@ -55,7 +67,21 @@ def posner_by_validity(episodes: pd.DataFrame) -> pd.DataFrame:
     """Per condition, run and validity, over the late trials of its blocks: ``ach`` (mean released
     ACh) beside ``expected_ach`` = 1 - validity, ``on_cue`` (share of trials attending the relevant
     cue), and the validity effect in reaction time (``validity_effect`` = mean rt on invalid - on
-    valid trials, in samples) and in accuracy (valid - invalid)."""
+    valid trials, in samples) and in accuracy (valid - invalid).
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The episodes table of a ``posner`` world (the columns ``with_blocks`` reads, and
+        ``validity``, ``valid``, ``ach``, ``rt``, ``correct``).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per (condition, run, validity), in that order: condition, run, validity, trials,
+        ach, expected_ach, on_cue, rt_valid, rt_invalid, validity_effect, accuracy_valid,
+        accuracy_invalid, accuracy_effect.
+    """
     ep = with_blocks(episodes)
     rows = []
     for (condition, run, validity), g in ep[ep["late"]].groupby(["condition", "run", "validity"], sort=False):
@@ -68,7 +94,18 @@ def posner_by_validity(episodes: pd.DataFrame) -> pd.DataFrame:
 def trials_to_adopt(ep: pd.DataFrame) -> np.ndarray:
     """For each change of the relevant cue in one run (``ep`` of :func:`with_blocks`): trials from the
     change until the observer first attends the new relevant cue (0: on the change's own trial),
-    censored at the block's length when it never does."""
+    censored at the block's length when it never does.
+
+    Parameters
+    ----------
+    ep : pandas.DataFrame
+        One run's trials, as ``with_blocks`` returns them.
+
+    Returns
+    -------
+    numpy.ndarray
+        One value per change, in order (float).
+    """
     out = []
     for _, block in ep[ep["block"] > 0].groupby("block", sort=True):
         hit = np.flatnonzero(block["on_cue"].to_numpy())
@@ -84,7 +121,19 @@ def posner_per_run(episodes: pd.DataFrame) -> pd.DataFrame:
     ``AFTER_CHANGE`` trials after a change, and over the late trials); ``on_cue`` (share of every
     trial attending the relevant cue); ``accuracy``, ``rt`` (mean samples) and ``prediction_score``
     (the mean log2 of the prior probability the cue gave the target's actual side: a proper score
-    of the observer's prediction of the target, 0 at best, -1 for a coin, lower when overconfident)."""
+    of the observer's prediction of the target, 0 at best, -1 for a coin, lower when overconfident).
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The episodes table of a ``posner`` world (the columns ``with_blocks`` reads, and
+        ``valid``, ``rt``, ``correct``, ``switched``, ``ne``, ``prior``).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per (condition, run): condition, run, trials, changes, then the columns above.
+    """
     ep = with_blocks(episodes)
     rows = []
     for (condition, run), g in ep.groupby(["condition", "run"], sort=False):
@@ -105,6 +154,18 @@ def posner_per_run(episodes: pd.DataFrame) -> pd.DataFrame:
 
 
 def posner_summary(per_run: pd.DataFrame) -> pd.DataFrame:
-    """Per condition (in the table's order): the mean over runs of every column of :func:`posner_per_run`."""
+    """Per condition (in the table's order): the mean over runs of every column of :func:`posner_per_run`.
+
+    Parameters
+    ----------
+    per_run : pandas.DataFrame
+        A ``posner_per_run`` table.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Indexed by condition; one column per averaged column (all but condition, run, trials
+        and changes).
+    """
     columns = [c for c in per_run.columns if c not in ("condition", "run", "trials", "changes")]
     return per_run.groupby("condition", sort=False)[columns].mean()

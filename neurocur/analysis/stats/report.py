@@ -1,10 +1,11 @@
-"""The summaries of a results folder: the order table beside the paper's numbers, and ``summary.json``.
+"""The order table of a results folder beside the paper's numbers, and its paired tests (the summary,
+``summary.json``, is :mod:`~neurocur.analysis.stats.folder_summary`).
 
-Both gather the statistics of :mod:`~neurocur.analysis.stats.order`,
+The table and its tests gather the statistics of :mod:`~neurocur.analysis.stats.order`,
 :mod:`~neurocur.analysis.stats.learning_time`, :mod:`~neurocur.analysis.stats.efficiency` and
 :mod:`~neurocur.analysis.stats.comparison`;
 :func:`order_table` sets the paper's numbers (:mod:`~neurocur.analysis.paper`) beside them.
-Every p-value they show is named by its test (paired by run: Wilcoxon 1945 signed-rank,
+Every p-value it shows is named by its test (paired by run: Wilcoxon 1945 signed-rank,
 McNemar 1947 exact) and its multiple-comparison adjustment (Holm 1979 by default, or
 Benjamini & Hochberg 1995).
 """
@@ -14,7 +15,6 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 
-import numpy as np
 import pandas as pd
 
 from neurocur.analysis import paper
@@ -23,16 +23,15 @@ from neurocur.contexts.base import SourceSpec
 from neurocur.contexts.synthetic import SYNTHETIC
 
 from .bootstrap import BOOTSTRAP_SEED, N_BOOT
-from .comparison import ADJUSTMENT_NAMES, COMPARE_COLUMNS, adjustment, compare_conditions
+from .comparison import ADJUSTMENT_NAMES, COMPARE_COLUMNS, compare_conditions
 from .degenerate import degenerate_conditions
-from .dwell import engagement_summary
-from .efficiency import EFFICIENCY_LABELS, EFFICIENCY_TESTS, censoring_horizon, efficiency_per_run, efficiency_summary
+from .efficiency import EFFICIENCY_LABELS, EFFICIENCY_TESTS, censoring_horizon, efficiency_per_run
 from .learning_time import learning_time_summary, require_learning_columns
 from .order import condition_summary, order_counts, outcome_labels, per_run, require_order_columns
 from .significance import TESTS
 
 __all__ = ["TABLE_TESTS", "DEGENERATE_NOTE", "order_table", "of_the_paper", "comparison_rows", "family_note", "paired_tests",
-           "reference_group", "paired_test_rows", "summary"]
+           "reference_group", "paired_test_rows"]
 
 #: The per-run metrics whose paired test against the reference condition the order table shows.
 TABLE_TESTS = ("exact_order", "gated_sources")
@@ -96,6 +95,24 @@ def comparison_rows(tests: pd.DataFrame, conditions, reference: str, spec: Sourc
     p-value with the pairs it rests on ("0.0023 (n=25)"; McNemar: "0.031 (7 of 25
     discordant)"); "—" for the reference and where nothing could be tested. Columns:
     ``conditions``. Empty when ``tests`` is.
+
+    Parameters
+    ----------
+    tests : pandas.DataFrame
+        One family of tests, with ``COMPARE_COLUMNS``.
+    conditions : iterable of str
+        The table's columns, in order.
+    reference : str
+        The condition the others were tested against.
+    spec : SourceSpec
+        The sources of the conditions' world.
+    horizon : float, optional
+        The cut-off of the censored frames, in the censored metric's label; None: not named.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Text cells, indexed by ``outcome`` (the rows' labels).
     """
     conditions = list(conditions)
     if not len(tests):
@@ -118,7 +135,18 @@ def comparison_rows(tests: pd.DataFrame, conditions, reference: str, spec: Sourc
 def family_note(tests: pd.DataFrame) -> str:
     """How the p-values of ``tests`` (rows of a family) were adjusted, in words: the pairing, the
     adjustment and the family's size, e.g. "paired; Holm, 8 tests". The order table's rows and the
-    efficiency figure's titles both say it so."""
+    efficiency figure's titles both say it so.
+
+    Parameters
+    ----------
+    tests : pandas.DataFrame
+        Rows of one adjusted family (``compare`` columns); the first row is read.
+
+    Returns
+    -------
+    str
+        The note.
+    """
     row = tests.iloc[0]
     paired = "" if pd.isna(row["n_pairs"]) else "paired; "
     return f"{paired}{ADJUSTMENT_NAMES[row['adjustment']][0]}, {int(row['n_tests'])} tests"
@@ -147,6 +175,31 @@ def paired_tests(
     The one computation of these p-values: the order table (:func:`paired_test_rows`), the
     summary and the efficiency figure (:func:`~neurocur.analysis.figures.neuro.fig_efficiency`)
     all read it, so that each shows the same adjusted p-value over the same family.
+
+    Parameters
+    ----------
+    results : neurocur.analysis.results.Results
+        A results folder's tables.
+    reference : str
+        The condition tested against the others.
+    adjust : str or None
+        The adjustment of each family's p-values (``"holm"``, ``"bh"`` / ``"fdr_bh"``,
+        ``"none"`` or None).
+    horizon : float, optional
+        The cut-off of the censored frames to learn all; None: the shortest run.
+    exclude_degenerate : bool
+        Leave the conditions whose runs repeat another's out of the tests.
+    paired : bool
+        Pair the runs by ``run`` (the default) or test them as independent samples.
+    n_boot : int
+        The bootstrap resamples of each interval.
+    seed : int
+        The bootstrap's seed.
+
+    Returns
+    -------
+    dict of str to pandas.DataFrame
+        ``{"efficiency": ..., "order": ...}``, each with ``COMPARE_COLUMNS``.
     """
     degenerate = degenerate_conditions(results) if exclude_degenerate else {}
     others = [c for c in results.conditions if c != reference and c not in degenerate]
@@ -160,7 +213,20 @@ def paired_tests(
 
 def reference_group(results: Results, reference: str) -> Results:
     """The conditions of ``results`` whose world shows the same sources as ``reference``'s: those
-    :func:`paired_tests` compares with it (in the order table and the efficiency figure alike)."""
+    :func:`paired_tests` compares with it (in the order table and the efficiency figure alike).
+
+    Parameters
+    ----------
+    results : neurocur.analysis.results.Results
+        A results folder's tables.
+    reference : str
+        One of its conditions.
+
+    Returns
+    -------
+    neurocur.analysis.results.Results
+        ``results`` restricted to those conditions (``reference`` among them).
+    """
     return results.select([c for c, s in results.specs.items() if s == results.spec_of(reference)])
 
 
@@ -175,7 +241,27 @@ def paired_test_rows(
     """The order table's test rows (:func:`comparison_rows`) of the two families of
     :func:`paired_tests` against ``reference``: the efficiency metrics, then the order metrics
     (:data:`TABLE_TESTS`). With ``exclude_degenerate`` (the default), a last row,
-    :data:`DEGENERATE_NOTE`, names each left-out condition and the condition it repeats."""
+    :data:`DEGENERATE_NOTE`, names each left-out condition and the condition it repeats.
+
+    Parameters
+    ----------
+    results : neurocur.analysis.results.Results
+        A results folder's tables, its conditions sharing one world's sources.
+    reference : str
+        The condition tested against the others.
+    adjust : str or None
+        The adjustment of each family's p-values (``"holm"``, ``"bh"`` / ``"fdr_bh"``,
+        ``"none"`` or None).
+    horizon : float, optional
+        The cut-off of the censored frames to learn all; None: the shortest run.
+    exclude_degenerate : bool
+        Leave the conditions whose runs repeat another's out of the tests.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Text cells, indexed by ``outcome``, one column per condition.
+    """
     spec = results.spec
     horizon = censoring_horizon(results) if horizon is None else horizon
     families = paired_tests(results, reference, adjust=adjust, horizon=horizon, exclude_degenerate=exclude_degenerate)
@@ -214,6 +300,30 @@ def order_table(
     per condition. The paper columns are there only for the paper's experiments: the synthetic
     world in one of :data:`~neurocur.analysis.paper.EXPERIMENTS` (by the ``name`` of the folder's
     ``config.toml``; tables in memory: the synthetic world).
+
+    Parameters
+    ----------
+    results : neurocur.analysis.results.Results
+        A results folder's tables, its conditions sharing one world's sources.
+    reference : str, optional
+        The condition the others are tested against; None: no test rows.
+    adjust : str or None
+        The adjustment of each family's p-values (``"holm"``, ``"bh"`` / ``"fdr_bh"``,
+        ``"none"`` or None).
+    horizon : float, optional
+        The cut-off of the censored frames to learn all; None: the shortest run.
+    exclude_degenerate : bool
+        Leave the conditions whose runs repeat another's out of the tests.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Text cells, indexed by ``outcome``.
+
+    Raises
+    ------
+    ValueError
+        When a column is missing or the conditions' worlds differ.
     """
     require_order_columns(results.episodes, results.modules, needed_by="order_table")
     require_learning_columns(results.episodes, results.modules, needed_by="order_table")
@@ -255,90 +365,16 @@ def order_table(
 
 def of_the_paper(results: Results) -> bool:
     """Whether ``results`` are the paper's synthetic experiment: its world, and one of
-    :data:`~neurocur.analysis.paper.EXPERIMENTS` (or no recorded experiment name: tables in memory)."""
-    return results.spec == SYNTHETIC and results.config.get("name") in (None, *paper.EXPERIMENTS)
+    :data:`~neurocur.analysis.paper.EXPERIMENTS` (or no recorded experiment name: tables in memory).
 
+    Parameters
+    ----------
+    results : neurocur.analysis.results.Results
+        A results folder's tables.
 
-def _json_safe(value):
-    """Plain Python values for json.dumps; NaN and ±inf become None."""
-    if isinstance(value, Mapping):
-        return {str(k): _json_safe(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_json_safe(v) for v in value]
-    if isinstance(value, (np.bool_, bool)):
-        return bool(value)
-    if isinstance(value, (np.integer, int)):
-        return int(value)
-    if isinstance(value, (np.floating, float)):
-        return float(value) if math.isfinite(value) else None
-    return value
-
-
-def summary(
-    results: Results,
-    *,
-    reference: str | None = None,
-    exclude_degenerate: bool = True,
-    paired: bool = True,
-    adjust: str | None = "holm",
-    n_boot: int = N_BOOT,
-    seed: int = BOOTSTRAP_SEED,
-) -> dict:
-    """A JSON-serialisable summary of a results folder (written as ``summary.json``), its conditions
-    sharing one world's sources; ``reference`` defaults to :attr:`~neurocur.analysis.results.Results.reference`.
-
-    Keys: ``n_runs`` (per condition), ``order_counts``, ``metrics`` (mean/sd per condition),
-    ``learning_time`` (epochs per learnable source), ``efficiency`` (per condition and metric:
-    :func:`~neurocur.analysis.stats.efficiency.efficiency_summary`, the censored frames to learn all
-    cut at ``horizon``, the shortest run; and ``comparisons``, ``reference``
-    against every other condition on :data:`~neurocur.analysis.stats.efficiency.EFFICIENCY_TESTS`,
-    adjusted as their own family), ``engagement`` (per condition and context: share of frames
-    and mean dwell per visit, :func:`~neurocur.analysis.stats.dwell.engagement_summary`),
-    ``comparisons`` (``reference`` against
-    every other condition but the degenerate ones (unless ``exclude_degenerate`` is false), when both exist: :func:`~neurocur.analysis.stats.comparison.compare_conditions`,
-    each row with its ``test``, raw ``p_value``, ``p_adjusted`` and ``adjustment``) and
-    ``statistics`` (how the comparisons were made: pairing, the tests by ``method`` code
-    with their references, the adjustment with its reference and family size, the
-    bootstrap, and ``degenerate``: each condition left out of the comparisons because its runs repeat
-    another's, :func:`~neurocur.analysis.stats.degenerate.degenerate_conditions`, with that other).
-    NaN and infinities are written as null.
+    Returns
+    -------
+    bool
+        True for the paper's synthetic experiment.
     """
-    require_order_columns(results.episodes, results.modules, needed_by="summary")
-    require_learning_columns(results.episodes, results.modules, needed_by="summary")
-    reference = results.reference if reference is None else reference
-    runs = per_run(results)
-    conditions = sorted(runs["condition"].unique())
-    efficiency = efficiency_per_run(results)
-    comparisons = pd.DataFrame()
-    degenerate = degenerate_conditions(results) if exclude_degenerate else {}
-    others = [c for c in conditions if c != reference and c not in degenerate]
-    if reference in conditions and others:
-        comparisons = compare_conditions(runs, reference, others, paired=paired, adjust=adjust,
-                                         n_boot=n_boot, seed=seed)
-    efficiency_tests = paired_tests(results, reference, adjust=adjust, exclude_degenerate=exclude_degenerate,
-                                    paired=paired, n_boot=n_boot, seed=seed)["efficiency"]
-    adjusted = adjustment(adjust) or "none"
-    methods = sorted(set(comparisons["method"])) if len(comparisons) else []
-    result = {
-        "n_runs": runs.groupby("condition").size().to_dict(),
-        "order_counts": order_counts(results).to_dict("records"),
-        "metrics": condition_summary(results).to_dict("records"),
-        "learning_time": learning_time_summary(results).to_dict("records"),
-        "efficiency": {"horizon": censoring_horizon(results),
-                       "summary": efficiency_summary(efficiency, n_boot=n_boot, seed=seed).to_dict("records"),
-                       "comparisons": efficiency_tests.to_dict("records")},
-        "engagement": engagement_summary(results.episodes, results.spec, n_boot=n_boot, seed=seed).to_dict("records"),
-        "comparisons": comparisons.to_dict("records"),
-        "statistics": {
-            "reference": reference if comparisons.size else None,
-            "paired": paired, "pairing": "run" if paired else None,
-            "tests": {m: {"name": TESTS[m][0], "reference": TESTS[m][1]} for m in methods},
-            "adjustment": {"method": adjusted, "name": ADJUSTMENT_NAMES[adjusted][0],
-                           "reference": ADJUSTMENT_NAMES[adjusted][1],
-                           "n_tests": int(comparisons["n_tests"].iloc[0]) if len(comparisons) else 0},
-            "bootstrap": {"interval": "percentile (Efron & Tibshirani 1993)", "n_boot": n_boot,
-                          "confidence": 0.95, "seed": seed},
-            "degenerate": degenerate,
-        },
-    }
-    return _json_safe(result)
+    return results.spec == SYNTHETIC and results.config.get("name") in (None, *paper.EXPERIMENTS)

@@ -45,7 +45,19 @@ COLUMNS = [*_ORDER_ROWS, _P, _P_ADJUSTED, _EFFECT]
 
 
 def study_table(results_dir) -> pd.DataFrame:
-    """Conditions × :data:`COLUMNS` of the synthetic world, the paper's row first (cells are text)."""
+    """Conditions × :data:`COLUMNS` of the synthetic world, the paper's row first (cells are text).
+
+    Parameters
+    ----------
+    results_dir : str or path
+        The results folder of the reproduction study (synthetic world).
+
+    Returns
+    -------
+    pandas.DataFrame
+        Indexed by condition (``paper`` first), columns ``COLUMNS``; text cells, ``—`` where there
+        is no value (no twin, or no p-value).
+    """
     results = Results.load(results_dir)
     table = order_table(results).drop(columns=["paper", "paper (random)"]).T
     runs = per_run(results)
@@ -65,7 +77,18 @@ def study_table(results_dir) -> pd.DataFrame:
 
 
 def markdown(table: pd.DataFrame) -> str:
-    """``table`` as a GitHub Markdown table (index as the first column)."""
+    """``table`` as a GitHub Markdown table (index as the first column).
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        A table such as ``study_table``'s.
+
+    Returns
+    -------
+    str
+        The table's lines, without a trailing newline.
+    """
     head = ["condition", *table.columns]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     lines += ["| " + " | ".join([str(i), *map(str, row)]) + " |" for i, row in zip(table.index, table.values)]

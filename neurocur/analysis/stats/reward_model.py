@@ -28,6 +28,26 @@ def replay_reward_model(run: pd.DataFrame, n_contexts: int, alpha: float | str) 
 
     ``alpha``: the run's ``PFC.alpha`` (a rate, or ``"sample_average"``). The first episode
     updates nothing (the PFC has no previous context yet).
+
+    Parameters
+    ----------
+    run : pandas.DataFrame
+        One run's episodes in episode order, with ``context``, ``da`` and ``action``
+        (``"engage"`` or ``"disengage"``).
+    n_contexts : int
+        The world's number of contexts (the model's size).
+    alpha : float or str
+        Eq 14's rate, or ``"sample_average"``.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape ``(n_episodes, n_contexts, 2)``; the last axis is (engage, disengage).
+
+    Raises
+    ------
+    ValueError
+        When a column is missing.
     """
     require_columns(run, ["context", "da", "action"], needed_by="replay_reward_model")
     model = RewardModel(n_contexts, alpha)
@@ -57,6 +77,26 @@ def decision_rewards(results: Results, alphas=None, *, last_episode=None) -> pd.
     context's R(o, engage) and R(o, disengage) at the decisions), engage_below (the share of
     decisions at which R(o, engage) < R(o, disengage)) and greedy_disengage (the share at which
     the recorded Q_disengage > Q_engage).
+
+    Parameters
+    ----------
+    results : neurocur.analysis.results.Results
+        A results folder's tables; its episodes need ``condition``, ``run``, ``episode``,
+        ``context``, ``da``, ``action``, ``q_engage`` and ``q_disengage``.
+    alphas : dict of str to float or str, or float or str, optional
+        Eq 14's rate per condition, or one for all; None: each condition's own.
+    last_episode : pandas.Series, optional
+        The last episode of each run included, indexed by (condition, run); None: every episode.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per run included, the columns above.
+
+    Raises
+    ------
+    ValueError
+        When a column is missing.
     """
     episodes = results.episodes
     alphas = results.region_param(PFCLSPI, "alpha") if alphas is None else alphas

@@ -34,13 +34,35 @@ __all__ = ["split_condition", "sweep_points", "compare_to_point", "compare_to_co
 
 
 def split_condition(name: str) -> tuple[str, str]:
-    """``"A@LC.gain=0.5"`` → ``("A", "LC.gain=0.5")``; ``"A"`` → ``("A", "")``."""
+    """``"A@LC.gain=0.5"`` → ``("A", "LC.gain=0.5")``; ``"A"`` → ``("A", "")``.
+
+    Parameters
+    ----------
+    name : str
+        A condition's name, with or without a sweep point.
+
+    Returns
+    -------
+    tuple of str
+        The base name and the point's label (``""`` without ``@``).
+    """
     base, _, label = str(name).partition("@")
     return base, label
 
 
 def sweep_points(runs: pd.DataFrame) -> pd.DataFrame:
-    """One row per condition of a per-run table: condition, base, point (label), the swept keys' values."""
+    """One row per condition of a per-run table: condition, base, point (label), the swept keys' values.
+
+    Parameters
+    ----------
+    runs : pandas.DataFrame
+        A per-run table with ``condition`` (and the swept keys' columns of a sweep).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per condition, in order of first appearance.
+    """
     swept = sweep_columns(runs)
     names = list(dict.fromkeys(runs["condition"]))
     table = pd.DataFrame({"condition": names, "base": [split_condition(n)[0] for n in names],
@@ -92,6 +114,42 @@ def compare_to_point(
     in the condition names). ``conditions``: the base names to compare (default: every one
     with exactly one reference point). One row per (condition, point, metric), adjusted
     together (``adjust``); see the module docstring for the columns.
+
+    Parameters
+    ----------
+    runs : pandas.DataFrame
+        Per-run metrics, one row per (condition, run), with the swept keys' columns.
+    reference : mapping or str
+        The reference point: ``{swept key: value}`` or its label.
+    metric : str or sequence of str, optional
+        The metrics tested, as in ``compare`` (default: every numeric and yes/no metric of
+        ``per_run``).
+    conditions : sequence of str, optional
+        The base names compared (default: every one with the reference point).
+    paired : bool
+        Pair the runs by ``run`` (the default) or test them as independent samples.
+    adjust : str or None
+        The adjustment of ``p_value`` over the whole output table (``"holm"``, ``"bh"`` /
+        ``"fdr_bh"``, ``"none"`` or None), as in ``adjust_pvalues``.
+    n_boot : int
+        The bootstrap resamples of each interval.
+    confidence : float
+        The intervals' coverage, in (0, 1).
+    seed : int
+        The bootstrap's seed.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per (condition, point, metric); empty (with its columns) when no condition has a
+        point besides the reference.
+
+    Raises
+    ------
+    ValueError
+        When a key of ``reference`` is not swept, a condition of ``conditions`` is unknown or
+        lacks the reference point, a condition has more than one point matching ``reference``,
+        or none has it.
     """
     swept = sweep_columns(runs)
     if isinstance(reference, Mapping) and (missing := [k for k in reference if k not in swept]):
@@ -139,6 +197,39 @@ def compare_to_condition(
     condition run at that point is compared with it; a point one of them lacks is skipped.
     One row per (condition, point, metric), adjusted together (``adjust``); see the module
     docstring for the columns.
+
+    Parameters
+    ----------
+    runs : pandas.DataFrame
+        Per-run metrics, one row per (condition, run), with the swept keys' columns.
+    reference : str
+        The base name of the reference condition.
+    metric : str or sequence of str, optional
+        The metrics tested, as in ``compare`` (default: every numeric and yes/no metric of
+        ``per_run``).
+    others : sequence of str, optional
+        The base names compared with it (default: every other).
+    paired : bool
+        Pair the runs by ``run`` (the default) or test them as independent samples.
+    adjust : str or None
+        The adjustment of ``p_value`` over the whole output table (``"holm"``, ``"bh"`` /
+        ``"fdr_bh"``, ``"none"`` or None), as in ``adjust_pvalues``.
+    n_boot : int
+        The bootstrap resamples of each interval.
+    confidence : float
+        The intervals' coverage, in (0, 1).
+    seed : int
+        The bootstrap's seed.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per (condition, point, metric); empty (with its columns) when nothing is compared.
+
+    Raises
+    ------
+    ValueError
+        When ``reference`` or a name of ``others`` is not a base condition of ``runs``.
     """
     swept = sweep_columns(runs)
     points = sweep_points(runs)

@@ -32,7 +32,24 @@ __all__ = ["d_prime", "over_runs", "over_runs_text", "vigilance_per_run", "condi
 
 def d_prime(hits: int, n_targets: int, false_alarms: int, n_distractors: int) -> float:
     """d' = z(hit rate) - z(false-alarm rate), each rate with the log-linear correction
-    (k + 0.5) / (n + 1) (Hautus 1995, Behav Res Methods 27:46), so that a rate of 0 or 1 is finite."""
+    (k + 0.5) / (n + 1) (Hautus 1995, Behav Res Methods 27:46), so that a rate of 0 or 1 is finite.
+
+    Parameters
+    ----------
+    hits : int
+        Targets responded to.
+    n_targets : int
+        Targets shown.
+    false_alarms : int
+        Distractors responded to.
+    n_distractors : int
+        Distractors shown.
+
+    Returns
+    -------
+    float
+        d', in standard deviations of the noise.
+    """
     hit = (hits + 0.5) / (n_targets + 1)
     fa = (false_alarms + 0.5) / (n_distractors + 1)
     return float(norm.ppf(hit) - norm.ppf(fa))
@@ -42,7 +59,21 @@ def over_runs(per_run: pd.DataFrame, by: tuple[str, ...] = ("condition",)) -> pd
     """The per-run table of a canonical task (one row per condition and run, and per ``by`` group
     beyond the condition, e.g. a block) summarised over runs: one row per group and statistic (every
     numeric column but ``run`` and ``by``), with ``runs``, ``mean``, ``sd`` (ddof 1; NaN for one
-    run), ``min`` and ``max``; NaN values (a statistic a run could not measure) are left out."""
+    run), ``min`` and ``max``; NaN values (a statistic a run could not measure) are left out.
+
+    Parameters
+    ----------
+    per_run : pandas.DataFrame
+        A per-run table with ``run`` and the ``by`` columns.
+    by : tuple of str
+        The grouping columns, the condition first.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns: the ``by`` columns, statistic, runs, mean, sd, min, max; groups in order of
+        first appearance.
+    """
     by = list(by)
     columns = [c for c in per_run.columns if c not in {"run", *by} and pd.api.types.is_numeric_dtype(per_run[c])]
     rows = []
@@ -60,7 +91,18 @@ def over_runs(per_run: pd.DataFrame, by: tuple[str, ...] = ("condition",)) -> pd
 
 def over_runs_text(table: pd.DataFrame) -> str:
     """:func:`over_runs`'s table for the terminal: a row per statistic (and group beyond the
-    condition), a column per condition, each cell the mean and, over several runs, the range."""
+    condition), a column per condition, each cell the mean and, over several runs, the range.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        An ``over_runs`` table.
+
+    Returns
+    -------
+    str
+        The text table; ``n/a`` for a statistic no run measured.
+    """
     groups = [c for c in table.columns[:table.columns.get_loc("statistic")] if c != "condition"]
 
     def cell(row) -> str:
@@ -81,7 +123,21 @@ def _runs(episodes: pd.DataFrame):
 def vigilance_per_run(episodes: pd.DataFrame) -> pd.DataFrame:
     """Per condition and run of a ``vigilance`` world: LC baseline (mean rate before the stimulus),
     its peak to targets and to distractors, ``burst_ratio`` = mean peak to targets / mean baseline,
-    hit and false-alarm rates and d' (:func:`d_prime`)."""
+    hit and false-alarm rates and d' (:func:`d_prime`).
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The episodes table of a ``vigilance`` world (one row per trial), with ``condition``,
+        ``run``, ``target``, ``response``, ``lc_baseline`` and ``lc_peak``.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per (condition, run): condition, run, trials, targets, baseline, peak_target,
+        peak_distractor, burst_ratio (inf for a zero baseline), hit_rate, false_alarm_rate,
+        d_prime.
+    """
     rows = []
     for (condition, run), ep in _runs(episodes):
         target, response = ep["target"].astype(bool).to_numpy(), ep["response"].astype(bool).to_numpy()
@@ -103,7 +159,21 @@ def conditioning_per_run(episodes: pd.DataFrame) -> pd.DataFrame:
     the run's first omitted reward; every trial without one): Pearson's r of DA at the cue and
     of DA at the reward with the trial index, and DA at the cue and at the reward on the first
     and the last of them; over every trial, the baseline (mean DA before the cue) and the mean
-    DA at the time of an omitted reward (``omission_dip``; NaN without omissions)."""
+    DA at the time of an omitted reward (``omission_dip``; NaN without omissions).
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The episodes table of a ``conditioning`` world (one row per trial), with ``condition``,
+        ``run``, ``episode``, ``omitted``, ``da_cue``, ``da_reward`` and ``da_baseline``.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per (condition, run): condition, run, trials, training_trials, omissions,
+        r_cue_trial, r_reward_trial, cue_first, cue_last, reward_first, reward_last, baseline,
+        omission_dip.
+    """
     rows = []
     for (condition, run), ep in _runs(episodes):
         omitted = ep[ep["omitted"].astype(bool)]
@@ -123,6 +193,19 @@ def conditioning_per_run(episodes: pd.DataFrame) -> pd.DataFrame:
 
 
 def disengaged(episodes: pd.DataFrame) -> np.ndarray:
+    """Whether each episode's decision was a disengage: ``action`` as text (``"disengage"``) or as
+    its integer code (1).
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        Episodes with an ``action`` column.
+
+    Returns
+    -------
+    numpy.ndarray
+        One bool per row of ``episodes``.
+    """
     action = episodes["action"]
     return (action.astype(str) == "disengage").to_numpy() if action.dtype.kind not in "iub" else (action == 1).to_numpy()
 
@@ -131,7 +214,22 @@ def blocks_per_run(episodes: pd.DataFrame, block_visits: int) -> pd.DataFrame:
     """Per condition, run and block of ``block_visits`` visits of a ``reward_blocks`` world: the
     mean reward (the utility), ``ne_tonic`` (the LC's tonic drive), ``ne_gain`` and the share of
     disengage decisions, over the block and over its second half (``late_``: after the LC's
-    averages have caught up with the block)."""
+    averages have caught up with the block).
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The episodes table of a ``reward_blocks`` world, with ``condition``, ``run``,
+        ``episode``, ``action``, ``reward``, ``ne_tonic`` and ``ne_gain``.
+    block_visits : int
+        Visits (episodes) per block; episode *e* is in block ``e // block_visits``.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per (condition, run, block): condition, run, block, reward, ne_tonic, ne_gain,
+        disengage, late_ne_tonic, late_disengage.
+    """
     rows = []
     for (condition, run), ep in _runs(episodes):
         block = ep["episode"].to_numpy() // block_visits
@@ -153,7 +251,25 @@ def relearning_per_run(episodes: pd.DataFrame, modules: pd.DataFrame, swap_at: i
     """Per condition and run of a synthetic world with a swap (a world event at frame ``swap_at``):
     ``relearned`` (a module of ``source``, the swapped-in source, was stored after the swap) and
     ``frames_to_relearn`` = that module's storing frame - ``swap_at``, censored at the frames the
-    run had after the swap when none was (the modules' ``source`` is the one shown when stored)."""
+    run had after the swap when none was (the modules' ``source`` is the one shown when stored).
+
+    Parameters
+    ----------
+    episodes : pandas.DataFrame
+        The episodes table, with ``condition``, ``run``, ``step`` and ``n_frames`` (in episode
+        order within each run).
+    modules : pandas.DataFrame
+        The modules table, with ``condition``, ``run``, ``source`` and ``step`` (the storing frame).
+    swap_at : int
+        The frame of the swap.
+    source : str
+        The swapped-in source.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per (condition, run): condition, run, relearned, frames_to_relearn.
+    """
     rows = []
     for (condition, run), ep in _runs(episodes):
         end = int(ep["step"].iloc[-1] + ep["n_frames"].iloc[-1])
@@ -169,7 +285,22 @@ def relearning_test(per_run: pd.DataFrame, a: str, b: str) -> dict:
     """Condition ``a`` against ``b``, paired by run: the mean censored frames to re-learn with the
     bootstrap 95% interval of the paired difference a - b (:func:`~.bootstrap.paired_bootstrap_ci`),
     the Wilcoxon signed-rank p of that difference and McNemar's exact p of ``relearned``, both
-    Holm-adjusted as one family of two."""
+    Holm-adjusted as one family of two.
+
+    Parameters
+    ----------
+    per_run : pandas.DataFrame
+        A ``relearning_per_run`` table.
+    a, b : str
+        The conditions compared; every run of ``a`` must be a run of ``b``.
+
+    Returns
+    -------
+    dict
+        ``runs``, ``mean_frames_a``, ``mean_frames_b``, ``difference_ci`` (the interval's
+        ``(low, high)``), ``relearned_a``, ``relearned_b`` (counts of runs), ``p_frames_holm`` and
+        ``p_relearned_holm``.
+    """
     x = per_run[per_run["condition"] == a].set_index("run")
     y = per_run[per_run["condition"] == b].set_index("run").loc[x.index]
     frames = wilcoxon_signed_rank(x["frames_to_relearn"], y["frames_to_relearn"])
