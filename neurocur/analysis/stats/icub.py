@@ -24,9 +24,7 @@ from neurocur.contract import require_columns
 from neurocur.learn.correlation import abs_corr
 from neurocur.results import ResultsStore
 
-from .order import order_counts, require_order_columns
-
-__all__ = ["ICUB", "load_features", "learning_segments", "encoding_table", "arm_invariance", "first_module_counts"]
+__all__ = ["ICUB", "load_features", "learning_segments", "encoding_table", "arm_invariance"]
 
 
 def load_features(results_dir: str | Path) -> pd.DataFrame:
@@ -165,22 +163,3 @@ def arm_invariance(features: pd.DataFrame, modules: pd.DataFrame) -> pd.DataFram
         })
     columns = ["condition", "run", "module", "source", "corr_displacement", "corr_arm_at_rest", "rest_sd_ratio", "jump"]
     return pd.DataFrame(rows, columns=columns)
-
-
-def first_module_counts(episodes: pd.DataFrame, modules: pd.DataFrame) -> pd.DataFrame:
-    """Order outcomes per condition ("topple first", "roll second", ...) with 95 % intervals.
-
-    Parameters
-    ----------
-    episodes : pandas.DataFrame
-        The episodes table of an iCub experiment.
-    modules : pandas.DataFrame
-        Its modules table.
-
-    Returns
-    -------
-    pandas.DataFrame
-        One row per (condition, outcome).
-    """
-    require_order_columns(episodes, modules, needed_by="first_module_counts")
-    return order_counts(episodes, modules, ICUB)
