@@ -86,7 +86,7 @@ COMPLETE = ("neurocur.fit", "neurocur.analysis.io", "neurocur.analysis.paper", "
             "neurocur.analysis.stats.comparison", "neurocur.analysis.stats.learning_time",
             "neurocur.analysis.stats.order", "neurocur.analysis.stats.significance", "neurocur.learn", "neurocur.rl",
             "neurocur.results.lock", "neurocur.results.names", "neurocur.results.safeio", "neurocur.results.store",
-            "neurocur.contexts", "neurocur.circuit",
+            "neurocur.contexts", "neurocur.circuit", "neurocur.regions",
             "neurocur.experiments.conditions", "neurocur.experiments.invariance", "neurocur.experiments.spec",
             "neurocur.scheduler", "neurocur.tables", "neurocur.registry", "neurocur.recording", "neurocur.contract",
             "neurocur.config")
