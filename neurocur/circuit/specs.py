@@ -144,6 +144,25 @@ def input_ports(spec: RegionSpec) -> tuple:
 
 
 def spec_from_table(name: str, table: Mapping, *, prefix: str) -> RegionSpec:
+    """The region a circuit file's table declares: its registered ``type`` and its ``params`` table,
+    checked against the class's ``Params``; errors are ConfigErrors naming the file and ``prefix``'s keys.
+
+    Parameters
+    ----------
+    name : str
+        The region's name in the circuit.
+    table : mapping
+        The region's table (``type``, optional ``params``) with ``_origin``, the file that declared it
+        (keys starting with ``_`` are the reader's, not the file's).
+    prefix : str
+        The table's key (``regions.NAME``, ``replace.NAME``), named in a message and kept as the
+        spec's ``key``.
+
+    Returns
+    -------
+    RegionSpec
+        The declared region.
+    """
     origin = table["_origin"]
     body = {k: v for k, v in table.items() if not k.startswith("_")}
     check_keys(body, ("type", "params"), source=origin, prefix=prefix, required=("type",))
@@ -160,6 +179,21 @@ def spec_from_table(name: str, table: Mapping, *, prefix: str) -> RegionSpec:
 
 
 def link_from_table(table: Mapping) -> Link:
+    """The edge an ``[[edges]]`` table declares: ``from``, ``signal``, ``to`` and optionally ``input``
+    (default: the signal's name) and ``delayed`` (default false); errors are ConfigErrors naming the
+    file and the table's key.
+
+    Parameters
+    ----------
+    table : mapping
+        The edge's table with ``_origin`` and ``_key``, the file and the key that declared it (keys
+        starting with ``_`` are the reader's, not the file's).
+
+    Returns
+    -------
+    Link
+        The edge.
+    """
     origin, key = table["_origin"], table["_key"]
     body = {k: v for k, v in table.items() if not k.startswith("_")}
     check_keys(body, ("from", "to", "signal", "input", "delayed"), source=origin, prefix=key,
@@ -201,6 +235,24 @@ def link_between(source: str, target: str, *, delayed: bool = False, key: str) -
 
 
 def apply_overrides(specs: Mapping[str, RegionSpec], overrides: Mapping, source) -> dict[str, RegionSpec]:
+    """``specs`` with parameter overrides: each region's parameters merged with its overrides and
+    checked again by its ``Params`` (a prebuilt instance gets a copy with the new parameters).
+
+    Parameters
+    ----------
+    specs : mapping of str to RegionSpec
+        The regions by name.
+    overrides : mapping
+        ``{"REGION.param": value}``; an unknown region, a key without a dot or a bad value is a
+        ConfigError.
+    source : str
+        Where the overrides came from, named in a message.
+
+    Returns
+    -------
+    dict of str to RegionSpec
+        The regions by name, those without overrides unchanged.
+    """
     specs = dict(specs)
     grouped: dict[str, dict] = {}
     for dotted, value in overrides.items():

@@ -26,13 +26,36 @@ from .base import Episode, World, register_world
 
 __all__ = ["ConditioningParams", "ConditioningWorld", "CUE", "DELIVERED", "DUE"]
 
-#: The frame's columns: the cue, the reward delivered, the time the reward is due.
-CUE, DELIVERED, DUE = 0, 1, 2
+#: The frame's column of the cue.
+CUE = 0
+#: The frame's column of the reward delivered.
+DELIVERED = 1
+#: The frame's column of the time the reward is due (the experimenter's marker).
+DUE = 2
 
 
 @dataclass(frozen=True)
 class ConditioningParams:
-    """Parameters of :class:`ConditioningWorld` (``[world]`` with ``type = "conditioning"``)."""
+    """Parameters of :class:`ConditioningWorld` (``[world]`` with ``type = "conditioning"``).
+
+    Parameters
+    ----------
+    trial_length : int
+        Time steps (frames) per trial, at least 2; also the world's number of context-states.
+    cue : int
+        Time step of the cue's onset, at least 1 (the trial starts with a step without it).
+    cue_duration : int
+        Time steps the cue stays on (column 0 is 1 from ``cue`` to ``cue + cue_duration - 1``).
+    delay : int
+        Time steps from the cue's onset to the reward; ``cue + delay`` must be less than
+        ``trial_length`` (a ``ConfigError`` naming ``delay`` otherwise).
+    reward : float
+        Size of the reward (reward units, >= 0): the episode's ``reward`` of a trial that delivers it.
+    omit_after : int
+        Trials, counted from 0 in each run, before a reward may be omitted (0: from the first trial).
+    omission_probability : float
+        Probability in [0, 1] that a trial from ``omit_after`` on omits its reward (probe trials).
+    """
 
     trial_length: int = param(25, int, low=2, doc="time steps (frames) per trial")
     cue: int = param(5, int, low=1, doc="time step of the cue's onset (after at least one step without it)")
@@ -51,7 +74,15 @@ class ConditioningParams:
 
 @register_world("conditioning")
 class ConditioningWorld(World):
-    """Trials of Pavlovian conditioning with a delayed reward (module docstring)."""
+    """Trials of Pavlovian conditioning with a delayed reward (module docstring).
+
+    Parameters
+    ----------
+    params : ConditioningParams, optional
+        The world's parameters; or give them as keywords instead.
+    **kwargs
+        The fields of ``ConditioningParams`` as keywords, when ``params`` is not given.
+    """
 
     figures_after_run = True
 

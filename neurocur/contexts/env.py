@@ -42,6 +42,17 @@ class WorldEnv(gymnasium.Env):
 
     ``max_frames``: the observation's rows (default ``world.max_frames``); a visit longer
     than that raises. The env and the world share state: stepping one steps the other.
+
+    Parameters
+    ----------
+    world : World
+        The world to wrap; the env shares its state and its generator.
+    max_frames : int, optional
+        Rows of the observation, at least 1 (default: ``world.max_frames``; a ``ValueError`` if the
+        world does not bound its visits and none is given).
+    render_mode : {"rgb_array", None}
+        ``"rgb_array"``: ``render()`` returns the last frame shown as an (H, W, 3) ``uint8`` image;
+        None: it returns None.
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 30}
@@ -124,7 +135,16 @@ def env_id(cls: type) -> str:
 
 def register_ids(worlds: dict[str, type], entry_point: str) -> None:
     """Register :func:`env_id` of every world class of ``worlds`` (``{type name: class}``) with
-    gymnasium, made by ``entry_point`` (``"module:function"``) called with ``type=`` the type name."""
+    gymnasium, made by ``entry_point`` (``"module:function"``) called with ``type=`` the type name.
+
+    Parameters
+    ----------
+    worlds : dict of str to type
+        The world classes to register, by world type name.
+    entry_point : str
+        ``"module:function"`` that gymnasium calls with ``type=`` the type name (and the ``make``
+        keywords) to build the env.
+    """
     for name, cls in worlds.items():
         if env_id(cls) not in gymnasium.registry:
             gymnasium.register(env_id(cls), entry_point=entry_point, kwargs={"type": name})

@@ -18,12 +18,12 @@ built, never when its parameters are read (:mod:`.gym_ids`).
 What a row shows (``observation``):
 
 * ``"render"`` (the default): the environment's ``rgb_array`` render, converted to gray
-  (ITU-R BT.601 luma), resized to ``frame_shape`` (:func:`to_frame`) and scaled to [0, 1];
+  (ITU-R BT.601 luma), resized to ``frame_shape`` (``gym_frames.to_frame``) and scaled to [0, 1];
   environments are made with ``render_mode="rgb_array"``.
 * ``"vector"``: the observation itself, flattened (``gymnasium.spaces.flatten``: a ``Box``
   row-major, a ``Discrete`` one-hot, a ``Dict`` or ``Tuple`` joined) and scaled to [0, 1] per
   dimension by the bounds of the flattened observation space, ``(x - low) / (high - low)``
-  (:class:`VectorScale`). A bound that is infinite, or at least float32's largest value (the
+  (``gym_frames.VectorScale``). A bound that is infinite, or at least float32's largest value (the
   bound some environments give an unbounded dimension, as gymnasium's CartPole did before 1.0), is
   replaced by the declared ``observation_range = [low, high]``, and values outside the bounds
   are clipped to [0, 1]; an environment with such a dimension and no ``observation_range`` is
@@ -50,81 +50,28 @@ from gymnasium.envs.registration import load_env_creator
 
 from ..config import ConfigError, ParamSpec, check_params, describe, extra, param, spec_param
 from .base import Episode, World, register_world
+from .gym_frames import VectorScale, to_frame
 from .gym_ids import check_ids, import_ids
 from .rewards import Rewards, check_rewards, rewards_param
 
 __all__ = ["GymParams", "GymWorld", "VectorScale", "random_policy", "to_frame"]
 
-_LUMA = np.array([0.299, 0.587, 0.114])
-#: a bound at least this large in magnitude stands for "unbounded" (float32's largest value)
-UNBOUNDED = float(np.finfo(np.float32).max)
-
-
-def to_frame(rgb: np.ndarray, shape: Sequence[int]) -> np.ndarray:
-    """An (H, W, 3) ``uint8`` image as a flat gray frame of ``shape`` (height, width), in [0, 1].
-
-    Gray is the BT.601 luma. Each axis is shrunk by averaging the pixels of ``n`` bins of
-    equal size (to within one pixel), or enlarged by repeating pixels (nearest neighbour).
-    """
-    rgb = np.asarray(rgb)
-    if rgb.ndim != 3 or rgb.shape[2] != 3:
-        raise ValueError(f"expected an (H, W, 3) RGB image; got shape {rgb.shape}")
-    img = rgb.astype(np.float64)
-    for axis, n in enumerate(shape):  # resizing first, then gray: both are linear, resizing is cheaper
-        size = img.shape[axis]
-        if n < size:
-            edges = np.arange(n) * size // n
-            counts = np.diff(np.append(edges, size)).reshape((-1, 1, 1) if axis == 0 else (-1, 1))
-            img = np.add.reduceat(img, edges, axis=axis) / counts
-        elif n > size:
-            img = np.take(img, np.arange(n) * size // n, axis=axis)
-    return np.clip((img @ _LUMA).ravel() / 255.0, 0.0, 1.0)
-
-
-class VectorScale:
-    """The scaling of a vector observation to [0, 1] (module docstring: ``observation = "vector"``).
-
-    ``space``: the environment's observation space (flattenable); ``declared``: the
-    ``(low, high)`` of its unbounded dimensions, or None. ``where``, ``env``: the parameter
-    class and the environment id, named by the errors (ValueError, or ConfigError naming
-    ``observation_range``).
-    """
-
-    def __init__(self, space: gymnasium.spaces.Space, declared: Sequence[float] | None, *, where: str, env: str):
-        if not space.is_np_flattenable:
-            raise ValueError(f"gymnasium environment {env!r}: observation = 'vector' needs an observation space that "
-                             f"flattens to a vector (Box, Discrete, MultiDiscrete, MultiBinary, Dict or Tuple of them); "
-                             f"got {space}")
-        self.space, self.env = space, env
-        flat = gymnasium.spaces.flatten_space(space)
-        low, high = flat.low.astype(np.float64).ravel(), flat.high.astype(np.float64).ravel()
-        open_low, open_high = ~(np.abs(low) < UNBOUNDED), ~(np.abs(high) < UNBOUNDED)
-        if (open_low | open_high).any():
-            if declared is None:
-                raise ConfigError(where, "observation_range", f"[low, high] for the {int((open_low | open_high).sum())} "
-                                  f"unbounded dimension(s) of the observation of {env!r} (of {low.size})", "none")
-            low, high = np.where(open_low, declared[0], low), np.where(open_high, declared[1], high)
-            if not (high > low)[open_low | open_high].all():
-                raise ConfigError(where, "observation_range", f"a range whose low is below every finite upper bound "
-                                  f"and whose high is above every finite lower bound of {env!r}'s observation",
-                                  describe(list(declared)))
-        self.low, self.span = low, np.where(high > low, high - low, np.inf)  # a constant dimension: 0 throughout
-
-    @property
-    def size(self) -> int:
-        """The number of values of a flattened observation."""
-        return self.low.size
-
-    def __call__(self, observation) -> np.ndarray:
-        """``observation`` flattened and scaled to [0, 1]; a ValueError if it is not finite."""
-        x = np.asarray(gymnasium.spaces.flatten(self.space, observation), dtype=np.float64).ravel()
-        if not np.isfinite(x).all():
-            raise ValueError(f"gymnasium environment {self.env!r} returned a non-finite observation: {x.tolist()}")
-        return np.clip((x - self.low) / self.span, 0.0, 1.0)
-
 
 def random_policy(env: gymnasium.Env, observation) -> object:
-    """The default exploration policy: a uniform random action from the env's (seeded) action space."""
+    """The default exploration policy: a uniform random action from the env's (seeded) action space.
+
+    Parameters
+    ----------
+    env : gymnasium.Env
+        The environment; its action space is seeded by the world once per run.
+    observation : object
+        The environment's last observation (not read).
+
+    Returns
+    -------
+    object
+        An action sampled uniformly from ``env.action_space``.
+    """
     return env.action_space.sample()
 
 
@@ -147,6 +94,34 @@ class GymParams:
     :mod:`.rewards`) have one item per environment of ``envs``; every id must be registered
     with gymnasium, now or once the modules of ``imports`` and of the ids' ``module:`` prefixes
     are imported (when the world is built: :mod:`.gym_ids`).
+
+    Parameters
+    ----------
+    envs : tuple of str
+        The gymnasium environment id of each context (``"module:id"``: import ``module`` first).
+    imports : tuple of str, optional
+        Modules to import when the world is built, whose import registers ids (e.g. ``neurogym``).
+    context_names : tuple of str, optional
+        Distinct names, one per environment (default: the ids, a repeated one numbered ``id#k``).
+    visit_length : int
+        Frames (environment steps) per visit.
+    frame_shape : tuple of int
+        ``(height, width)`` in pixels of a rendered frame.
+    observation : {"render", "vector"}
+        What a frame shows: the ``rgb_array`` render, or the observation vector (module docstring).
+    observation_range : tuple of float, optional
+        Only with ``observation = "vector"``: the ``[low, high]``, low < high, that scales a dimension
+        whose bound is unbounded.
+    n_states : int
+        Context-states: the step in the environment's episode, capped at ``n_states - 1``.
+    max_episode_steps : int, optional
+        Time limit of the environments' episodes (default: each one's own).
+    reset_seeds : tuple of int, optional
+        Per context, the seed of every reset of its environment (-1: drawn once per run).
+    reset_options : tuple of dict, optional
+        Per context, the options (numbers) of every reset of its environment.
+    rewards : tuple, optional
+        Extrinsic reward per context, a number or a schedule each (``neurocur.contexts.rewards``).
     """
 
     envs: tuple[str, ...] = spec_param(("CartPole-v1", "Pendulum-v1", "Acrobot-v1"), _IDS,
@@ -216,6 +191,42 @@ class GymWorld(World):
     With ``observation="render"`` environments are made with ``render_mode="rgb_array"``;
     one that cannot render so is an error. Building the world imports the modules its
     parameters name. Frames, context-states and seeding: the module docstring.
+
+    Parameters
+    ----------
+    envs : sequence of str
+        The gymnasium environment id of each context (``"module:id"`` imports ``module`` first).
+    imports : sequence of str, optional
+        Modules to import when the world is built, whose import registers environment ids.
+    context_names : sequence of str, optional
+        Distinct context names, one per environment (default: the ids, a repeated id numbered
+        ``id#1``, ``id#2``).
+    visit_length : int
+        Frames (environment steps) per visit.
+    frame_shape : sequence of int
+        ``(height, width)`` in pixels of a rendered frame (``observation="render"``).
+    observation : {"render", "vector"}
+        What a frame shows: the environment's ``rgb_array`` render, or its observation vector
+        scaled to [0, 1] (module docstring).
+    observation_range : sequence of float, optional
+        ``observation="vector"``: the ``[low, high]`` that scales a dimension whose space bound is
+        unbounded.
+    n_states : int
+        Context-states: a row's step in its environment's episode, capped at ``n_states - 1``.
+    max_episode_steps : int, optional
+        Time limit of the environments' episodes (default: each environment's own).
+    reset_seeds : sequence of int, optional
+        Per context, the seed of every reset of its environment; -1 draws it once per run.
+    reset_options : sequence of dict, optional
+        Per context, the options (numbers) of every reset of its environment.
+    rewards : sequence, optional
+        The extrinsic reward of each context's visits (``neurocur.contexts.rewards``); None pays 0.
+    policy : callable
+        ``(env, observation) -> action``, the exploration policy of every environment (default
+        ``random_policy``).
+    params : GymParams, optional
+        The parameters as one object; when given, the keywords from ``envs`` to ``rewards`` are
+        not read.
     """
 
     Params = GymParams

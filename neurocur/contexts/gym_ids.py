@@ -30,18 +30,56 @@ _REGISTERED = "a registered gymnasium environment id (e.g. 'CartPole-v1')"
 
 
 def is_module_name(text: str) -> bool:
-    """Whether ``text`` is an absolute module name: Python identifiers, not keywords, joined by dots."""
+    """Whether ``text`` is an absolute module name: Python identifiers, not keywords, joined by dots.
+
+    Parameters
+    ----------
+    text : str
+        The name to check.
+
+    Returns
+    -------
+    bool
+        True for a dotted module name such as ``"neurogym"`` or ``"my_lab.tasks"``.
+    """
     return all(part.isidentifier() and not keyword.iskeyword(part) for part in text.split("."))
 
 
 def split_id(text: str) -> tuple[str | None, str]:
-    """``(module, id)`` of gymnasium's ``"module:id"`` form; ``(None, text)`` without a colon."""
+    """``(module, id)`` of gymnasium's ``"module:id"`` form; ``(None, text)`` without a colon.
+
+    Parameters
+    ----------
+    text : str
+        An environment id, optionally prefixed ``"module:"``.
+
+    Returns
+    -------
+    tuple of (str or None, str)
+        The module (None without a prefix) and the id.
+    """
     module, colon, env_id = text.partition(":")
     return (module, env_id) if colon else (None, text)
 
 
 def check_ids(envs: Sequence[str], imports: Sequence[str] | None, where: str) -> None:
-    """The checks that need no import (module docstring); ConfigError naming ``imports[i]`` or ``envs[i]``."""
+    """The checks that need no import (module docstring); ConfigError naming ``imports[i]`` or ``envs[i]``.
+
+    Parameters
+    ----------
+    envs : sequence of str
+        The environment ids, each optionally ``"module:id"``.
+    imports : sequence of str, optional
+        The modules to import when the world is built.
+    where : str
+        The parameter class, named by the ``ConfigError``.
+
+    Raises
+    ------
+    ConfigError
+        A module name that is not dotted Python identifiers, a malformed ``module:id``, or, when no
+        module is named at all, an id gymnasium has not registered.
+    """
     for i, name in enumerate(imports or ()):
         if not is_module_name(name):
             raise ConfigError(where, f"imports[{i}]", "a module name (dotted Python identifiers, e.g. 'neurogym')",
@@ -62,6 +100,20 @@ def import_ids(envs: Sequence[str], imports: Sequence[str] | None, where: str) -
 
     Raises ConfigError naming the key when an import fails (the exception's first line) or an
     id is not registered after the imports.
+
+    Parameters
+    ----------
+    envs : sequence of str
+        The environment ids, each optionally ``"module:id"``.
+    imports : sequence of str, optional
+        Modules to import first, in order, before the ids' own prefixes.
+    where : str
+        The parameter class, named by the ``ConfigError``.
+
+    Returns
+    -------
+    tuple of str
+        The ids without their ``module:`` prefixes, in the order of ``envs``.
     """
     named = [(f"imports[{i}]", name) for i, name in enumerate(imports or ())]
     named += [(f"envs[{i}]", split_id(text)[0]) for i, text in enumerate(envs) if split_id(text)[0] is not None]

@@ -38,7 +38,29 @@ def learnability(world: World, eta: float = 0.05, *, draws: int = 10, seed=0,
     """Ω of each context of ``world`` (reset first), one row per context (all, or the names in
     ``contexts``); columns :data:`LEARNABILITY_COLUMNS` (the ``omega_draw_*`` columns equal
     ``omega`` for a source that is not redrawn). ``draws`` and ``seed``: the fresh draws of a
-    redrawn source. A world that is neither synthetic nor episodic is a ``ValueError``."""
+    redrawn source. A world that is neither synthetic nor episodic is a ``ValueError``.
+
+    Parameters
+    ----------
+    world : World
+        A synthetic world (with ``omega`` and ``redraws``) or an episodic one (with ``episodes``, the
+        iCub), already reset: the contexts of its current run are measured.
+    eta : float
+        The MCA learning rate η of Ω (eq 40), in (0, 0.5].
+    draws : int
+        The fresh draws of a redrawn source whose joined frames give its Ω.
+    seed : int or numpy.random.SeedSequence
+        Seed of the generator of those draws (``numpy.random.default_rng(seed)``; the world's own
+        stream is left alone).
+    contexts : sequence of str, optional
+        The context names to measure, in the table's order (default: all, in the world's order); an
+        unknown name is a ``ValueError``.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per context, columns ``LEARNABILITY_COLUMNS``.
+    """
     names = list(world.context_names) if contexts is None else list(contexts)
     rows = []
     for name in names:

@@ -34,6 +34,27 @@ def mix_frames(signal: np.ndarray, mixing: np.ndarray, normalise: str, *, limits
     ``±`` the largest magnitude if ``symmetric``, or the given ``limits``) to [0, 1];
     ``"image"`` scales each frame (row) by its own min and max (``limits`` and
     ``symmetric`` are then ignored and ``(0.0, 1.0)`` returned).
+
+    Parameters
+    ----------
+    signal : array of float64, shape (n_steps, n_dims)
+        The source, rows are time.
+    mixing : array of float64, shape (n_pixels, n_dims)
+        The mixing matrix.
+    normalise : {"global", "image"}
+        One (low, high) for all frames, or each frame by its own min and max.
+    limits : tuple of float, optional
+        ``(low, high)`` to map to [0, 1] with ``"global"`` instead of the frames' own.
+    symmetric : bool
+        ``"global"`` without ``limits``: map ``[-m, m]``, ``m`` the largest magnitude, instead of
+        ``[min, max]`` (declared noise, centred).
+
+    Returns
+    -------
+    frames : array of float64, shape (n_steps, n_pixels)
+        The scaled frames.
+    limits : tuple of float
+        The ``(low, high)`` mapped to [0, 1].
     """
     raw = signal @ mixing.T
     limits = frame_limits(raw, normalise, symmetric) if limits is None or normalise == "image" else _checked_limits(*limits)
@@ -46,6 +67,20 @@ def frame_limits(raw: np.ndarray, normalise: str, symmetric: bool = False) -> tu
     Checks that ``raw`` is finite and its range representable (a ``ValueError`` otherwise):
     min-max scaling then maps every value into [0, 1] exactly, because rounding is
     monotone (``low <= x <= high`` gives ``0 <= (x - low) / (high - low) <= 1``).
+
+    Parameters
+    ----------
+    raw : array of float64
+        The mixed, unscaled frames.
+    normalise : {"global", "image"}
+        The scaling (``"image"`` returns ``(0.0, 1.0)`` after the check).
+    symmetric : bool
+        ``±`` the largest magnitude instead of the min and max.
+
+    Returns
+    -------
+    tuple of float
+        ``(low, high)``, with ``high > low`` (a ``ValueError`` when every value is equal).
     """
     low, high = float(raw.min()), float(raw.max())
     if not np.isfinite(high - low):
@@ -71,6 +106,22 @@ def scale_frames(raw: np.ndarray, normalise: str, limits, *, out=None) -> np.nda
 
     A row's values depend on that row (and ``limits``) alone, so scaling a block of rows
     gives exactly the rows of the scaled whole.
+
+    Parameters
+    ----------
+    raw : array of float64, shape (n, n_pixels)
+        Mixed, unscaled frames (rows).
+    normalise : {"global", "image"}
+        The scaling; any other value is a ``ValueError``.
+    limits : tuple of float
+        ``(low, high)`` of ``"global"`` (from ``frame_limits``); not read by ``"image"``.
+    out : array of float64, optional
+        Where to write the frames (may be ``raw`` itself); a new array by default.
+
+    Returns
+    -------
+    array of float64, shape (n, n_pixels)
+        The scaled frames (``out`` when given).
     """
     if normalise == "global":
         low, high = _checked_limits(*limits)

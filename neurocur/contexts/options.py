@@ -27,7 +27,15 @@ __all__ = ["OptionsParams", "OptionsWorld"]
 
 @dataclass(frozen=True)
 class OptionsParams:
-    """Parameters of :class:`OptionsWorld` (``[world] type = "options"``)."""
+    """Parameters of :class:`OptionsWorld` (``[world] type = "options"``).
+
+    Parameters
+    ----------
+    options : tuple of str
+        The options' distinct names, in index order (at least two); option ``i`` is context ``i``.
+    p_reward : tuple of float
+        Per option, the probability in [0, 1] that a visit pays 1 (else 0); one per option.
+    """
 
     options: tuple[str, ...] = spec_param(("A", "B"), ParamSpec.sequence(ParamSpec(str), min_length=2),
                                           doc="the options' names (distinct), in index order")
@@ -46,7 +54,14 @@ class OptionsParams:
 
 @register_world("options")
 class OptionsWorld(World):
-    """Options paying Bernoulli outcomes (module docstring); ``recorded`` (choices, outcomes) replays trials."""
+    """Options paying Bernoulli outcomes (module docstring); ``recorded`` (choices, outcomes) replays trials.
+
+    Parameters
+    ----------
+    params : OptionsParams, optional
+        The options and their reward probabilities (default: ``OptionsParams()``, two options A and
+        B paying with probabilities 0.7 and 0.3).
+    """
 
     Params = OptionsParams
     n_states = 1

@@ -36,7 +36,20 @@ _VALIDITY = ParamSpec(float, low=0.5, high=1.0)
 
 def cues_of(world, reader: str) -> int:
     """The number of cues of ``world``'s frames, for the region ``reader`` that binds to it; a
-    ``ValueError`` naming the reader when the world's frames are not a posner world's."""
+    ``ValueError`` naming the reader when the world's frames are not a posner world's.
+
+    Parameters
+    ----------
+    world : World
+        The world the region binds to.
+    reader : str
+        The region's name, for the message.
+
+    Returns
+    -------
+    int
+        The number of cues, ``(width - 2) // 2`` of the frame's ``width`` columns.
+    """
     width = world.frame_shape[-1]
     if not isinstance(world, PosnerWorld) or width < 6 or width % 2:
         raise ValueError(f"{reader}: needs the frames of a posner world (2 cues + 2 columns); the world is "
@@ -45,23 +58,69 @@ def cues_of(world, reader: str) -> int:
 
 
 def target_column(cues: int) -> int:
-    """The column of the target's side (0 left, 1 right) in a frame of a world with ``cues`` cues."""
+    """The column of the target's side (0 left, 1 right) in a frame of a world with ``cues`` cues.
+
+    Parameters
+    ----------
+    cues : int
+        The number of cues per trial.
+
+    Returns
+    -------
+    int
+        The column index, ``cues``.
+    """
     return cues
 
 
 def relevant_columns(cues: int) -> slice:
-    """The columns of the one-hot marker of the relevant cue (not for the model)."""
+    """The columns of the one-hot marker of the relevant cue (not for the model).
+
+    Parameters
+    ----------
+    cues : int
+        The number of cues per trial.
+
+    Returns
+    -------
+    slice
+        Columns ``cues + 1`` to ``2 cues``: column ``cues + 1 + mu`` is 1 for the relevant cue ``mu``.
+    """
     return slice(cues + 1, 2 * cues + 1)
 
 
 def validity_column(cues: int) -> int:
-    """The column of the marker of the relevant cue's validity gamma (not for the model)."""
+    """The column of the marker of the relevant cue's validity gamma (not for the model).
+
+    Parameters
+    ----------
+    cues : int
+        The number of cues per trial.
+
+    Returns
+    -------
+    int
+        The column index, ``2 cues + 1`` (the frame's last).
+    """
     return 2 * cues + 1
 
 
 @dataclass(frozen=True)
 class PosnerParams:
-    """Parameters of :class:`PosnerWorld` (``[world]`` with ``type = "posner"``)."""
+    """Parameters of :class:`PosnerWorld` (``[world]`` with ``type = "posner"``).
+
+    Parameters
+    ----------
+    cues : int
+        h, the cue stimuli per trial (at least 2).
+    validities : tuple of float
+        The relevant cue's validity gamma in successive blocks, cycled; each in [0.5, 1].
+    block_trials : int
+        Trials per block when ``change_probability`` is 0.
+    change_probability : float
+        Probability in [0, 1) that the context (relevant cue and validity) changes before a trial,
+        the first excepted; 0: a change every ``block_trials`` trials.
+    """
 
     cues: int = param(5, int, low=2, doc="h, cue stimuli per trial")
     validities: tuple = spec_param((0.95, 0.65, 0.85, 0.75), ParamSpec.sequence(_VALIDITY, min_length=1),
@@ -76,7 +135,15 @@ class PosnerParams:
 
 @register_world("posner")
 class PosnerWorld(World):
-    """Trials of the inferential Posner task with changing cue identity (module docstring)."""
+    """Trials of the inferential Posner task with changing cue identity (module docstring).
+
+    Parameters
+    ----------
+    params : PosnerParams, optional
+        The task's parameters; or give them as keywords instead.
+    **kwargs
+        The fields of ``PosnerParams`` as keywords, when ``params`` is not given.
+    """
 
     figures_after_run = True
 

@@ -28,7 +28,20 @@ _BLOCK = ParamSpec.sequence(ParamSpec(float), min_length=1)
 
 @dataclass(frozen=True)
 class RewardBlocksParams(SyntheticParams):
-    """:class:`~.synthetic.SyntheticParams` and the blocks' rewards (``[world]``, ``type = "reward_blocks"``)."""
+    """:class:`~.synthetic.SyntheticParams` and the blocks' rewards (``[world]``, ``type = "reward_blocks"``).
+
+    Parameters
+    ----------
+    contexts, context_names, sources, visit_length, normalise, clock_offsets, frame_shape, nonstationary, learnable, swap, swap_at : object
+        The synthetic world's parameters (``SyntheticParams``).
+    rewards : tuple, optional
+        Must be left None: the blocks set the rewards (a ``ConfigError`` otherwise).
+    blocks : tuple of tuple of float, optional
+        Per block, the reward of a visit of each context (reward units, one per context); default
+        one block paying 1.0 for a visit of each context.
+    block_visits : int
+        Visits per block, counted over every context from the run's start.
+    """
 
     blocks: tuple | None = spec_param(None, ParamSpec.sequence(_BLOCK, min_length=1, optional=True),
                                       doc="per block, the reward of a visit of each context (reward units); "
@@ -49,7 +62,17 @@ class RewardBlocksParams(SyntheticParams):
 
 @register_world("reward_blocks")
 class RewardBlocksWorld(SyntheticWorld):
-    """The synthetic world whose contexts pay by blocks of visits (module docstring)."""
+    """The synthetic world whose contexts pay by blocks of visits (module docstring).
+
+    Parameters
+    ----------
+    params : RewardBlocksParams
+        The world's parameters, blocks included: build the world with them (an experiment file's
+        ``[world]`` table becomes one).
+    contexts, sources, visit_length, normalise, clock_offsets, frame_shape, context_names, nonstationary, learnable, rewards : object
+        ``SyntheticWorld``'s keywords: they build a plain ``SyntheticParams``, without blocks, from
+        which this world cannot pay (its first reset fails); give ``params`` instead.
+    """
 
     figures_after_run = True
 

@@ -46,7 +46,24 @@ def rewards_param():
 def check_rewards(params, n_contexts: int, names: Sequence[str] | None = None) -> None:
     """Check ``params.rewards`` against the world's ``n_contexts`` (``names``: the contexts, for
     the message) and store each schedule as a tuple of floats. Call it in ``__post_init__``
-    after :func:`~neurocur.config.check_params`."""
+    after :func:`~neurocur.config.check_params`.
+
+    Parameters
+    ----------
+    params : dataclass instance
+        A world's parameters with a ``rewards`` field (None: nothing to check); a schedule is stored
+        back into it as a tuple of floats.
+    n_contexts : int
+        The world's number of contexts: ``rewards`` needs one entry per context.
+    names : sequence of str, optional
+        The context names, listed in the message.
+
+    Raises
+    ------
+    ConfigError
+        ``rewards`` of the wrong length, an empty schedule, or a schedule item that is not a number
+        (naming ``rewards[i][j]``).
+    """
     where, rewards = type(params).__name__, params.rewards
     if rewards is None:
         return
@@ -65,7 +82,14 @@ def check_rewards(params, n_contexts: int, names: Sequence[str] | None = None) -
 
 
 class Rewards:
-    """The reward each visit pays, per context, from checked entries (:func:`check_rewards`)."""
+    """The reward each visit pays, per context, from checked entries (:func:`check_rewards`).
+
+    Parameters
+    ----------
+    rewards : sequence
+        One checked entry per context: a number (paid at every visit) or a tuple of numbers (a
+        schedule, cycled per visit of the context).
+    """
 
     def __init__(self, rewards: Sequence):
         self.schedules = tuple(entry if isinstance(entry, tuple) else (float(entry),) for entry in rewards)

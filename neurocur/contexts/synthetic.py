@@ -95,6 +95,33 @@ class SyntheticParams:
 
     Checked as a whole on construction: the contexts' sources are built-in or given,
     given sources load and have equal lengths, names and offsets fit the contexts.
+
+    Parameters
+    ----------
+    contexts : tuple of str
+        The source of each context, built in (S-A, S-B, S-C, S-D) or a key of ``sources``.
+    context_names : tuple of str, optional
+        Distinct context names, one per context (default C1, C2, ...).
+    sources : dict
+        Declared sources by name: a ``.npy`` path, an array, or a ``SourceParams`` table (``.user_sources``).
+    visit_length : int
+        Frames per visit (100 in the paper).
+    normalise : {"global", "image"}
+        Min-max scaling per source (or draw) or per frame (module docstring).
+    clock_offsets : {"random", "zero"} or tuple of int
+        Where each context's local clock starts: drawn per run, 0, or one step per context.
+    frame_shape : tuple of int
+        ``(height, width)`` of a frame in pixels (20×20 in the paper).
+    nonstationary : bool
+        Redraw random sources (S-D, noise without a flag of its own) at every wrap of their clock.
+    learnable : tuple of str, optional
+        The learnable sources in Ω order, for the analysis (default: ``SyntheticWorld.source_spec``'s).
+    rewards : tuple, optional
+        Extrinsic reward per context, a number or a schedule each (``neurocur.contexts.rewards``).
+    swap : tuple of str, optional
+        A world event: the source of each context from ``swap_at`` on (one per context).
+    swap_at : int
+        Frames delivered before the swap takes effect, at the next visit that starts (with ``swap``).
     """
 
     contexts: tuple[str, ...] = spec_param(PAPER_CONTEXTS, _NAMES, doc="the source of each context")

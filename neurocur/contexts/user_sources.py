@@ -79,7 +79,26 @@ BUILTIN = LEARNABLE + UNLEARNABLE
 
 @dataclass(frozen=True)
 class SourceParams:
-    """One entry of ``[world.sources]`` (the module docstring); a plain path or array is ``file``."""
+    """One entry of ``[world.sources]`` (the module docstring); a plain path or array is ``file``.
+
+    Parameters
+    ----------
+    file : str or array, optional
+        A ``.npy`` file (relative to the experiment file) or an array, shape (n_steps, n_dims), rows
+        are time.
+    sinusoid : int, optional
+        A sinusoid pair with this many fast cycles per epoch (at least 2).
+    noise : {"white", "random_walk", "isotropic_walk"}, optional
+        A noise kind.
+    scale : float, optional
+        Noise only: the standard deviation (> 0) of a white sample, of a random-walk step, or of each
+        dimension of an isotropic walk's step (default 1).
+    dims : int, optional
+        Noise only: its dimensions (at least 2; default 2, and an isotropic walk has 2).
+    nonstationary : bool, optional
+        Redrawn (noise) or re-sampled (a file, a sinusoid pair: its rows permuted) every epoch; None:
+        noise follows the world's flag, files and sinusoid pairs are replayed.
+    """
 
     file: str | np.ndarray | None = spec_param(None, ParamSpec(str, path=True, optional=True, classes=(np.ndarray,)),
                                                doc=".npy file (relative to the experiment file) or array")
@@ -102,7 +121,26 @@ SOURCES_SPEC = ParamSpec.table(ParamSpec.nested(SourceParams, shorthand="file"))
 
 def load_source(value, name: str) -> np.ndarray:
     """A user source: a ``.npy`` file path or an array, checked as (n_steps >= 2, n_dims), finite,
-    not constant; a :class:`~neurocur.config.ConfigError` names the source (and file) and what was expected."""
+    not constant; a :class:`~neurocur.config.ConfigError` names the source (and file) and what was expected.
+
+    Parameters
+    ----------
+    value : str or array
+        A ``.npy`` file path (written by ``numpy.save``) or an array.
+    name : str
+        The source's name, for the message.
+
+    Returns
+    -------
+    array of float64, shape (n_steps, n_dims)
+        A read-only copy.
+
+    Raises
+    ------
+    ConfigError
+        A missing or unreadable file, or an array that is not finite, not 2-d with at least two
+        rows, or constant.
+    """
     label, file = f"source {name!r}", f" in {value}" if isinstance(value, str) else ""
     if isinstance(value, str):
         if not Path(value).is_file():
@@ -125,7 +163,29 @@ def load_source(value, name: str) -> np.ndarray:
 def check_sources(sources: Mapping[str, SourceParams], contexts: Sequence[str], where: str) -> int:
     """Check the declared ``sources`` and the ``contexts`` that show them; return the number of
     time steps (context-states): the common length of the files and built-in sources shown,
-    1000 if only sinusoid pairs and noise are. Errors are ConfigErrors naming the key."""
+    1000 if only sinusoid pairs and noise are. Errors are ConfigErrors naming the key.
+
+    Parameters
+    ----------
+    sources : mapping of str to SourceParams
+        The declared sources by name.
+    contexts : sequence of str
+        The source shown by each context (and by each after a swap).
+    where : str
+        The parameter class, named by the errors.
+
+    Returns
+    -------
+    int
+        The number of time steps (context-states).
+
+    Raises
+    ------
+    ConfigError
+        An entry without exactly one of ``file``, ``sinusoid``, ``noise``; ``scale`` or ``dims``
+        outside noise; a bad file; an unknown source name in ``contexts``; sources of unequal
+        lengths; a sinusoid of at least ``n_states / 2`` fast cycles.
+    """
     lengths = {}
     for name, p in sources.items():
         key = f"sources.{name}"
@@ -161,7 +221,26 @@ def check_sources(sources: Mapping[str, SourceParams], contexts: Sequence[str], 
 @dataclass(frozen=True)
 class Source:
     """One source of a run of the synthetic world: a fixed ``signal`` (a file, a sinusoid pair,
-    S-A, S-B, S-C) or a ``noise`` kind; ``redraws``: drawn again at every epoch (module docstring)."""
+    S-A, S-B, S-C) or a ``noise`` kind; ``redraws``: drawn again at every epoch (module docstring).
+
+    Parameters
+    ----------
+    name : str
+        The source's name.
+    signal : array of float64, shape (n_steps, n_dims), optional
+        The fixed signal (a file, a sinusoid pair, S-A, S-B, S-C); None for noise.
+    noise : str, optional
+        The noise kind (``neurocur.contexts.sources.NOISE_KINDS``) when there is no ``signal``.
+    scale : float
+        Noise only: the factor on each draw.
+    dims : int
+        Noise only: its dimensions.
+    redraws : bool
+        Drawn again at every epoch: a fresh noise draw, or the fixed signal's rows permuted.
+    centred : bool
+        Each noise draw centred (every dimension's mean removed) and rendered with symmetric limits
+        (declared noise; not the built-in S-D).
+    """
 
     name: str
     signal: np.ndarray | None = None
@@ -194,6 +273,22 @@ def make_sources(names: Sequence[str], sources: Mapping[str, SourceParams], n_st
 
     ``nonstationary`` is the world's flag: S-D and noise without their own flag are redrawn
     every epoch when it is true.
+
+    Parameters
+    ----------
+    names : sequence of str
+        The sources shown, repeats allowed (each distinct name once, in order of first appearance).
+    sources : mapping of str to SourceParams
+        The declared sources; a name not declared is built in.
+    n_states : int
+        Time steps of a sinusoid pair (the world's context-states).
+    nonstationary : bool
+        The world's flag.
+
+    Returns
+    -------
+    dict of str to Source
+        The sources by name.
     """
     out = {}
     for name in dict.fromkeys(names):

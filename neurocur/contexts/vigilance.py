@@ -30,7 +30,25 @@ __all__ = ["VigilanceParams", "VigilanceWorld"]
 
 @dataclass(frozen=True)
 class VigilanceParams:
-    """Parameters of :class:`VigilanceWorld` (``[world]`` with ``type = "vigilance"``)."""
+    """Parameters of :class:`VigilanceWorld` (``[world]`` with ``type = "vigilance"``).
+
+    Parameters
+    ----------
+    trial_length : int
+        Time steps (frames) per trial, at least 2; also the world's number of context-states.
+    onset : int
+        Time step of the stimulus onset.
+    duration : int
+        Time steps the stimulus stays on; ``onset + duration`` must not exceed ``trial_length`` (a
+        ``ConfigError`` naming ``duration`` otherwise).
+    target_probability : float
+        Probability in [0, 1] that a trial's stimulus is a target.
+    crosstalk : float
+        The input in [0, 1] a stimulus gives the other pathway (0 in ``gilzenrat2002``).
+    rewards : tuple, optional
+        The extrinsic reward of a visit (one entry, the one context; ``neurocur.contexts.rewards``);
+        None pays 0.
+    """
 
     trial_length: int = param(200, int, low=2, doc="time steps (frames) per trial")
     onset: int = param(40, int, low=0, doc="time step of the stimulus onset")
@@ -49,7 +67,15 @@ class VigilanceParams:
 
 @register_world("vigilance")
 class VigilanceWorld(World):
-    """Trials of a target-detection task (module docstring); ``source_names`` = ("target task",)."""
+    """Trials of a target-detection task (module docstring); ``source_names`` = ("target task",).
+
+    Parameters
+    ----------
+    params : VigilanceParams, optional
+        The task's parameters; or give them as keywords instead.
+    **kwargs
+        The fields of ``VigilanceParams`` as keywords, when ``params`` is not given.
+    """
 
     figures_after_run = True
 

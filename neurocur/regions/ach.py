@@ -33,7 +33,18 @@ __all__ = ["ExpectedUncertaintyACh", "believed_validity"]
 
 def believed_validity(ach: float) -> float:
     """The validity the released ACh stands for, gamma = 1 - ACh (Y1), clipped to [0.5, 1]: the task
-    never makes a cue anti-predictive, so a drug that raises ACh above 0.5 leaves the cue uninformative."""
+    never makes a cue anti-predictive, so a drug that raises ACh above 0.5 leaves the cue uninformative.
+
+    Parameters
+    ----------
+    ach : float
+        The released ACh level (after any drug).
+
+    Returns
+    -------
+    float
+        gamma in [0.5, 1].
+    """
     return min(1.0, max(0.5, 1.0 - float(ach)))
 
 
@@ -57,6 +68,16 @@ class ExpectedUncertaintyACh(Region):
     counted, valid when the target (column ``cues`` of the frame) is on the side of cue mu*. Recorded: ``ach`` (released),
     ``gamma_star`` (the estimate before the drugs) and ``validity`` (the true validity of the
     trial, the world's marker, for the analysis only).
+
+    Parameters
+    ----------
+    name : str
+        The region's name in its circuit (default ``"ExpectedUncertaintyACh"``); the constructor is ``Region``'s.
+    params : ACHParams, optional
+        ``prior_valid`` (a) and ``prior_invalid`` (b), the Beta prior's pseudo-counts of valid and
+        invalid trials (each > 0, default 1; Y2).
+    **kwargs
+        Those parameters as keywords, when ``params`` is not given.
     """
 
     Params = ACHParams

@@ -64,6 +64,17 @@ class RetrievalUncertaintyACh(Region):
     best frozen module's error is below threshold, 0 above, NaN no frozen module responds) updates
     the context's counts (R1). Recorded: ``ach`` (released), ``gamma_star`` (before the drugs) and
     ``retrieved``.
+
+    Parameters
+    ----------
+    name : str
+        The region's name in its circuit (default ``"RetrievalUncertaintyACh"``); the constructor is ``Region``'s.
+    params : RetrievalACHParams, optional
+        ``prior_valid`` (a) and ``prior_invalid`` (b), the Beta prior's pseudo-counts of explained and
+        unexplained visits (each > 0, default 1), and ``leak`` (lambda, in [0, 1), default 0.1), the
+        share of a context's counts forgotten at each judged visit of it (R1-R2).
+    **kwargs
+        Those parameters as keywords, when ``params`` is not given.
     """
 
     Params = RetrievalACHParams

@@ -50,7 +50,23 @@ class Signal:
     that vary, e.g. ``"T"`` frames); ``()`` is a scalar. ``initial`` is the value a
     delayed edge delivers on the first pass. An ``optional`` output may go nowhere (a
     signal other regions can read when a circuit wires it, e.g. LC's NE); every other
-    output needs an edge."""
+    output needs an edge.
+
+    Parameters
+    ----------
+    name : str
+        The port's name, unique among the region's inputs (or outputs).
+    dtype : str
+        ``"float64"``, ``"int64"``, ``"bool"`` or ``"Episode"``.
+    shape : tuple of int or str
+        Fixed sizes, or named sizes that vary (``"T"``); ``()`` for a scalar.
+    doc : str
+        What the signal is, for the circuit's listing and the docs.
+    initial : object
+        What a delayed edge from this output delivers on the first pass (default None, delivered as is).
+    optional : bool
+        An output that may go nowhere; every other output needs an edge.
+    """
 
     name: str
     dtype: str
@@ -77,7 +93,21 @@ class Signal:
 @dataclass(frozen=True)
 class Probe:
     """A recordable quantity. ``kind``: ``"float"``, ``"int"``, ``"bool"`` or
-    ``"category"`` (stored as the index into ``categories``)."""
+    ``"category"`` (stored as the index into ``categories``).
+
+    Parameters
+    ----------
+    name : str
+        The column's name in the recorded table.
+    kind : str
+        ``"float"``, ``"int"``, ``"bool"`` or ``"category"``.
+    unit : str
+        The value's unit (``""`` for none), for the docs and the figures.
+    doc : str
+        What the quantity is.
+    categories : tuple of str
+        A ``"category"`` probe's categories; the recorded value is an index into them.
+    """
 
     name: str
     kind: str

@@ -40,6 +40,16 @@ class HPCACh(HPCROC):
 
     Inputs: HPC's and ``ach`` (this visit's, :class:`~neurocur.regions.ach_retrieval.RetrievalUncertaintyACh`).
     Outputs: HPC's and ``retrieved`` (H2). With ACh always below the threshold it is HPC.
+
+    Parameters
+    ----------
+    name : str
+        The region's name in its circuit (default ``"HPCACh"``); the constructor is ``Region``'s.
+    params : HPCAChParams, optional
+        HPC's parameters (``HPCParams``, docs/regions.md) and ``ach_threshold`` (in [0, 1), default
+        0.5): retrieval may gate only while ACh is below it (H1).
+    **kwargs
+        Those parameters as keywords, when ``params`` is not given.
     """
 
     Params = HPCAChParams

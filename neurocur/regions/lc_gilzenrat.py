@@ -59,7 +59,55 @@ STATE = ("x1", "x2", "x3", "f1", "f2", "f3", "v", "u", "gain")
 @dataclass(frozen=True)
 class GilzenratParams:
     """Gilzenrat et al. (2002)'s parameters (module docstring); time in units of the decision
-    units' time constant."""
+    units' time constant.
+
+    Parameters
+    ----------
+    mode : float
+        C, in [0, 1]: 0.95 the phasic mode, 0.55 the tonic mode.
+    baseline : float
+        d, the LC's uncorrelated baseline activity in h(v) = C v + (1 - C) d.
+    alpha : float
+        a, in (0, 1), the threshold of the cubic v (a - v)(v - 1).
+    tau_v : float
+        The time constant of v (> 0).
+    tau_u : float
+        The time constant of u, the NE released (> 0).
+    dt : float
+        Euler's step (> 0), at most ``tau_v / 2`` (a ``ConfigError`` otherwise).
+    lc_weight : float
+        w_vX1, the weight of the target unit's output on the LC.
+    gain_base : float
+        G (>= 0), the gain at u = 0.
+    gain_scale : float
+        k (>= 0), the gain per unit of u: g = G + k u.
+    input_weight : float
+        w_XiIi, an input pathway's weight on its own decision unit.
+    crosstalk : float
+        w_XiIj, an input pathway's weight on the other decision unit.
+    self_excitation : float
+        w_XiXi (>= 0), a decision unit's weight on itself.
+    inhibition : float
+        w_XiXj (>= 0), a decision unit's inhibition of the other.
+    decision_bias : float
+        b_1 = b_2, the decision units' logistic bias.
+    response_weight : float
+        w_X3X1, the target unit's weight on the response unit.
+    response_self : float
+        w_X3X3 (>= 0), the response unit's weight on itself.
+    response_bias : float
+        b_3, the response unit's logistic bias.
+    noise : float
+        The standard deviation (>= 0) of each unit's noise per unit of time (``noise`` x sqrt(dt) per step).
+    threshold : float
+        The response criterion on f_3, in (0, 1) (ours: the response unit rests near 0.47 at G + k u).
+    initial_v : float
+        v at the run's start.
+    initial_u : float
+        u at the run's start.
+    window : int
+        Steps from the stimulus onset in which the LC's peak is measured.
+    """
 
     mode: float = param(0.95, float, low=0.0, high=1.0, doc="C: 0.95 phasic mode, 0.55 tonic mode")
     baseline: float = param(0.5, float, doc="d, the LC's uncorrelated baseline activity in h(v)")
@@ -104,7 +152,28 @@ def decision_lc_step(s, i1, i2, e1, e2, p):
     (:data:`STATE`, updated in place): the decision units with the inputs ``i1``, ``i2``, their noise
     increments ``e1``, ``e2`` and the gain the LC released in the previous step, ``s[8]``; then the
     LC with their new target output. Returns the LC's new u. ``p`` = (dt, w_in, w_cross, w_self,
-    w_inhib, b_dec, w_31, w_33, b_resp, a, C, d, tau_v, tau_u, w_vX1)."""
+    w_inhib, b_dec, w_31, w_33, b_resp, a, C, d, tau_v, tau_u, w_vX1).
+
+    Parameters
+    ----------
+    s : array of float64, shape (9,)
+        The state (``STATE``), updated in place.
+    i1 : float
+        The target pathway's input I_1.
+    i2 : float
+        The distractor pathway's input I_2.
+    e1 : float
+        The target unit's noise increment.
+    e2 : float
+        The distractor unit's noise increment.
+    p : array of float64, shape (15,)
+        The parameter vector (``step_params``).
+
+    Returns
+    -------
+    float
+        The LC's new u.
+    """
     dt, w_in, w_cross, w_self, w_inhib, b_dec = p[0], p[1], p[2], p[3], p[4], p[5]
     a, c, d, tau_v, tau_u, w_v = p[9], p[10], p[11], p[12], p[13], p[14]
     gain, f1, f2 = s[8], s[3], s[4]
@@ -122,7 +191,19 @@ def decision_lc_step(s, i1, i2, e1, e2, p):
 @njit(cache=True, fastmath=False)
 def response_step(s, gain, e3, p):
     """The second part of the step: the LC releases ``gain`` (G + k u of its new u, through any drug),
-    which the response unit reads at once (noise increment ``e3``) and the decision units in the next step."""
+    which the response unit reads at once (noise increment ``e3``) and the decision units in the next step.
+
+    Parameters
+    ----------
+    s : array of float64, shape (9,)
+        The state (``STATE``), updated in place.
+    gain : float
+        The gain the LC releases.
+    e3 : float
+        The response unit's noise increment.
+    p : array of float64, shape (15,)
+        The parameter vector (``step_params``).
+    """
     dt, w_31, w_33, b_resp = p[0], p[6], p[7], p[8]
     s[2] = s[2] + dt * (-s[2] + w_33 * s[5] + w_31 * s[3]) + e3
     s[5] = _logistic(s[2], gain, b_resp)
@@ -157,7 +238,28 @@ def simulate(p: GilzenratParams, inputs: np.ndarray, noise: np.ndarray, state: n
     """Integrate ``len(inputs)`` steps from ``state`` (default :func:`initial_state`) with the input
     rows (I_1, I_2) and the noise increments ``noise`` (T, 3); returns the trace (T, 9), the state
     (:data:`STATE`) after each step, and the final state. ``drug``: a function applied to each
-    released gain (the NE) before the units read it; a gain it would make negative is released as 0."""
+    released gain (the NE) before the units read it; a gain it would make negative is released as 0.
+
+    Parameters
+    ----------
+    p : GilzenratParams
+        The model's parameters.
+    inputs : array of float, shape (T, 2)
+        The input layer (I_1 target, I_2 distractor) at each step.
+    noise : array of float, shape (T, 3)
+        The noise increments of the units x_1, x_2, x_3 at each step (already scaled by sqrt(dt)).
+    state : array of float, shape (9,), optional
+        The state to start from (``STATE``; copied); default ``initial_state(p)``.
+    drug : callable, optional
+        ``gain -> gain``, applied to each released gain; None: no drug.
+
+    Returns
+    -------
+    trace : array of float64, shape (T, 9)
+        The state after each step.
+    state : array of float64, shape (9,)
+        The final state.
+    """
     s = initial_state(p) if state is None else np.array(state, dtype=float)
     inputs, noise = np.ascontiguousarray(inputs, dtype=float), np.ascontiguousarray(noise, dtype=float)
     trace = np.empty((len(inputs), len(STATE)))
@@ -189,6 +291,15 @@ class GilzenratLC(Region):
     mean before the onset, ``lc_peak`` its peak within ``window`` steps of the onset,
     ``lc_burst`` = peak - baseline, ``lc_rate`` the trial's mean, and ``ne_gain`` the mean gain
     while the stimulus is on.
+
+    Parameters
+    ----------
+    name : str
+        The region's name in its circuit (default ``"GilzenratLC"``); the constructor is ``Region``'s.
+    params : GilzenratParams, optional
+        The model's parameters (``GilzenratParams``, field by field).
+    **kwargs
+        Those parameters as keywords, when ``params`` is not given.
     """
 
     Params = GilzenratParams

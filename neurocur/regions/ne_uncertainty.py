@@ -73,6 +73,19 @@ class UnexpectedUncertaintyNE(Region):
     ((0, 0) otherwise). mu* starts at random, with lambda = lambda_0. Recorded: ``ne`` (released), ``attended``, ``switched``, and from the
     world's markers, for the analysis only: ``relevant`` (the true relevant cue) and
     ``changed`` (it differs from the previous trial's).
+
+    Parameters
+    ----------
+    name : str
+        The region's name in its circuit (default ``"UnexpectedUncertaintyNE"``); the constructor is ``Region``'s.
+    params : NEParams, optional
+        ``change_probability`` (q, in [0, 1), default 0.01), the observer's probability that the context
+        changes before a trial (Y3); ``reset_belief`` (lambda_0, in (0, 1], default 0.9), the belief in
+        the cue chosen after a switch; ``memory`` (default 20), the trials over which the new cue's
+        agreement with the target is counted; ``threshold_offset`` (> 0, default 0.5), the 0.5 of the
+        switch threshold ACh / (0.5 + ACh) (Y6).
+    **kwargs
+        Those parameters as keywords, when ``params`` is not given.
     """
 
     Params = NEParams

@@ -38,7 +38,13 @@ __all__ = ["DRUGS", "Clamp", "Scale", "Noise"]
 
 @dataclass(frozen=True)
 class Clamp:
-    """x' = ``level``."""
+    """x' = ``level``.
+
+    Parameters
+    ----------
+    level : float
+        The constant released level, in the region's units; required (a ``ConfigError`` without it).
+    """
 
     level: float = param(math.nan, float, doc="the constant released level (the region's units); required")
 
@@ -52,7 +58,13 @@ class Clamp:
 
 @dataclass(frozen=True)
 class Scale:
-    """x' = ``factor`` · x."""
+    """x' = ``factor`` · x.
+
+    Parameters
+    ----------
+    factor : float
+        The gain (>= 0) on the released level: an agonist above 1, an antagonist or partial block below.
+    """
 
     factor: float = param(1.0, float, low=0.0, doc="gain on the released level (agonist > 1, antagonist < 1)")
 
@@ -65,7 +77,14 @@ class Scale:
 
 @dataclass(frozen=True)
 class Noise:
-    """x' = x + ``sd`` · ξ, ξ ~ N(0, 1)."""
+    """x' = x + ``sd`` · ξ, ξ ~ N(0, 1).
+
+    Parameters
+    ----------
+    sd : float
+        The standard deviation (> 0) of the added noise, in the region's units; required (a
+        ``ConfigError`` without it).
+    """
 
     sd: float = param(math.nan, float, low=0.0, low_open=True, doc="standard deviation of the added noise (the region's units); required")
 

@@ -54,6 +54,17 @@ class PosnerDecision(Region):
     ``cued`` (on the side of the attended cue), ``rt`` (samples to the response),
     ``correct`` (the response is the target's side) and ``prior`` (the prior probability the
     observer gave the target's actual side).
+
+    Parameters
+    ----------
+    name : str
+        The region's name in its circuit (default ``"PosnerDecision"``); the constructor is ``Region``'s.
+    params : PosnerParams, optional
+        ``noise`` (sigma > 0, default 2), the standard deviation of a sensory sample; ``bound`` (in
+        (0.5, 1), default 0.99), the posterior probability of a side at which the observer responds;
+        ``max_samples`` (default 200), the samples at most, after which the sign of the log-odds decides.
+    **kwargs
+        Those parameters as keywords, when ``params`` is not given.
     """
 
     Params = PosnerParams

@@ -53,7 +53,26 @@ SIGNALS = ("pc", "lp", "plays")
 def window_signals(past, *, window: int = WINDOW, early: int = EARLY, late: int = LATE) -> tuple[float, float]:
     """``(pc, lp)`` of one activity from its outcomes so far (``past``, oldest first): the mean of the last
     ``window`` and |mean of their last ``late`` − mean of their first ``early``|; NaN, NaN while fewer
-    than ``window`` are known."""
+    than ``window`` are known.
+
+    Parameters
+    ----------
+    past : sequence of float
+        The activity's outcomes so far, oldest first (1 correct, 0 not, or a score in [0, 1]).
+    window : int
+        Trials in the competence window (the paper's 15).
+    early : int
+        The window's first trials that learning progress compares (10).
+    late : int
+        The window's last trials it compares them with (9).
+
+    Returns
+    -------
+    pc : float
+        Percent correct (as a fraction) over the last ``window`` outcomes; NaN while fewer are known.
+    lp : float
+        Learning progress, the absolute difference of the two means; NaN while fewer are known.
+    """
     if len(past) < window:
         return np.nan, np.nan
     recent = [float(o) for o in past[-window:]]  # plain sums: exact for 0/1 outcomes, and fast per trial
@@ -64,7 +83,36 @@ def activity_signals(choices, outcomes, n_activities: int = 4, *, window: int = 
                      late: int = LATE) -> dict[str, np.ndarray]:
     """``{"plays", "pc", "lp"}``, each of shape ``(trials, n_activities)``: row *t* holds the
     signals before the choice of trial *t* (from trials ``0 .. t-1``, :func:`window_signals`).
-    ``choices``: the activity of each trial, 0-based; ``outcomes``: 1 correct, 0 not (or a score in [0, 1])."""
+    ``choices``: the activity of each trial, 0-based; ``outcomes``: 1 correct, 0 not (or a score in [0, 1]).
+
+    Parameters
+    ----------
+    choices : array of int
+        The activity of each trial, 0-based, below ``n_activities``.
+    outcomes : array of float
+        The outcome of each trial, in [0, 1] (1 correct, 0 not); the same length as ``choices``.
+    n_activities : int
+        The number of activities (4 in the paper).
+    window : int
+        Trials in the competence window (15).
+    early : int
+        The window's first trials that learning progress compares (10), in ``1 .. window``.
+    late : int
+        The window's last trials it compares them with (9), in ``1 .. window``.
+
+    Returns
+    -------
+    dict of str to array
+        ``"plays"`` (int64), ``"pc"`` and ``"lp"`` (float64, NaN while fewer than ``window`` trials of
+        the activity are known), each of shape ``(trials, n_activities)``.
+
+    Raises
+    ------
+    ValueError
+        Choices and outcomes of different lengths, choices that are not integers in
+        ``0 .. n_activities - 1``, outcomes outside [0, 1] or NaN, or ``early``/``late`` outside
+        ``1 .. window``.
+    """
     choices = np.asarray(choices)
     outcomes = np.asarray(outcomes, dtype=float)
     if choices.ndim != 1 or choices.shape != outcomes.shape:
@@ -93,7 +141,18 @@ def activity_signals(choices, outcomes, n_activities: int = 4, *, window: int = 
 def minmax(values) -> np.ndarray:
     """``(x - min) / (max - min)`` over every finite value of ``values`` (NaN stays NaN). A
     constant signal becomes 0 everywhere: a constant added to every activity's utility leaves the
-    softmax unchanged, so any constant is exact."""
+    softmax unchanged, so any constant is exact.
+
+    Parameters
+    ----------
+    values : array_like of float
+        The signal, any shape (e.g. ``(trials, n_activities)``), NaN where undefined.
+
+    Returns
+    -------
+    array of float64
+        The rescaled values in [0, 1], the shape of ``values``.
+    """
     x = np.asarray(values, dtype=float)
     low, span = _range(x)
     return np.where(np.isfinite(x), (x - low) / span if span > 0 else 0.0, np.nan)

@@ -20,7 +20,18 @@ __all__ = ["VTARole", "LearningProgressVTA", "AbsLearningProgressVTA", "NoveltyV
 
 
 def is_nan(x: float) -> bool:
-    """True for NaN (an undefined error); cheaper than ``math.isnan`` on Python floats."""
+    """True for NaN (an undefined error); cheaper than ``math.isnan`` on Python floats.
+
+    Parameters
+    ----------
+    x : float
+        The value.
+
+    Returns
+    -------
+    bool
+        Whether ``x`` is NaN (the only value not equal to itself).
+    """
     return x != x
 
 
@@ -34,6 +45,15 @@ class VTARole(Region):
     Output and probe: ``da``. A model computes the level in :meth:`dopamine`; :meth:`step`
     releases it through :meth:`~neurocur.regions.base.Region.modulate` (drug lesions act
     there), then emits and records the released level.
+
+    Parameters
+    ----------
+    name : str
+        The region's name in its circuit (default ``"VTARole"``); the constructor is ``Region``'s.
+    params : NoParams, optional
+        The role has none (``NoParams``); each model sets its own ``Params``.
+    **kwargs
+        A model subclass's parameters as keywords, when ``params`` is not given (the role itself takes none).
     """
 
     modulator = "da"
@@ -86,6 +106,15 @@ class LearningProgressVTA(VTARole):
     undefined, and ``boredom`` (-100) when the episode is familiar (section 4.1.2).
     The memory of previous errors is cleared when a module is stored (the next
     adaptive module starts a new error table).
+
+    Parameters
+    ----------
+    name : str
+        The region's name in its circuit (default ``"LearningProgressVTA"``); the constructor is ``Region``'s.
+    params : LearningProgressParams, optional
+        ``boredom`` (default -100), the DA of a familiar (gated) episode, in reward units.
+    **kwargs
+        Those parameters as keywords, when ``params`` is not given.
     """
 
     Params = LearningProgressParams
@@ -119,6 +148,15 @@ class AbsLearningProgressVTA(LearningProgressVTA):
     (2007, IEEE Trans. Evol. Comput. 11:265), rewarding any change of the error, a fall or a
     rise. Everything else (boredom, undefined errors, the memory cleared on storage) is
     the signed model's (:class:`LearningProgressVTA`).
+
+    Parameters
+    ----------
+    name : str
+        The region's name in its circuit (default ``"AbsLearningProgressVTA"``); the constructor is ``Region``'s.
+    params : LearningProgressParams, optional
+        ``boredom`` (default -100), the DA of a familiar (gated) episode, in reward units.
+    **kwargs
+        Those parameters as keywords, when ``params`` is not given.
     """
 
     def progress(self, before: float, after: float) -> float:
@@ -138,6 +176,15 @@ class NoveltyVTA(VTARole):
     """DA = count-based novelty ``scale / sqrt(N(c))``, N(c) = visits of context c so far
     (this one included). No boredom term; the other inputs are accepted and ignored so
     that it drops into the learning-progress VTA's place.
+
+    Parameters
+    ----------
+    name : str
+        The region's name in its circuit (default ``"NoveltyVTA"``); the constructor is ``Region``'s.
+    params : NoveltyParams, optional
+        ``scale`` (> 0, default 1), the DA of a context's first visit, in reward units.
+    **kwargs
+        Those parameters as keywords, when ``params`` is not given.
     """
 
     Params = NoveltyParams

@@ -35,6 +35,15 @@ class ContentNoveltyVTA(VTARole):
     from nothing. Unlike count novelty (:class:`~neurocur.regions.vta.NoveltyVTA`) it
     falls only as the error falls, not with visits: it stays high on an unlearnable
     context, and a context whose content another context taught is familiar at once.
+
+    Parameters
+    ----------
+    name : str
+        The region's name in its circuit (default ``"ContentNoveltyVTA"``); the constructor is ``Region``'s.
+    params : ContentNoveltyParams, optional
+        ``scale`` (> 0, default 1), the DA of wholly novel content, in reward units.
+    **kwargs
+        Those parameters as keywords, when ``params`` is not given.
     """
 
     Params = ContentNoveltyParams

@@ -46,6 +46,19 @@ class MixtureVTA(VTARole):
     ``w = 1`` the extrinsic reward alone. ``intrinsic_params`` are the intrinsic model's own
     (``{ boredom = -100.0 }``, ``{ scale = 6.0 }``). The intrinsic model sees the same inputs;
     drugs act on the mixed level only.
+
+    Parameters
+    ----------
+    name : str
+        The region's name in its circuit (default ``"MixtureVTA"``; its intrinsic model is
+        ``"<name>.intrinsic"``).
+    params : MixtureParams, optional
+        ``weight`` (w, in [0, 1], default 0.5), the extrinsic reward's share of DA; ``intrinsic``, the
+        intrinsic model's type (a key of ``INTRINSIC``, default ``"vta.learning_progress"``);
+        ``intrinsic_params``, that model's own parameters (a table checked by its ``Params``; omitted
+        ones keep its defaults).
+    **kwargs
+        Those parameters as keywords, when ``params`` is not given.
     """
 
     Params = MixtureParams

@@ -18,6 +18,15 @@ class SlownessProgressVTA(StateProgressVTA):
     section 4.4 quantifies learning progress as the convergence of this output (Ω, eqs 16-17).
     Wired by ``circuits/vta_slowness_progress.toml``; the dopamine rule is
     :class:`~neurocur.regions.vta_state_progress.StateProgressVTA`'s, only the progress read differs.
+
+    Parameters
+    ----------
+    name : str
+        The region's name in its circuit (default ``"SlownessProgressVTA"``); the constructor is ``Region``'s.
+    params : LearningProgressParams, optional
+        ``boredom`` (default -100), the DA of a familiar (gated) episode, in reward units.
+    **kwargs
+        Those parameters as keywords, when ``params`` is not given.
     """
 
     inputs = (*VTARole.inputs, Signal("progress", "float64", (), "EC's drop of the slowest output's delta"))

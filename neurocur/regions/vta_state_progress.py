@@ -29,6 +29,15 @@ class StateProgressVTA(VTARole):
     Reads the role's ports and ``progress`` (``HPC.progress``, wired by
     ``circuits/vta_state_progress.toml``); the error, module-learned and reward inputs are
     accepted and ignored (HPC's stored errors start afresh with each adaptive module).
+
+    Parameters
+    ----------
+    name : str
+        The region's name in its circuit (default ``"StateProgressVTA"``); the constructor is ``Region``'s.
+    params : LearningProgressParams, optional
+        ``boredom`` (default -100), the DA of a familiar (gated) episode, in reward units.
+    **kwargs
+        Those parameters as keywords, when ``params`` is not given.
     """
 
     Params = LearningProgressParams

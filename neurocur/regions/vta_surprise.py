@@ -30,6 +30,15 @@ class SurpriseVTA(VTARole):
     familiar episode a stored module predicts the content (its error is below HPC's
     threshold), so the agent is not surprised: DA = 0. DA is 0 while the error is
     undefined. No memory across episodes.
+
+    Parameters
+    ----------
+    name : str
+        The region's name in its circuit (default ``"SurpriseVTA"``); the constructor is ``Region``'s.
+    params : SurpriseParams, optional
+        ``scale`` (> 0, default 1), the DA per unit of error (reward units per feature distance).
+    **kwargs
+        Those parameters as keywords, when ``params`` is not given.
     """
 
     Params = SurpriseParams

@@ -35,6 +35,16 @@ class TDVTA(VTARole):
     first episode there is no previous state: DA = ``r`` and nothing is learned. The
     intrinsic inputs are accepted and ignored: without an extrinsic reward DA is 0.
     With one reward ``r`` on every visit, ``V`` tends to ``r / (1 - gamma)``.
+
+    Parameters
+    ----------
+    name : str
+        The region's name in its circuit (default ``"TDVTA"``); the constructor is ``Region``'s.
+    params : TDParams, optional
+        ``rate`` (alpha, in (0, 1], default 0.1), the TD(0) learning rate of V; ``discount`` (gamma, in
+        [0, 1), default 0.9), the discount per episode.
+    **kwargs
+        Those parameters as keywords, when ``params`` is not given.
     """
 
     Params = TDParams
@@ -94,6 +104,16 @@ class TDTrialVTA(Region):
     onset; ``da_reward`` delta at the step the reward is due (column 2), delivered or not;
     ``da_baseline`` the mean delta before the cue; ``omitted`` whether the reward was due and
     not delivered. Weights start at 0, so on the first trial DA fires at the reward only.
+
+    Parameters
+    ----------
+    name : str
+        The region's name in its circuit (default ``"TDTrialVTA"``); the constructor is ``Region``'s.
+    params : TDTrialParams, optional
+        ``rate`` (alpha, in (0, 1], default 0.1), the TD(0) learning rate of the weights; ``discount``
+        (gamma, in [0, 1], default 0.98), the discount per time step.
+    **kwargs
+        Those parameters as keywords, when ``params`` is not given.
     """
 
     Params = TDTrialParams

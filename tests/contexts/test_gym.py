@@ -11,7 +11,7 @@ import pytest
 from neurocur.config import ConfigError
 from neurocur.contexts import WORLDS, build_world
 from neurocur.contexts.env import env_id
-from neurocur.contexts.gym import GymParams, GymWorld, to_frame
+from neurocur.contexts.gym import GymParams, GymWorld
 from neurocur.contexts.synthetic import SyntheticWorld
 from neurocur.experiments import load_experiment, run_one
 
@@ -138,16 +138,6 @@ def test_fixed_reset_seeds_repeat_the_first_frame():
 
 def test_gym_env_passes_check_env(check_env_strictly):
     check_env_strictly(GymWorld(["CartPole-v1"], visit_length=8, frame_shape=(4, 6)).as_env())
-
-
-def test_to_frame_averages_bins_and_repeats_pixels():
-    rgb = np.zeros((4, 6, 3), dtype=np.uint8)
-    rgb[:2, :3] = 255
-    np.testing.assert_allclose(to_frame(rgb, (2, 2)), [1.0, 0.0, 0.0, 0.0])
-    np.testing.assert_allclose(to_frame(rgb, (2, 3)), [1.0, 0.5, 0.0, 0.0, 0.0, 0.0])
-    np.testing.assert_allclose(to_frame(rgb[:1, :1], (2, 1)), [1.0, 1.0])
-    with pytest.raises(ValueError, match="RGB"):
-        to_frame(rgb[:, :, 0], (2, 2))
 
 
 def test_gym_params_are_checked():

@@ -84,7 +84,7 @@ def test_parameter_sections_document_the_constructor(parsed):
 #: takes arguments (each name in a module's ``__all__``); one joins the list when its docstrings have them.
 COMPLETE = ("neurocur.fit", "neurocur.analysis", "neurocur.learn", "neurocur.rl",
             "neurocur.results.lock", "neurocur.results.names", "neurocur.results.safeio", "neurocur.results.store",
-            "neurocur.contexts.base", "neurocur.contexts.sources",
+            "neurocur.contexts", "neurocur.circuit", "neurocur.regions",
             "neurocur.experiments.conditions", "neurocur.experiments.invariance", "neurocur.experiments.spec",
             "neurocur.scheduler", "neurocur.tables", "neurocur.registry", "neurocur.recording", "neurocur.contract",
             "neurocur.config")
