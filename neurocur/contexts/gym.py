@@ -54,7 +54,7 @@ from .gym_frames import VectorScale, to_frame
 from .gym_ids import check_ids, import_ids
 from .rewards import Rewards, check_rewards, rewards_param
 
-__all__ = ["GymParams", "GymWorld", "VectorScale", "random_policy", "to_frame"]
+__all__ = ["GymParams", "GymWorld", "random_policy"]
 
 
 def random_policy(env: gymnasium.Env, observation) -> object:

@@ -70,8 +70,8 @@ class RewardBlocksWorld(SyntheticWorld):
         The world's parameters, blocks included: build the world with them (an experiment file's
         ``[world]`` table becomes one).
     contexts, sources, visit_length, normalise, clock_offsets, frame_shape, context_names, nonstationary, learnable, rewards : object
-        ``SyntheticWorld``'s keywords: they build a plain ``SyntheticParams``, without blocks, from
-        which this world cannot pay (its first reset fails); give ``params`` instead.
+        ``SyntheticWorld``'s keywords: without ``params`` they build a ``RewardBlocksParams`` with the
+        default blocks (one block paying 1.0 per visit of each context); ``rewards`` must stay None.
     """
 
     figures_after_run = True

@@ -212,8 +212,9 @@ class SyntheticWorld(World):
     rewards:
         Extrinsic reward per context, a number or a schedule each (:mod:`.rewards`).
     params:
-        A :class:`SyntheticParams` instead of the keyword arguments (an experiment file's
-        ``[world]`` table becomes one); the keyword arguments are checked by it too.
+        The world's parameters (an instance of its ``Params`` class, e.g. :class:`SyntheticParams`) instead
+        of the keyword arguments (an experiment file's ``[world]`` table becomes one); the keyword
+        arguments build one of that class and are checked by it too.
 
     Notes
     -----
@@ -243,7 +244,7 @@ class SyntheticWorld(World):
     ) -> None:
         super().__init__()
         if params is None:
-            params = SyntheticParams(contexts=contexts, sources=dict(sources or {}), visit_length=visit_length,
+            params = self.Params(contexts=contexts, sources=dict(sources or {}), visit_length=visit_length,
                                      normalise=normalise, clock_offsets=clock_offsets, frame_shape=frame_shape,
                                      context_names=context_names, nonstationary=nonstationary, learnable=learnable,
                                      rewards=rewards)

@@ -15,7 +15,8 @@ import pytest
 from neurocur.cli import main
 from neurocur.config import ConfigError
 from neurocur.contexts import build_world, world_params
-from neurocur.contexts.gym import GymParams, GymWorld, VectorScale
+from neurocur.contexts.gym import GymParams, GymWorld
+from neurocur.contexts.gym_frames import VectorScale
 
 MODULE = "gym_vector_env"
 WALK, UNBOUNDED, SHORT = "neurocur_test/Walk-v0", "neurocur_test/UnboundedWalk-v0", "neurocur_test/ShortWalk-v0"

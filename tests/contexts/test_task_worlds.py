@@ -64,6 +64,10 @@ def test_reward_blocks_default_to_one_block_paying_one_per_context():
     assert env.unwrapped.world.params.blocks == ((1.0,) * 5,)
     _, info = env.reset(seed=1)
     assert env.step(3)[1] == 1.0
+    world = RewardBlocksWorld(("S-A", "S-B"), visit_length=5, frame_shape=(3, 3))  # keywords, as SyntheticWorld's
+    assert world.params.blocks == ((1.0, 1.0),) and world.params.block_visits == 500
+    first, _ = world.reset(seed=0, context=1)
+    assert (first.reward, world.step(0)[0].reward) == (1.0, 1.0)
 
 
 @pytest.mark.parametrize("table, match", [
