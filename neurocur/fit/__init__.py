@@ -12,7 +12,8 @@
 | random-effects Bayesian model selection (Stephan et al. 2009, Rigoux et al. 2014) | ``bms`` |
 | Ten et al. 2021's posted trial files as trial tables, the paper's exclusion | ``ten2021`` |
 | the signals of Ten et al. 2021's choice models (PC, LP, plays) | ``ten2021_utilities`` |
-| group parameters: empirical-Bayes EM with a Laplace approximation, the integrated BIC (Huys et al. 2011) | ``hierarchical``, ``transforms`` |
+| group parameters: empirical-Bayes EM with a Laplace approximation (Huys et al. 2011) | ``hierarchical``, ``transforms`` |
+| a subject's Laplace posterior and evidence, the group's sampled evidence, the integrated BIC | ``evidence`` |
 
 A layer above :mod:`neurocur.experiments`: it builds circuits and worlds from experiment files.
 """
