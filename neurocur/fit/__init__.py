@@ -6,6 +6,7 @@
 | people's trials: one row per trial (subject, trial, choice, outcome), CSV, Parquet or tab-separated text | ``trials`` |
 | a model's declared free parameters and the kind of data it reads | ``models`` |
 | replay: log P(observed decisions given theta), cached learning part | ``replay`` |
+| the decision part: the regions a cached replay runs again for each theta | ``part`` |
 | the decision part's recorded inputs, played back to it as a circuit the scheduler steps | ``tape`` |
 | maximum likelihood with several starts, profile-likelihood intervals | ``mle`` |
 | parametric bootstrap: percentile intervals from refits of data sets simulated at the estimate | ``bootstrap`` |
