@@ -90,7 +90,14 @@ def _data(p: argparse.ArgumentParser) -> None:
 
 
 def add_parsers(sub) -> None:
-    """Add ``fit``, ``recover``, ``compare`` and ``sbi`` to the ``neurocur`` command's subparsers."""
+    """Add ``fit``, ``recover``, ``compare`` and ``sbi`` to the ``neurocur`` command's subparsers.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The ``neurocur`` parser's subparsers (what ``ArgumentParser.add_subparsers`` returns); each command's
+        parser is added to it with its options.
+    """
     fit = _parser(
         sub, "fit",
         "fit a circuit's parameters to behaviour by maximum likelihood (docs/fitting.md)",

@@ -50,7 +50,25 @@ __all__ = ["COMMANDS", "parse_bounds"]
 
 
 def parse_bounds(text: str) -> tuple[str, tuple[float, float]]:
-    """``KEY=LOW:HIGH`` as ``(key, (low, high))`` (an argparse type: ``--bounds``, and ``sbi``'s ``--prior``)."""
+    """``KEY=LOW:HIGH`` as ``(key, (low, high))`` (an argparse type: ``--bounds``, and ``sbi``'s ``--prior``).
+
+    Parameters
+    ----------
+    text : str
+        ``KEY=LOW:HIGH``, e.g. ``LC.gain=0:60``; ``LOW`` and ``HIGH`` are numbers (``inf`` and ``-inf`` allowed)
+        with ``LOW < HIGH``.
+
+    Returns
+    -------
+    tuple of (str, (float, float))
+        The key and its bounds.
+
+    Raises
+    ------
+    argparse.ArgumentTypeError
+        Without ``=`` or ``:``, with a bound that is not a number, or unless ``LOW < HIGH`` (argparse reports it
+        on one line, naming the option).
+    """
     key, sep, rng = text.partition("=")
     low, sep2, high = rng.partition(":")
     try:

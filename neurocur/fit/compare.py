@@ -37,7 +37,26 @@ __all__ = ["bms_table", "compare_hierarchical", "compare_models", "comparison_fi
 
 def score(replay, bounds: Mapping[str, tuple[float, float]], *, starts: int, seed: int) -> dict:
     """``loglik, n_params, n_obs, aic, bic, heldout`` of one model on one replayed data set: the fit to
-    every episode, and the fit to the first half of the scored episodes scoring the second half."""
+    every episode, and the fit to the first half of the scored episodes scoring the second half.
+
+    Parameters
+    ----------
+    replay : Replay
+        One data set replayed through the model (:class:`~neurocur.fit.replay.Replay`, or anything
+        :func:`~neurocur.fit.mle.fit_ml` takes that has ``scored``).
+    bounds : mapping of str to (float, float)
+        The fitted keys and their bounds (empty: the model has no free parameter and is evaluated).
+    starts : int
+        Local searches of each fit (:func:`~neurocur.fit.mle.fit_ml`).
+    seed : int
+        The seed of each fit's design of starts.
+
+    Returns
+    -------
+    dict
+        ``loglik, n_params, n_obs, aic, bic`` of the fit to every episode; ``heldout``: the log-likelihood of
+        the passes after the first half of the scored ones, at the fit to that first half.
+    """
     full = fit_ml(replay, bounds, starts=starts, seed=seed, ci=None)
     train = np.cumsum(replay.scored) <= replay.n_obs // 2
     first = fit_ml(replay, bounds, starts=starts, seed=seed, ci=None, mask=train)
@@ -52,7 +71,37 @@ def compare_models(experiment, data: Sequence, models: Mapping[str, object],
     """Rows ``dataset, model, loglik, n_params, n_obs, aic, bic, heldout, loo``: every model (an experiment
     condition, fitted on its ``bounds``, empty for none) on every data set (Behaviour, replayed with its
     own seed). ``loo``: the data set's log-likelihood under the model's pooled fit to the other data
-    sets (NaN with one data set, or ``loo=False``). ``progress(table so far)`` after each model."""
+    sets (NaN with one data set, or ``loo=False``). ``progress(table so far)`` after each model.
+
+    Parameters
+    ----------
+    experiment : Experiment
+        The loaded experiment; its ``run_seed(i)`` seeds the i-th data set without a seed of its own
+        (:func:`~neurocur.fit.study.make_replays`).
+    data : sequence of Behaviour
+        The data sets.
+    models : mapping of str to Condition
+        The models by name, each an experiment condition (its circuit and world).
+    bounds : mapping of str to mapping of str to (float, float)
+        Per model, its fitted keys and their bounds (empty for a model without free parameters).
+    decision : str
+        The region whose decisions are the data.
+    signal : (str, str), optional
+        (region, column): signal replay, the region replaced by the data set's recorded column.
+    starts : int
+        Local searches of each fit (:func:`~neurocur.fit.mle.fit_ml`).
+    seed : int
+        The seed of each fit's design of starts.
+    loo : bool
+        Score each data set under the pooled fit to the others (one more fit per data set and model).
+    progress : callable, optional
+        Called with the table so far after each model.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per data set and model, in the models' order (:func:`score`'s columns and ``loo``).
+    """
     rows = []
     for name, condition in models.items():
         replays = make_replays(experiment, condition, data, list(bounds[name]), decision=decision, signal=signal)
@@ -79,7 +128,43 @@ def compare_hierarchical(experiment, data: Sequence, models: Mapping[str, object
     Laplace log evidence under the model's group prior); rows ``model, ibic, laplace_ibic, log_evidence,
     log_evidence_mcse, log_evidence_laplace, n_params, n_obs, iterations, converged`` (``n_params``: the group's,
     a mu and a sigma per fitted parameter); and the fits by model. ``progress(first table so far)`` after each
-    model; ``workers``: processes for each fit's E-steps (the same results for any number)."""
+    model; ``workers``: processes for each fit's E-steps (the same results for any number).
+
+    Parameters
+    ----------
+    experiment : Experiment
+        The loaded experiment; its ``run_seed(i)`` seeds the i-th data set without a seed of its own
+        (:func:`~neurocur.fit.study.make_replays`).
+    data : sequence of Behaviour
+        The data sets, each a subject.
+    models : mapping of str to Condition
+        The models by name, each an experiment condition (its circuit and world).
+    bounds : mapping of str to mapping of str to (float, float)
+        Per model, its fitted keys and their bounds (-inf/inf for none; empty for a model without free
+        parameters).
+    decision : str
+        The region whose decisions are the data.
+    signal : (str, str), optional
+        (region, column): signal replay, the region replaced by the data set's recorded column.
+    starts : int
+        Local searches of each subject's first E-step.
+    seed : int
+        The seed of each fit's Sobol design and evidence samples.
+    max_iter : int
+        The most E-steps of each fit.
+    n_samples : int
+        Draws from the group prior for each fit's sampled evidence and iBIC.
+    progress : callable, optional
+        Called with the first table so far after each model.
+    workers : int
+        Processes for each fit's E-steps.
+
+    Returns
+    -------
+    tuple of (pandas.DataFrame, pandas.DataFrame, dict)
+        The rows by data set and model, the rows by model, and the
+        :class:`~neurocur.fit.hierarchical.HierarchicalFit` of each model by name.
+    """
     rows, models_rows, fits = [], [], {}
     for name, condition in models.items():
         replays = make_replays(experiment, condition, data, list(bounds[name]), decision=decision, signal=signal)
@@ -104,7 +189,21 @@ def compare_hierarchical(experiment, data: Sequence, models: Mapping[str, object
 def bms_table(table: pd.DataFrame, evidence: str = "bic") -> pd.DataFrame:
     """Per model: ``expected`` frequency, exceedance ``xp``, protected exceedance ``pxp`` and the Bayesian omnibus
     risk ``bor`` (the same on every row), from random-effects BMS on the log evidences: -BIC / 2 by default,
-    else the ``evidence`` column itself (a log evidence, e.g. :func:`compare_hierarchical`'s ``log_evidence``)."""
+    else the ``evidence`` column itself (a log evidence, e.g. :func:`compare_hierarchical`'s ``log_evidence``).
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        One row per data set and model (``dataset``, ``model`` and the ``evidence`` column), as
+        :func:`compare_models` or :func:`compare_hierarchical` gives it; every model scored on every data set.
+    evidence : str
+        The column: ``bic`` (the log evidence is -BIC / 2) or a log evidence itself.
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``model, expected, xp, pxp, bor``, one row per model in the table's order (:func:`~neurocur.fit.bms.bms`).
+    """
     wide = table.pivot(index="dataset", columns="model", values=evidence)[list(dict.fromkeys(table["model"]))]
     result = bms(-wide.to_numpy() / 2.0 if evidence == "bic" else wide.to_numpy())
     return pd.DataFrame({"model": wide.columns, "expected": result.expected, "xp": result.xp, "pxp": result.pxp,
@@ -114,7 +213,20 @@ def bms_table(table: pd.DataFrame, evidence: str = "bic") -> pd.DataFrame:
 def totals(table: pd.DataFrame, selection: pd.DataFrame) -> pd.DataFrame:
     """Per model (in the table's order): its ``loglik, aic, bic, heldout, loo`` summed over the data sets
     (NaN when a score is missing everywhere) and its BMS columns (:func:`bms_table`): what the figure draws
-    and ``neurocur compare`` prints."""
+    and ``neurocur compare`` prints.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        :func:`compare_models`' rows (``model, loglik, aic, bic, heldout, loo``).
+    selection : pandas.DataFrame
+        :func:`bms_table`'s rows for the same models.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Indexed by model: the summed scores, then ``expected, xp, pxp, bor``.
+    """
     models = list(dict.fromkeys(table["model"]))
     summed = table.groupby("model", sort=False)[["loglik", "aic", "bic", "heldout", "loo"]].sum(min_count=1)
     return summed.reindex(models).join(selection.set_index("model"))
@@ -122,7 +234,20 @@ def totals(table: pd.DataFrame, selection: pd.DataFrame) -> pd.DataFrame:
 
 def comparison_figure(table: pd.DataFrame, selection: pd.DataFrame):
     """Three panels: each model's summed BIC above the best model's, its summed held-out and cross-validated
-    log-likelihoods below the best's, and its protected exceedance probability."""
+    log-likelihoods below the best's, and its protected exceedance probability.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        :func:`compare_models`' rows.
+    selection : pandas.DataFrame
+        :func:`bms_table`'s rows for the same models.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure, on an Agg canvas.
+    """
     total = totals(table, selection)
     models = list(total.index)
     fig, axes = figure(1, 3, figsize=(11.4, 3.5))

@@ -6,11 +6,9 @@ Huys, Cools, Gölzer, Friedel, Heinz, Dolan & Dayan (2011), PLoS Comput Biol 7:e
 N(mu, diag(sigma^2)); theta_i = T(x_i) is what the subject's log-likelihood log L_i takes.
 
 - **E-step** (under the current mu, sigma): the MAP m_i maximises
-  log L_i(T(x)) + log N(x; mu, sigma^2) (scipy's L-BFGS-B on x, each parameter of a bounded
-  scale kept within |x| <= :data:`BOX`; the likelihood's gradient by central differences, the
-  prior's exact), and the Laplace posterior covariance V_i is the inverse of the negative
-  log-posterior's Hessian at m_i (the likelihood's part by central second differences in one
-  vectorised call, the prior's 1/sigma^2 exact). Starts: in the first E-step the ``starts`` best of
+  log L_i(T(x)) + log N(x; mu, sigma^2), and the Laplace posterior covariance V_i is the inverse of
+  the negative log-posterior's Hessian at m_i (:func:`~neurocur.fit.evidence.posterior_mode`).
+  Starts: in the first E-step the ``starts`` best of
   the prior mean and a seeded 64-point scrambled Sobol design mapped through the prior's quantiles
   (mu + sigma Phi^-1(u), as :func:`~neurocur.fit.mle.fit_ml` chooses its starts); later E-steps
   start from the previous MAP (warm start) and from the design points, mapped through the new
@@ -40,14 +38,11 @@ N(mu, diag(sigma^2)); theta_i = T(x_i) is what the subject's log-likelihood log 
   fixed-point map along two EM steps on (mu, log sigma) (:mod:`neurocur.fit.squarem`); it changes
   EM's path, not its fixed point, since EM stops only on a plain step. Each subject's MAP starts from its previous one.
 
-**Evidence.** log p(D | mu, sigma) = sum_i log integral L_i(T(x)) N(x; mu, sigma^2) dx, two ways:
-by Laplace, sum_i [log L_i(T(m_i)) + log N(m_i; mu, sigma^2) + (k/2) log 2 pi + (1/2) log det V_i]
-(the bracket is subject i's Laplace log evidence, ``subject_log_evidence``, what ``neurocur compare
---hierarchical`` gives random-effects BMS);
-and by sampling, as Huys et al. do: ``n_samples`` x_s ~ N(mu, sigma^2) from a seeded Generator,
-the same for every subject, sum_i log mean_s L_i(T(x_s)); its Monte Carlo standard error by the
-delta method over the shared samples. The integrated BIC (Huys et al.'s iBIC) is
-iBIC = -2 log p(D | mu, sigma) + 2k log N, with k fitted parameters (a mu and a sigma each) and
+**Evidence** (:mod:`neurocur.fit.evidence`). log p(D | mu, sigma) = sum_i log integral L_i(T(x))
+N(x; mu, sigma^2) dx, two ways: by Laplace, the sum of the subjects' Laplace log evidences at their
+MAPs (``subject_log_evidence``, what ``neurocur compare --hierarchical`` gives random-effects BMS), and
+by sampling ``n_samples`` draws of the group prior, as Huys et al. do. The integrated BIC (Huys et al.'s
+iBIC) is iBIC = -2 log p(D | mu, sigma) + 2k log N, with k fitted parameters (a mu and a sigma each) and
 N the total number of observations; lower is better.
 
 **Group table** (on each parameter's own scale): ``mean`` and ``sd`` of T(x), x ~ N(mu, sigma^2),
@@ -69,12 +64,13 @@ from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
-from scipy import optimize, special, stats
+from scipy import special, stats
 from threadpoolctl import threadpool_limits
 
 from ..config import ConfigError
 from ..config.checks import check_positive_int
-from .mle import DESIGN, IMPOSSIBLE
+from .evidence import checked_loglik, integrated_bic, posterior_mode, sampled_evidence
+from .mle import DESIGN
 from .squarem import iterate
 from .transforms import Transforms
 from .workers import SubjectWorkers
@@ -85,10 +81,6 @@ __all__ = ["HierarchicalFit", "Subject", "fit_hierarchical"]
 INIT_SD = 3.0
 #: the smallest group variance the M-step returns
 VAR_FLOOR = 1e-6
-#: |x| bound on a logit or log scale (theta then stays inside its bounds)
-BOX = 30.0
-#: relative central-difference steps on x: the likelihood's gradient and its Hessian
-STEP_GRAD, STEP_HESS = 1e-5, 1e-3
 #: Gauss–Hermite nodes for the population's mean and sd on the own scale
 NODES = 61
 #: the most E-steps by default (``max_iter``; ``--em-iterations``)
@@ -169,11 +161,11 @@ class HierarchicalFit:
 
     @property
     def ibic(self) -> float:
-        return float(-2.0 * self.log_evidence + self.n_params * np.log(self.n_obs))
+        return integrated_bic(self.log_evidence, self.n_params, self.n_obs)
 
     @property
     def ibic_laplace(self) -> float:
-        return float(-2.0 * self.log_evidence_laplace + self.n_params * np.log(self.n_obs))
+        return integrated_bic(self.log_evidence_laplace, self.n_params, self.n_obs)
 
     def summary(self) -> dict:
         return {"n_subjects": self.n_subjects, "n_params": self.n_params, "n_obs": self.n_obs, "log_evidence": self.log_evidence,
@@ -293,7 +285,7 @@ def fit_hierarchical(subjects, bounds: Mapping[str, tuple[float, float]], *, n_o
     fns = [_evaluator(s, keys) for s in subjects]
     k = len(keys)
     if k == 0:
-        each = np.array([_loglik(f, np.zeros((1, 0)), n)[0] for f, n in zip(fns, names)])
+        each = np.array([checked_loglik(f, np.zeros((1, 0)), n)[0] for f, n in zip(fns, names)])
         ll = float(each.sum())
         empty = pd.DataFrame(columns=["dataset", "param", "estimate", "ci_low", "ci_high"])
         return HierarchicalFit([], len(subjects), np.zeros(0), np.zeros(0), np.zeros(0), empty, _group_table(
@@ -311,7 +303,7 @@ def fit_hierarchical(subjects, bounds: Mapping[str, tuple[float, float]], *, n_o
         est, lo, hi = (transforms.to_own(maps[i] + d * z * sd[i]) for d in (0.0, -1.0, 1.0))
         rows += [{"dataset": name, "param": key, "estimate": float(est[j]), "ci_low": float(lo[j]),
                   "ci_high": float(hi[j])} for j, key in enumerate(keys)]
-    log_ev, mcse = _sampled_evidence(fns, transforms, mu, var, n_samples, sample_seed, names)
+    log_ev, mcse = sampled_evidence(fns, transforms, mu, var, n_samples, sample_seed, names)
     return HierarchicalFit(keys, len(subjects), mu, np.sqrt(var), mu_se, pd.DataFrame(rows),
                            _group_table(transforms, mu, np.sqrt(var), mu_se, z), log_ev, mcse, history[-1],
                            total, n_samples, len(history), converged, history, evidence)
@@ -325,11 +317,10 @@ def _em(fns, transforms: Transforms, names, seed, starts: int, max_iter: int, to
     k = len(transforms)
     unit = stats.qmc.Sobol(k, rng=np.random.default_rng(seed)).random_base2(int(np.log2(DESIGN)))
     normal = special.ndtri(np.clip(unit, 1e-9, 1 - 1e-9))
-    box = [(-BOX, BOX) if kind != "identity" else (None, None) for kind in transforms.kinds]
     history: list[float] = []
 
     def mode(i, mu, var, design, warm):
-        return _posterior_mode(fns[i], transforms, mu, var, design, warm, starts, box, names[i])
+        return posterior_mode(fns[i], transforms, mu, var, design, warm, starts, names[i])
 
     with SubjectWorkers(mode, len(fns), workers) as pool:
         def e_step(mu, var, warm):  # the MAPs, covariances and Laplace log evidences under N(mu, var)
@@ -342,81 +333,6 @@ def _em(fns, transforms: Transforms, names, seed, starts: int, max_iter: int, to
 
         return iterate(e_step, history, (np.zeros(k), np.full(k, INIT_SD**2)), VAR_FLOOR, max_iter,
                        (tol * len(fns), tol), accelerate)
-
-
-def _loglik(f, points: np.ndarray, name: str) -> np.ndarray:
-    """log L at own-scale ``points``; NaN or +inf is refused (a number that cannot be trusted)."""
-    ll = f(points)
-    bad = np.isnan(ll) | (ll == np.inf)
-    if np.any(bad):
-        i = int(np.argmax(bad))
-        raise ConfigError(name, "loglik", "a log-likelihood that is finite or -inf", f"{ll[i]} at theta = {points[i]}")
-    return ll
-
-
-def _posterior_mode(f, transforms: Transforms, mu, var, design, warm, starts: int, box, name: str):
-    """Subject's MAP m on x, its Laplace covariance V and its Laplace log evidence under N(mu, var)."""
-    k = len(mu)
-
-    def neg_ll(xs):  # -log L at unbounded points; an impossible point costs IMPOSSIBLE
-        ll = _loglik(f, transforms.to_own(xs), name)
-        return np.where(ll == -np.inf, IMPOSSIBLE, -ll)
-
-    def cost(x):
-        h = STEP_GRAD * np.maximum(1.0, np.abs(x))
-        steps = np.diag(h)
-        v = neg_ll(np.vstack([x, x + steps, x - steps]))
-        r = x - mu
-        return v[0] + 0.5 * np.sum(r**2 / var), (v[1:k + 1] - v[k + 1:]) / (2 * h) + r / var
-
-    prior = 0.5 * np.sum((design - mu) ** 2 / var, axis=1)
-    candidates = design if warm is None else np.vstack([warm, design])
-    values = neg_ll(candidates) + (prior if warm is None else np.concatenate([[0.5 * np.sum((warm - mu) ** 2 / var)],
-                                                                              prior]))
-    order = np.argsort(values, kind="stable")
-    if warm is None:
-        chosen = [i for i in order[:starts] if values[i] < IMPOSSIBLE]
-    else:
-        chosen = [0] + [i for i in order[:starts - 1] if i != 0 and values[i] < values[0]]
-    if not chosen:
-        raise ConfigError(name, "loglik", "a start where the observed data are possible", "-inf at every start")
-    best = min((optimize.minimize(cost, candidates[i], jac=True, method="L-BFGS-B", bounds=box,
-                                  options={"ftol": 1e-12, "gtol": 1e-6, "maxiter": 500}) for i in chosen),
-               key=lambda r: r.fun)
-    x = best.x
-    nll, hess = _hessian(neg_ll, x, name)
-    precision = hess + np.diag(1.0 / var)
-    try:
-        chol = np.linalg.cholesky(precision)
-    except np.linalg.LinAlgError:
-        raise ConfigError(name, "theta", "a maximum of the log-posterior (a positive definite Hessian)",
-                          f"a saddle or a flat direction at {transforms.to_own(x)}") from None
-    cov = np.linalg.inv(precision)
-    cov = (cov + cov.T) / 2
-    log_det_precision = 2.0 * np.sum(np.log(np.diag(chol)))
-    evidence = -nll - 0.5 * np.sum((x - mu) ** 2 / var) - 0.5 * np.sum(np.log(var)) - 0.5 * log_det_precision
-    return x, cov, evidence
-
-
-def _hessian(neg_ll, x: np.ndarray, name: str) -> tuple[float, np.ndarray]:
-    """-log L at ``x`` and its Hessian by central (second) differences, every point in one call."""
-    k = len(x)
-    h = STEP_HESS * np.maximum(1.0, np.abs(x))
-    e = np.diag(h)
-    pairs = [(i, j) for i in range(k) for j in range(i + 1, k)]
-    points = [x] + [x + e[i] for i in range(k)] + [x - e[i] for i in range(k)]
-    for i, j in pairs:
-        points += [x + e[i] + e[j], x + e[i] - e[j], x - e[i] + e[j], x - e[i] - e[j]]
-    v = neg_ll(np.array(points))
-    if np.any(v >= IMPOSSIBLE):
-        raise ConfigError(name, "loglik", "the observed data possible at and around the MAP (its curvature)",
-                          f"-inf near x = {points[int(np.argmax(v >= IMPOSSIBLE))]} (unbounded scale)")
-    plus, minus = v[1:k + 1], v[k + 1:2 * k + 1]
-    hess = np.diag((plus - 2 * v[0] + minus) / h**2)
-    for n, (i, j) in enumerate(pairs):
-        pp, pm, mp, mm = v[2 * k + 1 + 4 * n: 2 * k + 5 + 4 * n]
-        hess[i, j] = hess[j, i] = (pp - pm - mp + mm) / (4 * h[i] * h[j])
-    return float(v[0]), hess
 
 
 def _mu_se(var: np.ndarray, covs: np.ndarray) -> np.ndarray:
@@ -446,21 +362,3 @@ def _group_table(transforms: Transforms, mu, sigma, mu_se, z: float) -> pd.DataF
     return pd.DataFrame({"param": transforms.keys, "mean": mean, "sd": sd, "ci_low": low, "ci_high": high,
                          "kind": transforms.kinds, "mu": mu, "sigma": sigma, "mu_se": mu_se},
                         columns=["param", "mean", "sd", "ci_low", "ci_high", "kind", "mu", "sigma", "mu_se"])
-
-
-def _sampled_evidence(fns, transforms: Transforms, mu, var, n_samples: int, seed, names) -> tuple[float, float]:
-    """sum_i log mean_s L_i(T(x_s)), x_s ~ N(mu, var) shared by every subject, and its delta-method
-    standard error (the sum's derivative in subject i's sample mean is 1 / that mean)."""
-    x = mu + np.sqrt(var) * np.random.default_rng(seed).standard_normal((n_samples, len(mu)))
-    thetas = transforms.to_own(x)
-    total, ratio = 0.0, np.zeros(n_samples)
-    for f, name in zip(fns, names):
-        ll = _loglik(f, thetas, name)
-        log_mean = special.logsumexp(ll) - np.log(n_samples)
-        if log_mean == -np.inf:
-            raise ConfigError(name, "loglik", "a sample of the group prior where the data are possible",
-                              f"-inf at all {n_samples}")
-        total += log_mean
-        ratio += np.exp(ll - log_mean)
-    mcse = float(np.std(ratio, ddof=1) / np.sqrt(n_samples)) if n_samples > 1 else np.inf
-    return float(total), mcse

@@ -11,8 +11,8 @@ draw used (:meth:`~neurocur.regions.lc.LCRole.log_probability`). Design section 
 - **Signal replay**: a region emitting the observed per-episode signal in place of the one
   that would compute it (:func:`signal_circuit`, ``Circuit.replace``).
 
-**Cached replay.** The *decision part* is the decision region and every region on a path
-from a region with a fitted parameter to it (e.g. PFC for eq 14's alpha). Everything else,
+**Cached replay.** The *decision part* (:mod:`neurocur.fit.part`) is the decision region and every
+region on a path from a region with a fitted parameter to it (e.g. PFC for eq 14's alpha). Everything else,
 the *learning part*, does not depend on the fitted parameters, so it runs once: the replay
 records every input of the decision part, pass by pass. :meth:`Replay.loglik` then runs the
 decision part again with each theta, as a circuit of its own that the scheduler builds and steps
@@ -39,7 +39,6 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Mapping, Sequence
 
-import networkx as nx
 import numpy as np
 
 from ..circuit import Circuit, RegionSpec
@@ -49,10 +48,11 @@ from ..regions.base import NoParams
 from ..regions.free_choice import RecordedSignal
 from ..regions.pfc import DISENGAGE, ENGAGE
 from .data import Behaviour
+from .part import decision_part, observed_outputs
 from .tape import InputTape, part_circuit, retyped, scoring, taped
 from .trials import Trials
 
-__all__ = ["Replay", "decision_part", "signal_circuit"]
+__all__ = ["Replay", "signal_circuit"]
 
 
 def signal_circuit(circuit: Circuit, name: str, behaviour: Behaviour, signal: str) -> Circuit:
@@ -80,66 +80,6 @@ def signal_circuit(circuit: Circuit, name: str, behaviour: Behaviour, signal: st
     return circuit.replace(name, RecordedSignal(name, series=behaviour.signals[signal]))
 
 
-def decision_part(circuit: Circuit, decision: str, fitted: Sequence[str]) -> tuple[str, ...]:
-    """The regions that depend on the fitted ``"REGION.param"`` keys on their way to ``decision``.
-
-    A fitted region with no path to the decision (by edges that are not delayed), a decision part
-    that feeds the learning part with anything but the observed decision, or one that holds the
-    clock region (the episode source) is a ConfigError (no cached replay).
-
-    Parameters
-    ----------
-    circuit : Circuit
-        The model's circuit.
-    decision : str
-        The decision region (an LC model, with probabilities and a ``next_context`` output).
-    fitted : sequence of str
-        The ``"REGION.param"`` keys to be varied.
-
-    Returns
-    -------
-    tuple of str
-        The decision part's regions, in the circuit's step order (the decision region among them).
-    """
-    graph = nx.DiGraph()
-    graph.add_nodes_from(circuit.specs)
-    graph.add_edges_from((k.src, k.dst) for k in circuit.links if not k.delayed)
-    if decision not in circuit.specs:
-        raise ConfigError(circuit.source, "decision", f"a region of the circuit ({', '.join(circuit.specs)})",
-                          repr(decision))
-    part = {decision}
-    for key in fitted:
-        region = key.split(".", 1)[0]
-        if region not in circuit.specs:
-            raise ConfigError("--fit", key, f"REGION.param with a region of the circuit ({', '.join(circuit.specs)})",
-                              repr(key))
-        if region != decision and not nx.has_path(graph, region, decision):
-            raise ConfigError("--fit", key, f"a parameter of a region on the way to the decision ('{decision}')",
-                              f"region '{region}', which does not reach it")
-        part |= {region} | (nx.descendants(graph, region) & nx.ancestors(graph, decision))
-    observed = set(_observed_outputs(circuit, decision))
-    for k in circuit.links:
-        if k.src in part and k.dst not in part and not (k.src == decision and k.signal in observed):
-            raise ConfigError("--fit", k.src, "fitted regions whose outputs reach only the decision",
-                              f"edge {k}: the learning part would depend on the fitted parameters "
-                              "(refit by simulation, neurocur.fit.sbi)")
-    clock = next((n for n in part if circuit.specs[n].cls.is_clock), None)
-    if clock is not None:
-        raise ConfigError("--fit", clock, "fitted regions whose way to the decision does not pass the clock region "
-                          "(the episode source)", f"clock region '{clock}' in the decision part "
-                          f"({', '.join(sorted(part))}): refit by simulation, neurocur.fit.sbi")
-    return tuple(n for n in circuit.step_order if n in part)
-
-
-def _observed_outputs(circuit: Circuit, decision: str) -> tuple[str, ...]:
-    cls = circuit.specs[decision].cls
-    names = tuple(s.name for s in cls.outputs)
-    if not hasattr(cls, "probabilities") or "next_context" not in names:
-        raise ConfigError(circuit.source, f"regions.{decision}", "a decision region (an LC model, with "
-                          "probabilities and a next_context output)", circuit.specs[decision].type_name)
-    return tuple(n for n in ("action", "next_context") if n in names)
-
-
 class Replay:
     """One data set replayed through a circuit (module docstring).
 
@@ -161,7 +101,8 @@ class Replay:
     decision : str
         The decision region.
     fitted : sequence of str
-        The ``"REGION.param"`` keys to be varied; they decide the decision part (:func:`decision_part`).
+        The ``"REGION.param"`` keys to be varied; they decide the decision part
+        (:func:`~neurocur.fit.part.decision_part`).
     """
 
     def __init__(self, circuit: Circuit, world, seed, behaviour: Behaviour | Trials, *, decision: str = "LC",
@@ -206,7 +147,7 @@ class Replay:
         self.episodes = sim.episodes()
         given = self.episodes["given"].to_numpy() if "given" in self.episodes.columns else 0
         self.scored = np.broadcast_to(np.asarray(given) == 0, (len(self.observed),)).copy()
-        observed = _observed_outputs(circuit, decision)
+        observed = observed_outputs(circuit, decision)
         spec = circuit.specs[decision]
         scored = scoring(spec.cls, self.observed)
         self._stepped = part_circuit(circuit, self.part, tapes, observed=observed, decision=dataclasses.replace(

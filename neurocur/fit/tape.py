@@ -119,7 +119,7 @@ def part_circuit(circuit: Circuit, part: Sequence[str], tapes: Mapping[str, Sequ
     circuit : Circuit
         The whole circuit the run stepped.
     part : sequence of str
-        The decision part's regions (:func:`~neurocur.fit.replay.decision_part`); none of them may read
+        The decision part's regions (:func:`~neurocur.fit.part.decision_part`); none of them may read
         learn-phase inputs (their values are not recorded).
     tapes : mapping of str to sequence of tuple
         Per region of ``part``, its step inputs on each pass of the run, as the scheduler delivered them.

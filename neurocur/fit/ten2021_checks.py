@@ -54,7 +54,20 @@ ORDER, FALLING = (0, 1, 2), ACTIVITIES.index("R")
 
 def true_coefficients(raw: np.ndarray, sessions: Sequence[Session]) -> np.ndarray:
     """The coefficients of the rescaled signals that make the same choices as raw coefficients ``raw`` (S, features)
-    on each simulated session: raw times the session's span (0 where the signal is constant)."""
+    on each simulated session: raw times the session's span (0 where the signal is constant).
+
+    Parameters
+    ----------
+    raw : numpy.ndarray
+        (S, len(FEATURES)) raw-signal coefficients, a session each (the repetition's last).
+    sessions : sequence of Session
+        The S sessions simulated at them (their :attr:`~neurocur.fit.ten2021_models.Session.span`).
+
+    Returns
+    -------
+    numpy.ndarray
+        (S, len(FEATURES)) the coefficients on the fitted (rescaled) scale; the repetition's unchanged.
+    """
     out = np.array(raw, dtype=np.float64)
     span = np.array([s.span for s in sessions])
     finite = np.isfinite(span)
@@ -73,7 +86,30 @@ def parameter_recovery(sessions: Sequence[Session], maps: pd.DataFrame, model: s
                        p_correct=P_CORRECT, **fit) -> pd.DataFrame:
     """Rows ``subject, param, true, hierarchical, ml``: one session simulated per participant of ``sessions`` at
     its MAP under ``model`` (rows ``subject, param, estimate`` of ``maps``), refitted (``fit``: :func:`fit_group`'s
-    options)."""
+    options).
+
+    Parameters
+    ----------
+    sessions : sequence of Session
+        The participants' sessions: their names and signal spans.
+    maps : pandas.DataFrame
+        Rows ``subject, param, estimate``: each participant's MAP under ``model``.
+    model : str
+        The model simulated and refitted (a condition of the experiment ``ten2021``).
+    seed : int
+        The simulation's and the fits' seed.
+    p_correct : array_like
+        Each activity's chance of a correct answer (:func:`~neurocur.fit.ten2021_models.simulate_sessions`).
+    **fit
+        :func:`~neurocur.fit.ten2021_models.fit_group`'s ``starts``, ``n_samples``, ``max_iter`` (the table
+        holds the maximum-likelihood fits, so ``ml`` stays true).
+
+    Returns
+    -------
+    pandas.DataFrame
+        A row per fitted key and participant: the truth on the fitted scale (:func:`true_coefficients`), the
+        hierarchical MAP and the maximum-likelihood estimate.
+    """
     names = [s.name for s in sessions]
     coefs = coefficients(maps, names)
     simulated, raw = _simulate(np.random.default_rng(seed), coefs, np.array([s.span for s in sessions]),
@@ -138,7 +174,31 @@ def model_recovery(sessions: Sequence[Session], maps: pd.DataFrame, *, seed: int
                    p_correct=P_CORRECT, **fit) -> tuple[pd.DataFrame, pd.DataFrame]:
     """Sessions simulated from each model at its MAPs (``maps``: rows ``subject, model, param, estimate``), every
     model fitted hierarchically to each simulated group. Returns rows ``generating, fitted, ibic, pxp`` and the
-    confusion matrix (rows generating, columns fitted) of each session's largest Laplace log evidence."""
+    confusion matrix (rows generating, columns fitted) of each session's largest Laplace log evidence.
+
+    Parameters
+    ----------
+    sessions : sequence of Session
+        The participants' sessions: their names and signal spans.
+    maps : pandas.DataFrame
+        Rows ``subject, model, param, estimate``: each participant's MAP under each model of ``models``.
+    seed : int
+        The fits' seed; generating model g's sessions are simulated with ``default_rng([seed, g])``.
+    models : sequence of str
+        The models, each generating a group and fitted to every group (conditions of the experiment ``ten2021``).
+    p_correct : array_like
+        Each activity's chance of a correct answer (:func:`~neurocur.fit.ten2021_models.simulate_sessions`).
+    **fit
+        :func:`~neurocur.fit.ten2021_models.fit_group`'s ``starts``, ``n_samples``, ``max_iter`` (no
+        maximum-likelihood fits are made).
+
+    Returns
+    -------
+    tuple of (pandas.DataFrame, pandas.DataFrame)
+        Rows ``generating, fitted, ibic, converged, expected, pxp`` (``expected`` and ``pxp`` from random-effects
+        BMS on the Laplace log evidences), and the confusion matrix: the share of each generating group's
+        sessions whose Laplace log evidence is largest under each fitted model.
+    """
     names = [s.name for s in sessions]
     spans = np.array([s.span for s in sessions])
     bounds = model_bounds(models)
@@ -161,7 +221,23 @@ def learning_curves(sessions: Sequence[tuple[str, np.ndarray, np.ndarray]], *, n
                     minimum: int = MIN_PARTICIPANTS) -> np.ndarray:
     """(activities, plays): the mean outcome of the sessions' n-th trial of each activity (forced and free, in
     order; ``sessions`` as (name, choices, outcomes)), where at least ``minimum`` sessions (all, when there are
-    fewer) reached play n; beyond, the last such value."""
+    fewer) reached play n; beyond, the last such value.
+
+    Parameters
+    ----------
+    sessions : sequence of (str, numpy.ndarray, numpy.ndarray)
+        Each session's name, choices (activity indices) and 0/1 outcomes, trial by trial.
+    n_activities : int
+        The activities.
+    minimum : int
+        The sessions a play number needs for its mean to be used.
+
+    Returns
+    -------
+    numpy.ndarray
+        (activities, plays), plays the longest session's trials: each activity's chance of a correct answer by
+        its play number (0-based), as :func:`~neurocur.fit.ten2021_models.simulate_sessions`' ``p_correct``.
+    """
     minimum = min(minimum, len(sessions))
     longest = max(len(c) for _, c, _ in sessions)
     total = np.zeros((n_activities, longest))
@@ -192,7 +268,19 @@ def free_shares(choices: np.ndarray, *, n_activities: int = 4, n_bins: int = N_B
 
 def choice_statistics(shares: np.ndarray) -> dict[str, float]:
     """Entry 16's statistics of a group's shares (participants, bins, activities): each activity's mean share of the
-    free choices, the participants whose peaks come in the order 1D < I1D < 2D, the mean change in R's share."""
+    free choices, the participants whose peaks come in the order 1D < I1D < 2D, the mean change in R's share.
+
+    Parameters
+    ----------
+    shares : numpy.ndarray
+        (participants, bins, activities): each activity's share of each bin of a participant's free choices.
+
+    Returns
+    -------
+    dict of str to float
+        ``share_<activity>`` for each activity, ``ordered_peaks`` and ``change_R``
+        (:mod:`neurocur.analysis.stats.choice_shares`).
+    """
     out = {f"share_{a}": float(shares[:, :, k].mean()) for k, a in enumerate(ACTIVITIES)}
     out["ordered_peaks"] = float(np.nansum(ordered_peaks(peak_bins(shares), ORDER)))
     out["change_R"] = float(share_change(shares, FALLING).mean())
@@ -205,7 +293,29 @@ def posterior_predictive(sessions: Sequence[Session], raw_sessions, maps: pd.Dat
     of ``maps``), in a world following the group's :func:`learning_curves` (``raw_sessions``: (name, choices,
     outcomes) of the same participants). Returns the rows ``statistic, people, mean, low, high, p`` (the
     replicates' mean and central 95 %; two-sided posterior predictive p), the replicates' statistics, and their
-    shares per bin (replicates, bins, activities), averaged over participants."""
+    shares per bin (replicates, bins, activities), averaged over participants.
+
+    Parameters
+    ----------
+    sessions : sequence of Session
+        The participants' sessions: their names and signal spans.
+    raw_sessions : sequence of (str, numpy.ndarray, numpy.ndarray)
+        The same participants' recorded sessions (name, choices, outcomes), forced and free trials.
+    maps : pandas.DataFrame
+        Rows ``subject, param, estimate``: each participant's MAP under the model.
+    seed : int
+        The replicates' seed.
+    replicates : int
+        Copies of the group simulated.
+    chunk : int
+        Replicates simulated at once (memory; the draws, and so the replicates, depend on it).
+
+    Returns
+    -------
+    tuple of (pandas.DataFrame, pandas.DataFrame, numpy.ndarray)
+        The rows by statistic, the replicates' statistics (a row each, :func:`choice_statistics`' keys), and
+        the replicates' mean shares (replicates, bins, activities).
+    """
     names = [s.name for s in sessions]
     coefs = coefficients(maps, names)
     spans = np.array([s.span for s in sessions])

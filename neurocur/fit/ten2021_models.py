@@ -66,7 +66,22 @@ MODEL_SETS = {
 class Session:
     """One participant's scored choices: ``features`` (len(FEATURES), n, activities), the signals rescaled
     to [0, 1] over the scored trials and the repetition indicator; ``chosen`` (n,); each signal's ``low``
-    and ``span`` over those trials (span inf for a constant signal, whose rescaled value is 0)."""
+    and ``span`` over those trials (span inf for a constant signal, whose rescaled value is 0).
+
+    Parameters
+    ----------
+    name : str
+        The participant (the subject's name in the fits' tables).
+    features : numpy.ndarray
+        (len(FEATURES), n, activities): per feature, scored choice and activity, the rescaled signal (pc, lp,
+        plays) or the repetition indicator (1 for the previous choice's activity).
+    chosen : numpy.ndarray
+        (n,) the activity chosen on each scored choice (0-based).
+    low : numpy.ndarray
+        (len(SIGNALS),) each signal's minimum over the scored trials.
+    span : numpy.ndarray
+        (len(SIGNALS),) each signal's range over the scored trials (inf for a constant signal).
+    """
 
     name: str
     features: np.ndarray
@@ -102,7 +117,31 @@ class Session:
 def session_features(choices, outcomes, *, n_activities: int = 4, name: str = "session",
                      unscored: int = UNSCORED) -> Session:
     """The :class:`Session` of one recorded session (activity indices, 0/1 outcomes) that starts with the forced
-    phase (``WINDOW`` trials of each activity): its choices after the forced phase and ``unscored`` free ones."""
+    phase (``WINDOW`` trials of each activity): its choices after the forced phase and ``unscored`` free ones.
+
+    Parameters
+    ----------
+    choices : array of int
+        The session's activity on each trial, forced and free, in order (0-based).
+    outcomes : array of float
+        Each trial's outcome, 1 correct and 0 not.
+    n_activities : int
+        The activities.
+    name : str
+        The participant, named in the :class:`Session` and in the error.
+    unscored : int
+        Free choices at the start of free play that are given, not scored (the paper's 1).
+
+    Returns
+    -------
+    Session
+        The features of the choices after the forced phase and the ``unscored`` free ones.
+
+    Raises
+    ------
+    ConfigError
+        Unless the session starts with ``WINDOW`` forced trials of each activity and has a scored free choice.
+    """
     choices = np.ascontiguousarray(choices, dtype=np.int64)
     outcomes = np.ascontiguousarray(outcomes, dtype=np.float64)
     forced = WINDOW * n_activities
@@ -122,7 +161,21 @@ def session_features(choices, outcomes, *, n_activities: int = 4, name: str = "s
 
 def raw_coefficients(coefs, span) -> np.ndarray:
     """Coefficients of the rescaled signals (..., len(FEATURES)) as coefficients of the raw ones: c / span for
-    the signals (0 for a constant one, span inf), the repetition's unchanged."""
+    the signals (0 for a constant one, span inf), the repetition's unchanged.
+
+    Parameters
+    ----------
+    coefs : array_like
+        (..., len(FEATURES)) coefficients of the rescaled signals and of the repetition.
+    span : array_like
+        Each signal's range over the scored trials (:attr:`Session.span`), broadcast against ``coefs``'
+        signal columns ((len(SIGNALS),) for one participant, (S, len(SIGNALS)) for S).
+
+    Returns
+    -------
+    numpy.ndarray
+        The coefficients of the raw signals, in ``coefs``' shape (a copy).
+    """
     coefs = np.array(coefs, dtype=np.float64)
     coefs[..., :len(SIGNALS)] = coefs[..., :len(SIGNALS)] / np.asarray(span, dtype=np.float64)
     return coefs
@@ -135,7 +188,32 @@ def simulate_sessions(rng: np.random.Generator, coefs, p_correct, *, n_free: int
     (activities,) fixed or (activities, plays) by the activity's play number (0-based; the last column beyond).
     Each session draws the order of its forced blocks, then chooses ``n_free`` times by the softmax of
     :class:`Session`'s logits on the raw signals (every free choice scored). Returns ``choices``, ``outcomes``
-    and ``logp`` (S, 60 + n_free): the log-probability of each choice as drawn (0 on a forced trial)."""
+    and ``logp`` (S, 60 + n_free): the log-probability of each choice as drawn (0 on a forced trial).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The draws: the forced blocks' orders, the free choices and the outcomes.
+    coefs : array_like
+        (S, len(FEATURES)) raw-signal coefficients, a session each.
+    p_correct : array_like
+        The chance of a correct answer of each activity, in [0, 1]: (activities,) fixed, or
+        (activities, plays) by the activity's play number.
+    n_free : int
+        Free choices after the forced phase.
+    n_activities : int
+        The activities.
+
+    Returns
+    -------
+    tuple of (numpy.ndarray, numpy.ndarray, numpy.ndarray)
+        ``choices`` (int), ``outcomes`` (0/1) and ``logp``, each (S, ``WINDOW`` x ``n_activities`` + ``n_free``).
+
+    Raises
+    ------
+    ValueError
+        When ``coefs`` has not len(FEATURES) columns, or ``p_correct`` has not a row per activity in [0, 1].
+    """
     coefs = np.atleast_2d(np.asarray(coefs, dtype=np.float64))
     p = np.asarray(p_correct, dtype=np.float64)
     p = p[:, None] if p.ndim == 1 else p
@@ -172,7 +250,18 @@ def simulate_sessions(rng: np.random.Generator, coefs, p_correct, *, n_free: int
 
 
 def model_bounds(models: Sequence[str] = MODELS) -> dict[str, dict[str, tuple[float, float]]]:
-    """Each model's fitted keys and their declared bounds (the experiment ten2021's ``fit`` of each condition)."""
+    """Each model's fitted keys and their declared bounds (the experiment ten2021's ``fit`` of each condition).
+
+    Parameters
+    ----------
+    models : sequence of str
+        Conditions of the experiment ``ten2021`` (default :data:`MODELS`).
+
+    Returns
+    -------
+    dict of str to dict of str to (float, float)
+        Per model, its fitted keys and their bounds (:func:`~neurocur.fit.study.default_bounds`).
+    """
     experiment = load_experiment("ten2021")
     return {name: default_bounds(experiment.conditions[name], list(experiment.conditions[name].fit), {})
             for name in models}
@@ -180,7 +269,20 @@ def model_bounds(models: Sequence[str] = MODELS) -> dict[str, dict[str, tuple[fl
 
 def coefficients(maps: pd.DataFrame, names: Sequence[str]) -> np.ndarray:
     """(subjects, len(FEATURES)) coefficient vectors of the subjects ``names`` from rows ``subject, param, estimate``
-    (0 where absent; rows of other subjects are not read)."""
+    (0 where absent; rows of other subjects are not read).
+
+    Parameters
+    ----------
+    maps : pandas.DataFrame
+        Rows ``subject, param, estimate`` of one model, ``param`` an experiment key (:data:`KEYS`).
+    names : sequence of str
+        The subjects, in the rows' order of the result.
+
+    Returns
+    -------
+    numpy.ndarray
+        (len(names), len(FEATURES)) coefficients, in :data:`FEATURES`' order.
+    """
     coefs = np.zeros((len(names), len(FEATURES)))
     index = {name: i for i, name in enumerate(names)}
     for row in maps.itertuples():
@@ -194,7 +296,31 @@ def fit_group(sessions: Sequence[Session], bounds: Mapping[str, Mapping[str, tup
     """Every model of ``bounds`` fitted to the sessions: ``hierarchical`` (a row per model), ``evidence``
     (sessions x models, the Laplace log evidences under each group prior), ``maps`` (rows ``subject, model,
     param, estimate, ci_low, ci_high``) and, with ``ml``, ``ml`` (rows ``subject, model, loglik, n_params, n_obs,
-    aic, bic`` and a column per fitted key, its estimate)."""
+    aic, bic`` and a column per fitted key, its estimate).
+
+    Parameters
+    ----------
+    sessions : sequence of Session
+        The participants.
+    bounds : mapping of str to mapping of str to (float, float)
+        Per model, its fitted keys (:data:`KEYS`) and their bounds (:func:`model_bounds`).
+    seed : int
+        The seed of every fit (:func:`~neurocur.fit.hierarchical.fit_hierarchical`, :func:`~neurocur.fit.mle.fit_ml`).
+    starts : int
+        Local searches of each subject's first E-step, and of each maximum-likelihood fit.
+    n_samples : int
+        Draws from the group prior for the sampled evidence and the iBIC.
+    max_iter : int
+        The most E-steps of each hierarchical fit.
+    ml : bool
+        Also fit every session alone by maximum likelihood.
+
+    Returns
+    -------
+    dict
+        ``hierarchical`` (pandas.DataFrame), ``evidence`` (numpy.ndarray), ``maps`` and ``ml`` (pandas.DataFrame,
+        empty without ``ml``), as above.
+    """
     names = [s.name for s in sessions]
     rows, maps, ml_rows, evidence = [], [], [], []
     for model, b in bounds.items():
@@ -218,7 +344,20 @@ def fit_group(sessions: Sequence[Session], bounds: Mapping[str, Mapping[str, tup
 
 
 def bms_rows(evidence: np.ndarray, models: Sequence[str]) -> pd.DataFrame:
-    """Random-effects BMS of a (sessions x models) log-evidence matrix, a row per model."""
+    """Random-effects BMS of a (sessions x models) log-evidence matrix, a row per model.
+
+    Parameters
+    ----------
+    evidence : numpy.ndarray
+        (sessions, models) log evidences (:func:`fit_group`'s ``evidence``).
+    models : sequence of str
+        The models, in the columns' order.
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``model, expected, xp, pxp, bor`` (:func:`~neurocur.fit.bms.bms`).
+    """
     result = bms(evidence)
     return pd.DataFrame({"model": list(models), "expected": result.expected, "xp": result.xp, "pxp": result.pxp,
                          "bor": result.bor})

@@ -46,7 +46,20 @@ AIC_CONTRASTS = {"paper": ("pc", "lp", "pc_lp"), "persev": ("persev_pc", "persev
 
 def mastered(choices, outcomes) -> bool:
     """The paper's NAM > 0: the competence (percent correct over the last 15 trials) of a learnable activity
-    reached 13/15 at some point from the end of the forced phase to the end of the session."""
+    reached 13/15 at some point from the end of the forced phase to the end of the session.
+
+    Parameters
+    ----------
+    choices : array of int
+        The session's activity on each trial (indices into ``ACTIVITIES``), forced trials first.
+    outcomes : array of float
+        Each trial's outcome, 1 correct and 0 not.
+
+    Returns
+    -------
+    bool
+        Whether a learnable activity's competence reached :data:`MASTERY` of ``WINDOW`` after the forced phase.
+    """
     choices = np.asarray(choices, dtype=np.int64)
     pc = activity_signals(np.r_[choices, 0], np.r_[np.asarray(outcomes, dtype=float), 0.0], len(ACTIVITIES))["pc"]
     return bool((pc[WINDOW * len(ACTIVITIES):, list(LEARNABLE)] * WINDOW >= MASTERY - 1e-9).any())
@@ -55,7 +68,19 @@ def mastered(choices, outcomes) -> bool:
 def sessions_of(table: pd.DataFrame) -> dict[str, list[tuple[str, np.ndarray, np.ndarray]]]:
     """Per group, each participant's session (name, activity indices, outcomes): the forced trials and the
     first 250 free ones (:func:`~neurocur.fit.ten2021.free_play`), for the participants who mastered a
-    learnable activity (:func:`mastered`), in the table's order."""
+    learnable activity (:func:`mastered`), in the order of their subject identifiers.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        A trial table of :func:`~neurocur.fit.ten2021.read_ten2021` (``subject, group, stage, trial, choice,
+        outcome``), e.g. :func:`~neurocur.fit.ten2021.read_ten2021_groups`' after the paper's exclusion.
+
+    Returns
+    -------
+    dict of str to list of (str, numpy.ndarray, numpy.ndarray)
+        Per group of ``GROUPS`` (an empty list for a group without participants), the kept sessions.
+    """
     trials = pd.concat([table[table["stage"] == "forced"], free_play(table)])
     trials = trials.sort_values(["subject", "trial"], kind="stable")
     code = {name: k for k, name in enumerate(ACTIVITIES)}

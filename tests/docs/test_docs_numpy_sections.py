@@ -89,8 +89,7 @@ COMPLETE = ("neurocur.fit", "neurocur.analysis", "neurocur.learn", "neurocur.rl"
             "neurocur.scheduler", "neurocur.tables", "neurocur.registry", "neurocur.recording", "neurocur.contract",
             "neurocur.config")
 #: Files being rewritten elsewhere, pending: their docstrings get Parameters sections after those edits.
-PENDING = {"neurocur/fit/commands.py", "neurocur/fit/cli.py", "neurocur/fit/compare.py",
-           "neurocur/fit/ten2021_study.py", "neurocur/fit/ten2021_models.py", "neurocur/fit/ten2021_checks.py"}
+PENDING: set[str] = set()
 
 
 def _documented_modules() -> set[str]:

@@ -24,7 +24,7 @@ from scipy import special
 from neurocur.circuit import Circuit, Link, RegionSpec
 from neurocur.config import ConfigError, check_params, param
 from neurocur.experiments import load_experiment
-from neurocur.fit.replay import Replay, decision_part
+from neurocur.fit.replay import Replay
 from neurocur.fit.study import simulate
 from neurocur.regions.base import Region, Signal
 
@@ -130,14 +130,3 @@ def test_a_theta_for_a_region_the_replay_does_not_step_again_is_refused(bandit):
     assert replay.part == ("LC",)
     with pytest.raises(ConfigError, match="PFC.alpha.*decision part"):
         replay.episode_logp({"PFC.alpha": 0.9})
-
-
-def test_a_decision_part_through_the_clock_is_refused(bandit):
-    """A task that pays the previous trial's choice before PFC steps (not delayed): the clock is on the way from
-    its parameters to the decision, and the replay, which counts passes, not the clock's frames, refuses it."""
-    base = bandit.circuit
-    links = [Link("PFC", "values", "LC", "values"), Link("LC", "next_context", "sensory", "choice", delayed=True),
-             Link("sensory", "context", "PFC", "chosen"), Link("sensory", "reward", "PFC", "outcome"),
-             Link("sensory", "context", "LC", "context", delayed=True)]
-    with pytest.raises(ConfigError, match="clock region 'sensory'"):
-        decision_part(Circuit(base.specs, links), "LC", ["sensory.anything"])
