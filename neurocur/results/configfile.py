@@ -13,7 +13,10 @@ from pathlib import Path
 
 from neurocur.config import ConfigError
 
-__all__ = ["comparable", "lookup", "read_config"]
+__all__ = ["comparable", "folder_config", "lookup", "read_config"]
+
+#: the resolved experiment's file in a results folder
+CONFIG = "config.toml"
 
 #: top-level keys compared on resume by their own rules (the code fingerprint), not as configuration
 _NOT_COMPARED = ("code", "neurocur_version", "runs", "control")
@@ -27,6 +30,25 @@ def read_config(path: Path) -> dict:
         raise ConfigError(path, None, "the resolved experiment neurocur wrote (valid TOML)",
                           f"{type(exc).__name__}: {str(exc) or 'nested too deep'}") from None
     return check_config(config, path)
+
+
+def folder_config(root: Path) -> dict | None:
+    """The ``config.toml`` of a results folder, checked ([`read_config`][neurocur.results.configfile.read_config]).
+
+    Parameters
+    ----------
+    root : path
+        The results folder (it need not exist).
+
+    Returns
+    -------
+    dict or None
+        The resolved experiment; None when the folder has no ``config.toml`` (yet).
+    """
+    path = Path(root) / CONFIG
+    if not path.is_file():
+        return None
+    return read_config(path)
 
 
 #: the keys of a config.toml whose type the store relies on, with the type expected

@@ -22,10 +22,11 @@ from pathlib import Path
 
 from .agents import AGENT
 from .errors import ResultsError
+from .names import check_folder_name
 from .safeio import UnsafePath, open_real_dir, read_own
 
-__all__ = ["RUN_INFO", "agent_digests", "check_run_info", "digests", "file_digests", "read_run_info", "run_folder_name", "run_number", "run_spawn_key", "scan_runs", "seed_json",
-           "seeds_record"]
+__all__ = ["RUN_INFO", "agent_digests", "check_run_info", "digests", "file_digests", "read_run_info", "run_folder_name",
+           "run_number", "run_path", "run_spawn_key", "scan_runs", "seed_json", "seeds_record"]
 
 _RUN = re.compile(r"run-(\d{3,})")
 #: the run's summary file in its folder
@@ -77,6 +78,32 @@ def run_number(name: str) -> int | None:
     if match is None or run_folder_name(int(match.group(1))) != name:
         return None
     return int(match.group(1))
+
+
+def run_path(runs: Path, condition: str, run: int) -> Path:
+    """``runs/<condition>/run-<NNN>``: where run ``run`` of ``condition`` lives.
+
+    Parameters
+    ----------
+    runs : path
+        The ``runs/`` folder of a results folder.
+    condition : str
+        The condition's name.
+    run : int
+        The run's index.
+
+    Returns
+    -------
+    path
+        The run's folder.
+
+    Raises
+    ------
+    ConfigError
+        When ``condition`` is no folder name ([`check_folder_name`][neurocur.results.names.check_folder_name]).
+    """
+    check_folder_name(condition, runs, "condition")
+    return runs / condition / run_folder_name(run)
 
 
 def scan_runs(runs: Path) -> list[Path]:
