@@ -23,7 +23,23 @@ _NOT_COMPARED = ("code", "neurocur_version", "runs", "control")
 
 
 def read_config(path: Path) -> dict:
-    """The ``config.toml`` at ``path``, checked (:func:`check_config`)."""
+    """The ``config.toml`` at ``path``, checked (:func:`check_config`).
+
+    Parameters
+    ----------
+    path : path
+        The ``config.toml`` file.
+
+    Returns
+    -------
+    dict
+        The resolved experiment.
+
+    Raises
+    ------
+    ConfigError
+        For invalid TOML or a key the store relies on with another type, naming the file and the key.
+    """
     try:
         config = tomllib.loads(Path(path).read_text(encoding="utf-8"))
     except (tomllib.TOMLDecodeError, UnicodeDecodeError, RecursionError) as exc:
@@ -75,7 +91,18 @@ def check_config(config: dict, path: Path) -> dict:
 
 def comparable(config: Mapping) -> dict:
     """``config`` as compared on resume: without the keys of :data:`_NOT_COMPARED`, descriptions, and
-    the number of runs (a folder grows by runs; each run's seed depends only on its index)."""
+    the number of runs (a folder grows by runs; each run's seed depends only on its index).
+
+    Parameters
+    ----------
+    config : mapping
+        A resolved experiment (a ``config.toml`` as read, or the one an experiment would write).
+
+    Returns
+    -------
+    dict
+        The tree a resume compares.
+    """
     kept = {k: v for k, v in config.items() if k not in _NOT_COMPARED}
     if isinstance(kept.get("seeds"), Mapping):
         kept["seeds"] = {k: v for k, v in kept["seeds"].items() if k not in ("spawn_key", "spawn_keys")}
@@ -91,7 +118,20 @@ def _without_descriptions(tree):
 
 def lookup(tree, path: tuple) -> str:
     """The value at ``path`` (from :func:`difference_path`) as text: its repr, ``"a table"``, or
-    ``"nothing (not set)"`` when the tree has no such key."""
+    ``"nothing (not set)"`` when the tree has no such key.
+
+    Parameters
+    ----------
+    tree : object
+        A plain-data tree.
+    path : tuple
+        Keys and list indices into it.
+
+    Returns
+    -------
+    str
+        The value's text.
+    """
     node = tree
     for part in path:
         try:

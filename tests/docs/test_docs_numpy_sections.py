@@ -85,7 +85,7 @@ def test_parameter_sections_document_the_constructor(parsed):
 COMPLETE = ("neurocur.fit", "neurocur.analysis.io", "neurocur.analysis.paper", "neurocur.analysis.results",
             "neurocur.analysis.stats.comparison", "neurocur.analysis.stats.learning_time",
             "neurocur.analysis.stats.order", "neurocur.analysis.stats.significance", "neurocur.learn", "neurocur.rl",
-            "neurocur.results.lock", "neurocur.results.names", "neurocur.results.safeio", "neurocur.results.store",
+            "neurocur.results",
             "neurocur.contexts.base", "neurocur.contexts.sources",
             "neurocur.experiments.conditions", "neurocur.experiments.invariance", "neurocur.experiments.spec",
             "neurocur.scheduler", "neurocur.tables", "neurocur.registry", "neurocur.recording", "neurocur.contract",
