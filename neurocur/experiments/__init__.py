@@ -16,6 +16,14 @@ The results folder belongs to :class:`neurocur.results.ResultsStore`.
 """
 
 import importlib
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # what the names are, for type checkers and the API docs; imported on first use below
+    from .conditions import Condition, Experiment
+    from .resolve import parse_set
+    from .run import run_one
+    from .runner import run_experiment
+    from .spec import load_experiment
 
 __all__ = ["Condition", "Experiment", "load_experiment", "parse_set", "run_experiment", "run_one"]
 

@@ -63,8 +63,20 @@ DEFAULT_CONDITION = "default"
 
 @dataclass(frozen=True)
 class Entry:
-    """A value and where it was written: ``source`` (a file, or ``--set KEY``), ``key`` in it
-    (None for the command line), ``here`` (the folder its relative paths start from)."""
+    """A value and where it was written.
+
+    Parameters
+    ----------
+    value : object
+        The value.
+    source : path or str
+        The file that wrote it, or the command line (``--set KEY``; ``--set`` for its world values).
+    key : str or None
+        Its dotted key in ``source`` (a world table's: the table's prefix, e.g. ``world`` or
+        ``conditions.NAME.world``); None for a command-line value that ``source`` names.
+    here : path
+        The folder its relative paths start from (the file's, or the working directory).
+    """
 
     value: object
     source: object
@@ -76,7 +88,27 @@ class Entry:
 class ConditionTable:
     """One ``[conditions.NAME]`` table, checked: its circuit file (the command line's, its own or
     the files'), its own ``REGION.param`` overrides and world table, and its circuit variant
-    (``replace``, ``edges``, ``lesion``)."""
+    (``replace``, ``edges``, ``lesion``).
+
+    Parameters
+    ----------
+    name : str
+        The condition's name (``default`` for an experiment without ``[conditions]``).
+    description : str
+        What the condition is (empty when not given).
+    circuit : path
+        Its circuit file, resolved.
+    params : dict of str to Entry
+        Its own ``"REGION.param"`` overrides, by flat key.
+    world : Entry
+        Its own world table (empty when not given).
+    variant : dict
+        Its ``replace``, ``edges`` and ``lesion`` tables, as written.
+    source : path
+        The file whose ``[conditions]`` table this is.
+    fit : tuple of str
+        The ``"REGION.param"`` keys that ``neurocur fit`` fits when none is given (the model's free parameters).
+    """
 
     name: str
     description: str
@@ -94,12 +126,37 @@ class ConditionTable:
 class Resolved:
     """An experiment file with its ``extends`` chain and the command line's settings applied.
 
-    ``world``: the files' ``[world]`` tables, the furthest base first; ``world_sets``: the
-    command line's ``world.KEY`` values (dotted keys); ``params``: the files' ``[params]``;
-    ``set_params``: the command line's ``REGION.param`` values, which win over every
-    condition; ``sweep``: each swept key's values; ``circuits``: the tables of every circuit
-    file a condition names, read once; ``control``: the condition the others are compared with,
-    if the files name one."""
+    Parameters
+    ----------
+    path : path
+        The experiment file, resolved.
+    name : str
+        The experiment's name (default: the file's name without ``.toml``).
+    description : str
+        What it asks (empty when not given).
+    runs : int
+        The runs of each condition.
+    steps : int
+        The frames of each run.
+    seed : int or None
+        The experiment's seed; None when no file, ``--set`` or ``--seed`` gave one.
+    world : tuple of Entry
+        The files' ``[world]`` tables, the furthest base first.
+    world_sets : dict of str to Entry
+        The command line's ``world.KEY`` values, by dotted key.
+    params : dict of str to Entry
+        The files' ``[params]``, by ``"REGION.param"`` key, later files winning.
+    set_params : dict of str to Entry
+        The command line's ``"REGION.param"`` values, which win over every condition.
+    sweep : dict of str to Entry
+        Each swept key's values (the last file's ``[sweep]`` and the command line's).
+    conditions : dict of str to ConditionTable
+        The checked conditions, by name.
+    circuits : dict of path to dict
+        The tables of every circuit file a condition names, read once.
+    control : str or None
+        The condition the others are compared with, if the files name one.
+    """
 
     path: Path
     name: str
@@ -120,7 +177,32 @@ class Resolved:
 def resolve(path, *, sets: Sequence[str] = (), runs: int | None = None, steps: int | None = None,
             seed: int | None = None) -> Resolved:
     """Read the experiment file ``path`` (a path or a shipped experiment's name, e.g. ``"synthetic"``)
-    and every file it extends, and apply ``--set`` items and ``--runs``/``--steps``/``--seed``."""
+    and every file it extends, and apply ``--set`` items and ``--runs``/``--steps``/``--seed``.
+
+    Parameters
+    ----------
+    path : path or str
+        The experiment file, or a shipped experiment's name
+        ([`resolve_experiment`][neurocur.experiments.resolve.resolve_experiment]).
+    sets : sequence of str
+        ``--set`` items, ``KEY=VALUE`` ([`parse_set`][neurocur.experiments.resolve.parse_set]).
+    runs : int, optional
+        ``--runs``: wins over the files and ``--set runs``.
+    steps : int, optional
+        ``--steps``: wins likewise.
+    seed : int, optional
+        ``--seed``: wins likewise.
+
+    Returns
+    -------
+    Resolved
+        The experiment's values, each with where it was written.
+
+    Raises
+    ------
+    ConfigError
+        For a key or value that fails its check, naming the file (or ``--set KEY``, ``--runs``) and the key.
+    """
     path = resolve_experiment(path).resolve()
     layers = read_chain(path, "experiment", TOP_KEYS)
     cwd = Path.cwd()
@@ -296,6 +378,21 @@ def parse_set(item: str) -> tuple[str, object]:
 
     ``KEY=V1,V2,...`` (comma-separated values that are not one TOML literal) gives
     :class:`Values`, the values of a swept key.
+
+    Parameters
+    ----------
+    item : str
+        One ``--set`` item.
+
+    Returns
+    -------
+    (str, object)
+        The key (stripped) and its value.
+
+    Raises
+    ------
+    ConfigError
+        For an item without ``=`` or without a key.
     """
     key, eq, text = str(item).partition("=")
     key, text = key.strip(), text.strip()
@@ -357,5 +454,21 @@ def shipped_experiments() -> dict[str, Path]:
 def resolve_experiment(value) -> Path:
     """The experiment file that ``value`` names: a path (relative to the working directory) when
     it is an existing path, ends with ``.toml`` or contains a path separator; otherwise the name
-    of a shipped experiment. An unknown name is a ConfigError listing the shipped names."""
+    of a shipped experiment. An unknown name is a ConfigError listing the shipped names.
+
+    Parameters
+    ----------
+    value : path or str
+        The ``EXPERIMENT`` argument: a path or a shipped experiment's name.
+
+    Returns
+    -------
+    path
+        The experiment file (a path as given, not resolved; a shipped experiment's file).
+
+    Raises
+    ------
+    ConfigError
+        For a name that is neither a path nor a shipped experiment's, listing the shipped names.
+    """
     return resolve_file(value, Path(), "experiment", source=value, key=None)

@@ -87,7 +87,7 @@ COMPLETE = ("neurocur.fit", "neurocur.analysis.io", "neurocur.analysis.paper", "
             "neurocur.analysis.stats.order", "neurocur.analysis.stats.significance", "neurocur.learn", "neurocur.rl",
             "neurocur.results",
             "neurocur.contexts.base", "neurocur.contexts.sources",
-            "neurocur.experiments.conditions", "neurocur.experiments.invariance", "neurocur.experiments.spec",
+            "neurocur.experiments",
             "neurocur.scheduler", "neurocur.tables", "neurocur.registry", "neurocur.recording", "neurocur.contract",
             "neurocur.config")
 #: Files being rewritten elsewhere, pending: their docstrings get Parameters sections after those edits.
