@@ -95,7 +95,7 @@ def value_at(scale: str, spec, u: float):
     Parameters
     ----------
     scale : str
-        One of [`SCALES`][neurocur.experiments.design.SCALES].
+        One of :data:`SCALES`.
     spec : list or tuple
         ``(low, high)``, or the values of a ``choice``.
     u : float
