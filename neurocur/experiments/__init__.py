@@ -3,7 +3,7 @@
 | part | module |
 |---|---|
 | the entrance, :func:`load_experiment`: resolve → expand → build, each pass entered once | ``spec`` |
-| 1. resolve: the file, its ``extends`` chain, its circuit files (each read once) and ``--set`` → one table that remembers where each value came from | ``resolve`` |
+| 1. resolve: the file, its ``extends`` chain, its circuit files (each read once) and ``--set`` → one table that remembers where each value came from | ``resolve``, ``resolved`` |
 | 2. expand: conditions × sweep points (pure) | ``expand`` |
 | 3. build: each condition's circuit and world parameters, once | ``build`` |
 | what the entrance makes: :class:`Condition`, :class:`Experiment` (seeds of the runs) | ``conditions`` |

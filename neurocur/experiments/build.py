@@ -22,7 +22,7 @@ from neurocur.tables import deep_merge
 
 from .conditions import Condition, Experiment
 from .expand import Plan
-from .resolve import Entry, Resolved
+from .resolved import Entry, Resolved
 
 __all__ = ["build", "check_reward_paid", "condition_world", "load_circuit"]
 
@@ -94,7 +94,7 @@ def check_reward_paid(condition: Condition, source, name: str) -> None:
 
 
 def condition_world(layers: tuple[Entry, ...], source: Path):
-    """The merged world table and its parameters, from world tables (each an :class:`~.resolve.Entry`
+    """The merged world table and its parameters, from world tables (each an :class:`~.resolved.Entry`
     whose key is the table's prefix: the file's ``[world]``, the condition's ``world``, a sweep
     point's, ``--set world.KEY``), later tables winning.
 

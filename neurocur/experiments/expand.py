@@ -1,4 +1,4 @@
-"""The entrance's second pass: a :class:`~.resolve.Resolved` experiment → its conditions × sweep
+"""The entrance's second pass: a :class:`~.resolved.Resolved` experiment → its conditions × sweep
 points, each a :class:`Plan` that :mod:`.build` makes. Pure: nothing is read here, and only the
 names that become folders are checked (:mod:`neurocur.results.names`).
 
@@ -27,7 +27,7 @@ from dataclasses import dataclass
 from neurocur.results.names import condition_label
 from neurocur.tables import deep_merge
 
-from .resolve import ConditionTable, Entry, Resolved
+from .resolved import ConditionTable, Entry, Resolved
 
 __all__ = ["Plan", "expand", "grid", "world_layer"]
 
@@ -47,7 +47,7 @@ class Plan:
         The sweep point, a value by swept key; empty without a sweep.
     world : tuple of Entry
         The world tables, later ones winning (the files', the condition's, the point's, the
-        command line's), each an :class:`~.resolve.Entry` whose key is the table's prefix.
+        command line's), each an :class:`~.resolved.Entry` whose key is the table's prefix.
     overrides : dict of str to Entry
         The ``"REGION.param"`` values of the files, the condition and the point, by key.
     set_params : dict of str to Entry
