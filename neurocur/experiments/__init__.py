@@ -3,7 +3,7 @@
 | part | module |
 |---|---|
 | the entrance, :func:`load_experiment`: resolve → expand → build, each pass entered once | ``spec`` |
-| 1. resolve: the file, its ``extends`` chain, its circuit files (each read once) and ``--set`` → one table that remembers where each value came from | ``resolve`` |
+| 1. resolve: the file, its ``extends`` chain, its circuit files (each read once) and ``--set`` → one table that remembers where each value came from | ``resolve``, ``resolved`` |
 | 2. expand: conditions × sweep points (pure) | ``expand`` |
 | 3. build: each condition's circuit and world parameters, once | ``build`` |
 | what the entrance makes: :class:`Condition`, :class:`Experiment` (seeds of the runs) | ``conditions`` |
@@ -16,6 +16,14 @@ The results folder belongs to :class:`neurocur.results.ResultsStore`.
 """
 
 import importlib
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # what the names are, for type checkers and the API docs; imported on first use below
+    from .conditions import Condition, Experiment
+    from .resolve import parse_set
+    from .run import run_one
+    from .runner import run_experiment
+    from .spec import load_experiment
 
 __all__ = ["Condition", "Experiment", "load_experiment", "parse_set", "run_experiment", "run_one"]
 

@@ -39,6 +39,28 @@ def load_agent(results_dir, condition: str, run: int, *, experiment: Experiment 
     named in its ``config.toml``, with its runs, steps and seed. Its condition must be the one the
     folder recorded (resolved circuit and world), else a ResultsError names the first difference
     (an experiment run with ``--set``: load it with the same settings and pass it).
+
+    Parameters
+    ----------
+    results_dir : path
+        The results folder.
+    condition : str
+        The run's condition.
+    run : int
+        The run's index.
+    experiment : Experiment, optional
+        The experiment the folder was computed from (see above); None: the one its ``config.toml`` names.
+
+    Returns
+    -------
+    neurocur.scheduler.Simulator
+        The condition's simulator, built with the run's seed, in the saved state.
+
+    Raises
+    ------
+    ResultsError
+        When the folder holds no such run or no saved agent, ``experiment`` differs from the recorded
+        condition, or the agent fails a check (one line naming the file and the key).
     """
     store = ResultsStore(results_dir)
     folder = store.run_dir(condition, int(run))

@@ -22,13 +22,32 @@ from neurocur.tables import deep_merge
 
 from .conditions import Condition, Experiment
 from .expand import Plan
-from .resolve import Entry, Resolved
+from .resolved import Entry, Resolved
 
 __all__ = ["build", "check_reward_paid", "condition_world", "load_circuit"]
 
 
 def build(resolved: Resolved, plans: list[Plan]) -> Experiment:
-    """The experiment of ``resolved`` with the conditions of ``plans``, each built once."""
+    """The experiment of ``resolved`` with the conditions of ``plans``, each built once.
+
+    Parameters
+    ----------
+    resolved : Resolved
+        The experiment file, its ``extends`` chain and the command line's settings (:mod:`.resolve`).
+    plans : list of Plan
+        Its conditions × sweep points ([`expand`][neurocur.experiments.expand.expand]).
+
+    Returns
+    -------
+    Experiment
+        The experiment, its conditions by label in the order of ``plans``.
+
+    Raises
+    ------
+    ConfigError
+        For a world or circuit key that fails its check, a ``fit`` key that is no parameter of the
+        condition's circuit, or a reward-reading circuit on a world that pays none; naming the file and key.
+    """
     conditions = {}
     for plan in plans:
         world, world_params = condition_world(plan.world, resolved.path)
@@ -50,7 +69,22 @@ def check_reward_paid(condition: Condition, source, name: str) -> None:
     reward (:meth:`~neurocur.regions.Region.reads_reward`: ``vta.td``, ``vta.mixture`` with a nonzero
     weight, ...) when its world pays none (:meth:`~neurocur.contexts.World.pays_reward`): such a run
     is silently degenerate (TD's DA is 0 on every episode, the decisions are ties). One line naming
-    ``source``, ``world.rewards`` and the condition."""
+    ``source``, ``world.rewards`` and the condition.
+
+    Parameters
+    ----------
+    condition : Condition
+        The built condition.
+    source : path or str
+        The file its ``[conditions]`` table is in (named by the error).
+    name : str
+        The condition's name in that file.
+
+    Raises
+    ------
+    ConfigError
+        When a region of the circuit reads the extrinsic reward and the world pays none.
+    """
     readers = [f"{n} ({spec.type_name})" for n, spec in condition.circuit.specs.items() if spec.cls.reads_reward(spec.params)]
     if readers and not condition.world_class.pays_reward(condition.world_params):
         raise ConfigError(source, "world.rewards",
@@ -60,7 +94,7 @@ def check_reward_paid(condition: Condition, source, name: str) -> None:
 
 
 def condition_world(layers: tuple[Entry, ...], source: Path):
-    """The merged world table and its parameters, from world tables (each an :class:`~.resolve.Entry`
+    """The merged world table and its parameters, from world tables (each an :class:`~.resolved.Entry`
     whose key is the table's prefix: the file's ``[world]``, the condition's ``world``, a sweep
     point's, ``--set world.KEY``), later tables winning.
 
@@ -68,6 +102,23 @@ def condition_world(layers: tuple[Entry, ...], source: Path):
     when none does). Each table's keys are checked on their own (so an error names that
     table's key) and its paths made absolute against its folder; the merged table is then
     checked as a whole (``world.KEY`` errors, naming ``source``).
+
+    Parameters
+    ----------
+    layers : tuple of Entry
+        The world tables, the first losing to later ones.
+    source : path
+        The experiment file, named by the errors of the merged table (``world.KEY``).
+
+    Returns
+    -------
+    (dict, object)
+        The merged world table (with its ``type`` when a table named one) and the world type's checked ``Params``.
+
+    Raises
+    ------
+    ConfigError
+        For an unknown world type or a key that fails its check, naming the table that set it.
     """
     typed = [(e.value["type"], e.source, e.key) for e in layers if "type" in e.value]
     kind, type_source, type_prefix = typed[-1] if typed else (DEFAULT_WORLD, source, "world")
@@ -95,7 +146,25 @@ def load_circuit(tables: dict, plan: Plan) -> Circuit:
     and ``lesion`` tables added as a file extending the circuit file would add them (each named
     ``conditions.NAME.replace.REGION``, ``conditions.NAME.edges[i]``, ``conditions.NAME.lesion[i]``),
     the overrides, the lesions, then the command line's ``REGION.param`` values, which win over
-    all of them. An override's error names the file (or ``--set``) and key that wrote it."""
+    all of them. An override's error names the file (or ``--set``) and key that wrote it.
+
+    Parameters
+    ----------
+    tables : dict
+        The circuit file's tables as :mod:`.resolve` read them (copied here, never changed).
+    plan : Plan
+        The condition at its sweep point: its variant tables, overrides and command-line values.
+
+    Returns
+    -------
+    Circuit
+        The condition's circuit, every value applied.
+
+    Raises
+    ------
+    ConfigError
+        For a value that fails its check, naming the file (or ``--set``) and key that wrote it.
+    """
     condition = plan.condition
     data = copy.deepcopy(tables)
     overrides = {k: e.value for k, e in plan.overrides.items()}

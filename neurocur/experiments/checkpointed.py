@@ -24,9 +24,32 @@ __all__ = ["compute_and_write"]
 
 def compute_and_write(condition: Condition, run: int, steps: int, seed: np.random.SeedSequence, out: str, *,
                       every: int | None = None, save_agent: bool = False) -> tuple[str, int]:
-    """Compute run ``run`` of ``condition`` and write it into the results folder ``out``; ``every``:
-    episodes between checkpoints (None: :func:`~neurocur.results.agents.checkpoint_every`'s default,
-    0: none); ``save_agent``: write the trained agent too. Returns ``(condition name, run)``."""
+    """Compute run ``run`` of ``condition`` and write it into the results folder ``out``.
+
+    Parameters
+    ----------
+    condition : Condition
+        The run's condition.
+    run : int
+        The run's index.
+    steps : int
+        The frames of the run.
+    seed : numpy.random.SeedSequence
+        The run's seed ([`Experiment.run_seed`][neurocur.experiments.conditions.Experiment.run_seed]).
+    out : str
+        The results folder.
+    every : int, optional
+        Episodes between two checkpoints (None: :func:`~neurocur.results.agents.checkpoint_every`'s
+        default, 0: none); with a nonzero value (or ``save_agent``), a state that cannot be saved is an error at the
+        run's start.
+    save_agent : bool
+        Write the trained agent into the run folder (``agent/``).
+
+    Returns
+    -------
+    (str, int)
+        The condition's name and the run.
+    """
     store = ResultsStore(out)
     required = bool(every) or save_agent  # asked for: a state the walker cannot save is an error at once
     every = checkpoint_every(steps, every)

@@ -36,7 +36,17 @@ WINDOW = 1024
 
 class DaskCluster:
     """The cluster of ``scheduler``: ``"local"`` (a ``LocalCluster`` of ``jobs`` single-threaded
-    workers, default: all cores) or a scheduler's address, ``"tcp://HOST:PORT"``."""
+    workers, default: all cores) or a scheduler's address, ``"tcp://HOST:PORT"``.
+
+    Parameters
+    ----------
+    scheduler : str
+        ``"local"`` or the scheduler's address (checked when the runs start:
+        [`probe_scheduler`][neurocur.experiments.probe.probe_scheduler]).
+    jobs : int, optional
+        The workers of a ``"local"`` cluster (never more than the runs); None: all cores. A
+        scheduler's address brings its own workers.
+    """
 
     def __init__(self, scheduler: str, jobs: int | None = None):
         self.scheduler, self.jobs = scheduler, jobs

@@ -52,7 +52,25 @@ def read_prior(table: Mapping, *, source="<prior>") -> dict[str, tuple[str, obje
     """``{key: (scale, bounds or values)}`` of a prior table (module docstring), checked: one entry
     per key, a scale of :data:`SCALES`, two increasing bounds (positive for ``log``, integers for
     ``int``), at least two values for ``choice``; keys ``"REGION.param"``, ``"world.KEY"`` or
-    ``circuit``."""
+    ``circuit``.
+
+    Parameters
+    ----------
+    table : mapping
+        The ``[prior]`` table.
+    source : path or str
+        The file it was read from, named by the errors.
+
+    Returns
+    -------
+    dict
+        ``(scale, [low, high])``, or ``("choice", values)``, by key, in the table's order.
+
+    Raises
+    ------
+    ConfigError
+        For an entry that fails a check, naming ``prior.KEY``.
+    """
     if not isinstance(table, Mapping) or not table:
         raise ConfigError(source, "prior", "a table of at least one key", table)
     prior = {}
@@ -72,7 +90,23 @@ def read_prior(table: Mapping, *, source="<prior>") -> dict[str, tuple[str, obje
 
 
 def value_at(scale: str, spec, u: float):
-    """The value of a prior entry at the quantile ``u`` in [0, 1)."""
+    """The value of a prior entry at the quantile ``u`` in [0, 1).
+
+    Parameters
+    ----------
+    scale : str
+        One of :data:`SCALES`.
+    spec : list or tuple
+        ``(low, high)``, or the values of a ``choice``.
+    u : float
+        The quantile, in [0, 1): ``linear`` maps it linearly onto [low, high], ``log`` onto [log low,
+        log high] (then exponentiated), ``int`` and ``choice`` onto equal slices, one per integer or value.
+
+    Returns
+    -------
+    object
+        A float (``linear``, ``log``), an int (``int``) or one of the values (``choice``).
+    """
     if scale == "choice":
         return spec[min(int(u * len(spec)), len(spec) - 1)]
     low, high = spec
@@ -85,7 +119,27 @@ def value_at(scale: str, spec, u: float):
 
 def draws(prior: Mapping[str, tuple[str, object]], n: int, seed: int) -> list[dict]:
     """``n`` draws (a power of two) from ``prior`` (:func:`read_prior`): a scrambled Sobol sequence
-    seeded by ``seed``, each coordinate through its key's scale (:func:`value_at`)."""
+    seeded by ``seed``, each coordinate through its key's scale (:func:`value_at`).
+
+    Parameters
+    ----------
+    prior : mapping
+        A checked prior ([`read_prior`][neurocur.experiments.design.read_prior]).
+    n : int
+        The number of draws: a power of two, at least 2.
+    seed : int
+        The seed of the Sobol sequence's scrambling.
+
+    Returns
+    -------
+    list of dict
+        The draws, each a value by key.
+
+    Raises
+    ------
+    ConfigError
+        When ``n`` is not a power of two of at least 2.
+    """
     from scipy.stats import qmc
 
     if n < 2 or n & (n - 1):
@@ -98,7 +152,34 @@ def design_experiment(base: str, prior: Mapping[str, tuple[str, object]], *, n: 
                       seed: int, design_seed: int, name: str = "design", description: str = "") -> dict:
     """One experiment (a TOML table for :func:`neurocur.results.tomlio.dumps_toml`) extending ``base``
     whose conditions ``d000`` ... are the :func:`draws` of ``prior`` (``design_seed``), ``runs`` paired
-    runs each of ``steps`` frames from the experiment seed ``seed``."""
+    runs each of ``steps`` frames from the experiment seed ``seed``.
+
+    Parameters
+    ----------
+    base : str
+        The experiment the design extends (a shipped experiment's name or a path), its ``extends``.
+    prior : mapping
+        A checked prior ([`read_prior`][neurocur.experiments.design.read_prior]).
+    n : int
+        The number of draws (conditions): a power of two, at least 2.
+    runs : int
+        The runs of each condition.
+    steps : int
+        The frames of each run.
+    seed : int
+        The experiment's seed (the runs').
+    design_seed : int
+        The seed of the draws.
+    name : str
+        The experiment's name.
+    description : str
+        What it asks.
+
+    Returns
+    -------
+    dict
+        The experiment table; each condition's ``description`` lists its draw.
+    """
     conditions = {}
     for i, point in enumerate(draws(prior, n, design_seed)):
         condition: dict = {"description": ", ".join(f"{k} = {v}" for k, v in point.items())}

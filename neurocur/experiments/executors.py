@@ -50,7 +50,21 @@ class Executor(Protocol):
 def executor_for(scheduler: str | None = None, jobs: int | None = None) -> Executor:
     """The executor of ``--scheduler`` and ``--jobs``: the local pool of ``jobs`` workers
     (default: all cores) without a scheduler, else a Dask cluster: ``"local"`` (a
-    ``LocalCluster`` of ``jobs`` workers) or a scheduler's address (``"tcp://HOST:PORT"``)."""
+    ``LocalCluster`` of ``jobs`` workers) or a scheduler's address (``"tcp://HOST:PORT"``).
+
+    Parameters
+    ----------
+    scheduler : str, optional
+        ``--scheduler``: None, ``"local"`` or ``"tcp://HOST:PORT"``.
+    jobs : int, optional
+        ``--jobs``: the local workers; None: all cores.
+
+    Returns
+    -------
+    Executor
+        A [`LocalPool`][neurocur.experiments.pool.LocalPool] or a
+        [`DaskCluster`][neurocur.experiments.cluster.DaskCluster] (nothing started yet).
+    """
     if scheduler is None:
         return LocalPool(jobs)
     from .cluster import DaskCluster  # imports dask

@@ -1,4 +1,4 @@
-"""The entrance's second pass: a :class:`~.resolve.Resolved` experiment → its conditions × sweep
+"""The entrance's second pass: a :class:`~.resolved.Resolved` experiment → its conditions × sweep
 points, each a :class:`Plan` that :mod:`.build` makes. Pure: nothing is read here, and only the
 names that become folders are checked (:mod:`neurocur.results.names`).
 
@@ -27,7 +27,7 @@ from dataclasses import dataclass
 from neurocur.results.names import condition_label
 from neurocur.tables import deep_merge
 
-from .resolve import ConditionTable, Entry, Resolved
+from .resolved import ConditionTable, Entry, Resolved
 
 __all__ = ["Plan", "expand", "grid", "world_layer"]
 
@@ -36,11 +36,25 @@ __all__ = ["Plan", "expand", "grid", "world_layer"]
 class Plan:
     """One condition at one sweep point, as :mod:`.build` makes it.
 
-    ``world``: the world tables, later ones winning (the files', the condition's, the point's,
-    the command line's), each an :class:`~.resolve.Entry` whose key is the table's prefix;
-    ``overrides``: the ``"REGION.param"`` values of the files, the condition and the point, and
-    ``set_params`` the command line's, which win over them; ``params``: the winning value of
-    each."""
+    Parameters
+    ----------
+    label : str
+        The condition's name at this point (``<condition>@<KEY>=<value>,...``; the name itself
+        without a sweep): its results folder's.
+    condition : ConditionTable
+        The checked ``[conditions.NAME]`` table.
+    point : dict
+        The sweep point, a value by swept key; empty without a sweep.
+    world : tuple of Entry
+        The world tables, later ones winning (the files', the condition's, the point's, the
+        command line's), each an :class:`~.resolved.Entry` whose key is the table's prefix.
+    overrides : dict of str to Entry
+        The ``"REGION.param"`` values of the files, the condition and the point, by key.
+    set_params : dict of str to Entry
+        The command line's ``"REGION.param"`` values, which win over ``overrides``.
+    params : dict
+        The winning value of each ``"REGION.param"`` key.
+    """
 
     label: str
     condition: ConditionTable
@@ -58,7 +72,24 @@ class Plan:
 
 
 def expand(resolved: Resolved) -> list[Plan]:
-    """Every condition of ``resolved`` at every point of its sweep, in order."""
+    """Every condition of ``resolved`` at every point of its sweep, in order.
+
+    Parameters
+    ----------
+    resolved : Resolved
+        The experiment file, its ``extends`` chain and the command line's settings (:mod:`.resolve`).
+
+    Returns
+    -------
+    list of Plan
+        Condition by condition, each at every point of [`grid`][neurocur.experiments.expand.grid].
+
+    Raises
+    ------
+    ConfigError
+        For a condition name that is no folder name, or two points with one label
+        ([`condition_label`][neurocur.results.names.condition_label]).
+    """
     sweep = resolved.sweep
     world_sets = {}
     for key, entry in resolved.world_sets.items():  # world.sources.NAME.KEY nests
@@ -89,13 +120,35 @@ def expand(resolved: Resolved) -> list[Plan]:
 
 
 def grid(sweep: Mapping[str, list]) -> list[dict]:
-    """The points of the product of the swept values, in order (``[{}]`` without a sweep)."""
+    """The points of the product of the swept values, in order (``[{}]`` without a sweep).
+
+    Parameters
+    ----------
+    sweep : mapping of str to list
+        Each swept key's values.
+
+    Returns
+    -------
+    list of dict
+        The points, the last key varying fastest.
+    """
     keys = list(sweep)
     return [dict(zip(keys, values)) for values in itertools.product(*(sweep[k] for k in keys))]
 
 
 def world_layer(point: Mapping) -> dict:
-    """The ``world.*`` entries of a point as a (nested) world table."""
+    """The ``world.*`` entries of a point as a (nested) world table.
+
+    Parameters
+    ----------
+    point : mapping
+        A sweep point (or any ``{dotted key: value}``); keys not starting with ``world.`` are left out.
+
+    Returns
+    -------
+    dict
+        ``{"world.sources.S.rows": 10}`` → ``{"sources": {"S": {"rows": 10}}}``.
+    """
     layer: dict = {}
     for key, value in point.items():
         head, _, rest = key.partition(".")

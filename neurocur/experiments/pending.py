@@ -15,7 +15,17 @@ __all__ = ["Pending"]
 
 class Pending:
     """The (condition, run) pairs of ``conditions`` × ``range(runs)`` not in ``done``, condition by
-    condition, each run in order; sized and iterable without listing them."""
+    condition, each run in order; sized and iterable without listing them.
+
+    Parameters
+    ----------
+    conditions : sequence of Condition
+        The selected conditions, in order (anything with a ``name``).
+    runs : int
+        The runs of each condition.
+    done : set of (str, int)
+        The finished (condition name, run) pairs; pairs outside ``conditions`` × ``range(runs)`` are ignored.
+    """
 
     def __init__(self, conditions: Sequence, runs: int, done: set[tuple[str, int]]):
         self.conditions = list(conditions)

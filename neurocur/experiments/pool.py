@@ -28,7 +28,13 @@ __all__ = ["LocalPool"]
 
 
 class LocalPool:
-    """``jobs`` worker processes on this machine (default: all cores)."""
+    """``jobs`` worker processes on this machine (default: all cores).
+
+    Parameters
+    ----------
+    jobs : int, optional
+        The worker processes (never more than the runs, at least one); None: all cores.
+    """
 
     def __init__(self, jobs: int | None = None):
         self.jobs = jobs

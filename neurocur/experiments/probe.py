@@ -21,7 +21,21 @@ _MAX_HANDSHAKE = 1 << 16
 
 def probe_scheduler(address: str, timeout: float = 5.0) -> None:
     """ValueError (one line) unless a Dask scheduler answers at ``address`` (``tcp://HOST:PORT`` or
-    ``HOST:PORT``) within ``timeout`` seconds; other protocols are left to Dask."""
+    ``HOST:PORT``) within ``timeout`` seconds; other protocols are left to Dask.
+
+    Parameters
+    ----------
+    address : str
+        ``--scheduler``'s address.
+    timeout : float
+        Seconds to connect, and again to receive the handshake.
+
+    Raises
+    ------
+    ValueError
+        For an address that is not ``HOST:PORT``, nothing listening, or a listener that does not send a
+        Dask handshake in time.
+    """
     scheme, sep, rest = address.partition("://")
     if sep and scheme != "tcp":
         return

@@ -28,7 +28,13 @@ _THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "N
 def single_threaded_children(extra: dict[str, str] | None = None):
     """Processes started in the block (local workers, a Dask LocalCluster's) inherit
     single-threaded BLAS/numba settings, and the variables ``extra``; the environment is restored
-    afterwards."""
+    afterwards.
+
+    Parameters
+    ----------
+    extra : dict of str to str, optional
+        Further environment variables for the children.
+    """
     values = {**dict.fromkeys(_THREAD_VARS, "1"), **(extra or {})}
     saved = {k: os.environ.get(k) for k in values}
     os.environ.update(values)
@@ -43,7 +49,13 @@ def single_threaded_children(extra: dict[str, str] | None = None):
 
 
 def note(text: str) -> None:
-    """One line to the user on stderr, above any progress bar."""
+    """One line to the user on stderr, above any progress bar.
+
+    Parameters
+    ----------
+    text : str
+        The line, written after ``neurocur: ``.
+    """
     from tqdm import tqdm
 
     tqdm.write(f"neurocur: {text}", file=sys.stderr)
@@ -87,5 +99,18 @@ def start_fork_server() -> None:
 
 def worker_count(jobs: int | None, runs: int) -> int:
     """The workers that compute ``runs`` runs with ``--jobs`` ``jobs`` (default: all cores): never
-    more than the runs, at least one."""
+    more than the runs, at least one.
+
+    Parameters
+    ----------
+    jobs : int or None
+        ``--jobs``; None (or 0): all cores.
+    runs : int
+        The runs to compute (0 counts as 1).
+
+    Returns
+    -------
+    int
+        The number of workers.
+    """
     return max(1, min(jobs or os.cpu_count() or 1, runs or 1))

@@ -1,5 +1,5 @@
 """The entrance's first pass: an experiment file, its ``extends`` chain and the command line's
-settings → one :class:`Resolved` table that remembers where each value came from.
+settings → one :class:`~.resolved.Resolved` table that remembers where each value came from.
 
 Every file is read here, once: the experiment file and the files it extends
 (:func:`neurocur.circuit.files.read_chain`, the reader circuit files use too), and each circuit
@@ -30,7 +30,7 @@ over every condition: ``runs``, ``steps``, ``seed``, ``circuit``, ``name``, ``de
 ``KEY=V1,V2`` sweeps the key (:class:`Values`): it replaces a swept key's values, a single
 value restricts a swept key to it. ``--runs``, ``--steps`` and ``--seed`` win over both.
 
-Every value is kept as an :class:`Entry`: the value, the file (or ``--set KEY``, ``--runs``)
+Every value is kept as an :class:`~.resolved.Entry`: the value, the file (or ``--set KEY``, ``--runs``)
 that wrote it, its key there and the folder its relative paths start from; an error found by
 a later pass names that file and key.
 """
@@ -40,15 +40,15 @@ from __future__ import annotations
 import json
 import tomllib
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
 from pathlib import Path
 
 from neurocur.circuit.files import Layer, read_chain, read_circuit_file
 from neurocur.config import ConfigError, describe
 from neurocur.tables import check_keys, require, resolve_file, shipped_files
 
-__all__ = ["ConditionTable", "Entry", "Resolved", "Values", "parse_set", "resolve", "resolve_experiment",
-           "shipped_experiments"]
+from .resolved import ConditionTable, Entry, Resolved
+
+__all__ = ["Values", "parse_set", "resolve", "resolve_experiment", "shipped_experiments"]
 
 TOP_KEYS = ("extends", "name", "description", "circuit", "runs", "steps", "seed", "world", "params", "sweep", "conditions",
             "control")
@@ -61,66 +61,35 @@ VARIANT_KEYS = ("replace", "edges", "lesion")
 DEFAULT_CONDITION = "default"
 
 
-@dataclass(frozen=True)
-class Entry:
-    """A value and where it was written: ``source`` (a file, or ``--set KEY``), ``key`` in it
-    (None for the command line), ``here`` (the folder its relative paths start from)."""
-
-    value: object
-    source: object
-    key: str | None
-    here: Path
-
-
-@dataclass(frozen=True)
-class ConditionTable:
-    """One ``[conditions.NAME]`` table, checked: its circuit file (the command line's, its own or
-    the files'), its own ``REGION.param`` overrides and world table, and its circuit variant
-    (``replace``, ``edges``, ``lesion``)."""
-
-    name: str
-    description: str
-    circuit: Path
-    params: dict[str, Entry]
-    world: Entry
-    variant: dict
-    #: the file whose ``[conditions]`` table this is
-    source: Path
-    #: the ``"REGION.param"`` keys that ``neurocur fit`` fits when none is given (the model's free parameters)
-    fit: tuple[str, ...] = ()
-
-
-@dataclass(frozen=True)
-class Resolved:
-    """An experiment file with its ``extends`` chain and the command line's settings applied.
-
-    ``world``: the files' ``[world]`` tables, the furthest base first; ``world_sets``: the
-    command line's ``world.KEY`` values (dotted keys); ``params``: the files' ``[params]``;
-    ``set_params``: the command line's ``REGION.param`` values, which win over every
-    condition; ``sweep``: each swept key's values; ``circuits``: the tables of every circuit
-    file a condition names, read once; ``control``: the condition the others are compared with,
-    if the files name one."""
-
-    path: Path
-    name: str
-    description: str
-    runs: int
-    steps: int
-    seed: int | None
-    world: tuple[Entry, ...]
-    world_sets: dict[str, Entry]
-    params: dict[str, Entry]
-    set_params: dict[str, Entry]
-    sweep: dict[str, Entry]
-    conditions: dict[str, ConditionTable]
-    circuits: dict[Path, dict]
-    control: str | None = None
-
-
 def resolve(path, *, sets: Sequence[str] = (), runs: int | None = None, steps: int | None = None,
             seed: int | None = None) -> Resolved:
     """Read the experiment file ``path`` (a path or a shipped experiment's name, e.g. ``"synthetic"``)
-    and every file it extends, and apply ``--set`` items and ``--runs``/``--steps``/``--seed``."""
+    and every file it extends, and apply ``--set`` items and ``--runs``/``--steps``/``--seed``.
+
+    Parameters
+    ----------
+    path : path or str
+        The experiment file, or a shipped experiment's name
+        ([`resolve_experiment`][neurocur.experiments.resolve.resolve_experiment]).
+    sets : sequence of str
+        ``--set`` items, ``KEY=VALUE`` ([`parse_set`][neurocur.experiments.resolve.parse_set]).
+    runs : int, optional
+        ``--runs``: wins over the files and ``--set runs``.
+    steps : int, optional
+        ``--steps``: wins likewise.
+    seed : int, optional
+        ``--seed``: wins likewise.
+
+    Returns
+    -------
+    Resolved
+        The experiment's values, each with where it was written.
+
+    Raises
+    ------
+    ConfigError
+        For a key or value that fails its check, naming the file (or ``--set KEY``, ``--runs``) and the key.
+    """
     path = resolve_experiment(path).resolve()
     layers = read_chain(path, "experiment", TOP_KEYS)
     cwd = Path.cwd()
@@ -296,6 +265,21 @@ def parse_set(item: str) -> tuple[str, object]:
 
     ``KEY=V1,V2,...`` (comma-separated values that are not one TOML literal) gives
     :class:`Values`, the values of a swept key.
+
+    Parameters
+    ----------
+    item : str
+        One ``--set`` item.
+
+    Returns
+    -------
+    (str, object)
+        The key (stripped) and its value.
+
+    Raises
+    ------
+    ConfigError
+        For an item without ``=`` or without a key.
     """
     key, eq, text = str(item).partition("=")
     key, text = key.strip(), text.strip()
@@ -357,5 +341,21 @@ def shipped_experiments() -> dict[str, Path]:
 def resolve_experiment(value) -> Path:
     """The experiment file that ``value`` names: a path (relative to the working directory) when
     it is an existing path, ends with ``.toml`` or contains a path separator; otherwise the name
-    of a shipped experiment. An unknown name is a ConfigError listing the shipped names."""
+    of a shipped experiment. An unknown name is a ConfigError listing the shipped names.
+
+    Parameters
+    ----------
+    value : path or str
+        The ``EXPERIMENT`` argument: a path or a shipped experiment's name.
+
+    Returns
+    -------
+    path
+        The experiment file (a path as given, not resolved; a shipped experiment's file).
+
+    Raises
+    ------
+    ConfigError
+        For a name that is neither a path nor a shipped experiment's, listing the shipped names.
+    """
     return resolve_file(value, Path(), "experiment", source=value, key=None)

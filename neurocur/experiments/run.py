@@ -53,6 +53,29 @@ def run_one(condition: Condition, run: int, steps: int, seed: np.random.SeedSequ
     ``checkpoints`` (:class:`~neurocur.results.agents.Checkpoints`): continue from the run's last
     checkpoint, if any, and save one every so many episodes. ``save_agent``: keep the trained
     agent's state in the result (written as the run folder's ``agent/``).
+
+    Parameters
+    ----------
+    condition : Condition
+        The run's condition.
+    run : int
+        The run's index.
+    steps : int
+        The frames to simulate (whole episodes: the run ends with the episode that reaches it).
+    seed : numpy.random.SeedSequence
+        The run's seed ([`Experiment.run_seed`][neurocur.experiments.conditions.Experiment.run_seed]).
+    progress : callable, optional
+        ``progress(frames_done)``, called after every episode ([`Simulator.run`][neurocur.scheduler.Simulator.run]);
+        None: nothing.
+    checkpoints : Checkpoints, optional
+        The run's checkpoints (see above); None: none.
+    save_agent : bool
+        Keep the trained agent's state in the result (see above).
+
+    Returns
+    -------
+    RunResult
+        The run's tables and summary (``run.json``: seed, steps, frames, modules, contexts, seconds, ...).
     """
     started = time.perf_counter()
     world = condition.make_world()
@@ -105,6 +128,25 @@ def dry_run(condition: Condition, seed: np.random.SeedSequence) -> int:
     sees numpy's arrays. A ValueError names the condition and keeps the region's message; a
     ConfigError of the world's parameters (checked again at build, e.g. a module that does not
     import) is raised as it is, for the caller to name the experiment file.
+
+    Parameters
+    ----------
+    condition : Condition
+        The condition to check.
+    seed : numpy.random.SeedSequence
+        The seed its first run starts from.
+
+    Returns
+    -------
+    int
+        The peak memory the episode allocated, in bytes.
+
+    Raises
+    ------
+    ValueError
+        When the episode fails, naming the condition.
+    ConfigError
+        For the world's parameters, as raised.
     """
     try:
         _first_episode(condition, seed)

@@ -92,23 +92,55 @@ def run_experiment(exp: Experiment, out, *, jobs: int | None = None, conditions=
                    save_agent: bool = False) -> Path:
     """Run every (selected condition × run) of ``exp`` into the results folder ``out``.
 
-    ``executor``: what computes the runs (:mod:`neurocur.experiments.executors`); by default
-    the one of ``scheduler`` and ``jobs`` (:func:`~neurocur.experiments.executors.executor_for`):
-    None for the local worker pool of ``jobs`` processes (default: all cores), ``"local"``
-    for a Dask ``LocalCluster`` of ``jobs`` workers, or a Dask scheduler's address
-    (``"tcp://HOST:PORT"``). The tables are the same for every choice. ``conditions``: names
-    to run (default: all). ``progress``: a tqdm bar of finished runs on stderr; ``None`` shows
-    it only when stderr is a terminal. ``max_memory``: bytes the workers may use together
-    (default: the memory available). ``accept_code_change``: resume into a folder whose runs
-    other code computed. ``finish``: called with ``out`` after the runs, the folder's lock
-    still held (the command line writes the summary). ``checkpoint_every``: episodes between two
-    checkpoints of a run in the local pool (None: :func:`neurocur.results.agents.checkpoint_every`'s
-    default, 0: none); a run started again continues from its last one. ``save_agent``: write each
-    run's trained agent into its run folder (``agent/``). Returns ``out``;
+    The tables are the same for every executor and number of workers;
     :func:`neurocur.analysis.write_summary` aggregates the folder into ``summary.json``.
 
-    Raises ValueError (one line) for every refusal before a worker starts, and
-    :class:`Interrupted` after Ctrl-C.
+    Parameters
+    ----------
+    exp : Experiment
+        The experiment ([`load_experiment`][neurocur.experiments.spec.load_experiment]); one without a
+        seed gets the folder's when it resumes, else a fresh one.
+    out : path
+        The results folder (created when missing; resumed when it holds runs of this experiment).
+    jobs : int, optional
+        The local workers, or a ``"local"`` Dask cluster's; None: all cores.
+    conditions : iterable of str, optional
+        The names of the conditions to run; None: all.
+    progress : bool, optional
+        A tqdm bar of finished runs on stderr; None shows it only when stderr is a terminal.
+    max_memory : int, optional
+        Bytes the workers may use together; None: the memory available.
+    accept_code_change : bool
+        Resume into a folder whose runs other code computed.
+    scheduler : str, optional
+        None for the local worker pool, ``"local"`` for a Dask ``LocalCluster`` of ``jobs``
+        workers, or a Dask scheduler's address (``"tcp://HOST:PORT"``)
+        (:func:`~neurocur.experiments.executors.executor_for`).
+    executor : Executor, optional
+        What computes the runs (:mod:`neurocur.experiments.executors`); None: the one of
+        ``scheduler`` and ``jobs``.
+    finish : callable, optional
+        Called with ``out`` after the runs, the folder's lock still held (the command line writes
+        the summary).
+    checkpoint_every : int, optional
+        Episodes between two checkpoints of a run in the local pool (None:
+        :func:`neurocur.results.agents.checkpoint_every`'s default, 0: none); a run started again
+        continues from its last one.
+    save_agent : bool
+        Write each run's trained agent into its run folder (``agent/``).
+
+    Returns
+    -------
+    path
+        ``out``.
+
+    Raises
+    ------
+    ValueError
+        One line, for every refusal before a worker starts (a folder that cannot resume, a condition
+        that fails its first episode, too little memory).
+    Interrupted
+        After Ctrl-C, once the finished runs are written.
     """
     executor = executor if executor is not None else executor_for(scheduler, jobs)
     store = ResultsStore(out)

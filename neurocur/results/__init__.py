@@ -2,8 +2,9 @@
 
 :class:`ResultsStore` is the only code that knows where a run's files go; the experiment
 runner writes through it (holding the folder's lock, :mod:`.lock`) and
-:mod:`neurocur.analysis` reads through it (``load``). :mod:`.fingerprint` records what
-determines a run besides its configuration: its input files and the code.
+:mod:`neurocur.analysis` reads through it (``load``, which checks each run folder against its
+path: :mod:`.reading`). :mod:`.fingerprint` records what determines a run besides its
+configuration: its input files and the code.
 """
 
 from .lock import FolderInUse

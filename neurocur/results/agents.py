@@ -70,7 +70,23 @@ def _roots(sim) -> dict:
 
 
 def save_simulator(sim, folder, meta: Mapping | None = None) -> Path:
-    """Write ``sim``'s state (between two episodes) into ``folder``; ``meta`` (plain JSON) is kept beside it."""
+    """Write ``sim``'s state (between two episodes) into ``folder``; ``meta`` (plain JSON) is kept beside it.
+
+    Parameters
+    ----------
+    sim : neurocur.scheduler.Simulator
+        The simulator, between two episodes.
+    folder : path
+        The state folder to write (replaced atomically, :func:`~.stateio.write_state`).
+    meta : mapping, optional
+        Plain JSON kept beside the state (the run's identity and :func:`provenance`); the
+        simulator's ``n_frames`` and ``n_episodes`` are added to it.
+
+    Returns
+    -------
+    path
+        The folder written.
+    """
     return save_state(folder, _roots(sim), {**(meta or {}), "n_frames": sim.n_frames, "n_episodes": sim.n_episodes})
 
 
@@ -82,7 +98,28 @@ def restore_simulator(sim, folder, expected: Mapping | None = None) -> dict:
     (:func:`~.stateio.read_state`: digests, declared arrays, no link), the simulator's counters
     (non-negative integers, as its ``meta`` and its recorder say) and each key of ``expected``
     against the saved ``meta`` (``code``: a list of the code fingerprints it may have been
-    saved by). A StateError of one line names the file and what did not match."""
+    saved by). A StateError of one line names the file and what did not match.
+
+    Parameters
+    ----------
+    sim : neurocur.scheduler.Simulator
+        A simulator freshly built for the run's circuit, world and seed; set only when every check passes.
+    folder : path
+        The state folder (a checkpoint or a saved agent).
+    expected : mapping, optional
+        Keys the saved ``meta`` must hold with these values (``code``: a fingerprint or a list of
+        them, compared with :func:`~.fingerprint.same_code`); None checks none.
+
+    Returns
+    -------
+    dict
+        The saved ``meta``.
+
+    Raises
+    ------
+    StateError
+        When the state fails a check, naming the file and the key.
+    """
     roots = _roots(sim)
     where = Path(folder) / STATE
 
@@ -147,7 +184,21 @@ def _short(value) -> str:
 
 def params_digest(config: Mapping | None, condition: str) -> str | None:
     """The sha256 of what determines the runs of ``condition`` besides seed and steps, as the folder's
-    ``config.toml`` (``config``) records it (:data:`PARAMS`); None without a record."""
+    ``config.toml`` (``config``) records it (:data:`PARAMS`); None without a record.
+
+    Parameters
+    ----------
+    config : mapping or None
+        The results folder's ``config.toml`` as read.
+    condition : str
+        The condition's name.
+
+    Returns
+    -------
+    str or None
+        The hex sha256 of the condition's ``world``, ``resolved_circuit`` and ``inputs`` (portable
+        paths, canonical JSON); None when ``config`` has no record of the condition.
+    """
     record = ((config or {}).get("conditions") or {}).get(condition)
     if not isinstance(record, Mapping):
         return None
@@ -158,26 +209,83 @@ def params_digest(config: Mapping | None, condition: str) -> str | None:
 def provenance(config: Mapping | None, condition: str) -> dict:
     """What a checkpoint or saved agent of ``condition`` records beside its run's condition, number, seed
     and steps: ``params`` (:func:`params_digest` of the folder's ``config.toml``) and ``code`` (the
-    running code's fingerprint, :func:`~.fingerprint.code_fingerprint`)."""
+    running code's fingerprint, :func:`~.fingerprint.code_fingerprint`).
+
+    Parameters
+    ----------
+    config : mapping or None
+        The results folder's ``config.toml`` as read.
+    condition : str
+        The condition's name.
+
+    Returns
+    -------
+    dict
+        ``{"params": ..., "code": ...}``.
+    """
     return {"params": params_digest(config, condition), "code": code_fingerprint()}
 
 
 def agent_state(sim, meta: Mapping | None = None) -> tuple[dict, dict]:
     """A finished run's simulator as ``(body, arrays)`` (:func:`~.statefile.encode_state`), which
-    the results store writes as the run's ``agent/`` folder."""
+    the results store writes as the run's ``agent/`` folder.
+
+    Parameters
+    ----------
+    sim : neurocur.scheduler.Simulator
+        The simulator of a finished run.
+    meta : mapping, optional
+        Plain JSON kept with the state (the run's identity); the simulator's ``n_frames`` and
+        ``n_episodes`` are added to it.
+
+    Returns
+    -------
+    (dict, dict)
+        The state's JSON body and its arrays by name.
+    """
     return encode_state(_roots(sim), {**(meta or {}), "n_frames": sim.n_frames, "n_episodes": sim.n_episodes})
 
 
 def write_agent(folder: Path, agent: tuple, config: Mapping | None, condition: str) -> Path:
     """Write a run's agent (:func:`agent_state`) into ``folder``, its ``meta`` completed with the run's
-    :func:`provenance` (the results folder's ``config``)."""
+    :func:`provenance` (the results folder's ``config``).
+
+    Parameters
+    ----------
+    folder : path
+        The agent's folder (``agent/`` of the run folder being written).
+    agent : tuple
+        ``(body, arrays)`` as :func:`agent_state` returned them.
+    config : mapping or None
+        The results folder's ``config.toml`` as read.
+    condition : str
+        The run's condition.
+
+    Returns
+    -------
+    path
+        The folder written.
+    """
     body, arrays = agent
     return write_state(folder, {**body, "meta": {**body["meta"], **provenance(config, condition)}}, arrays)
 
 
 def checkpoint_every(steps: int, every: int | None = None) -> int:
     """Episodes between two checkpoints of a run of ``steps`` frames: ``every`` when given (0: none),
-    else :data:`CHECKPOINT_EPISODES` for runs of at least :data:`CHECKPOINT_FROM_STEPS` frames and 0 below."""
+    else :data:`CHECKPOINT_EPISODES` for runs of at least :data:`CHECKPOINT_FROM_STEPS` frames and 0 below.
+
+    Parameters
+    ----------
+    steps : int
+        The run's length in frames.
+    every : int, optional
+        The interval asked for, in episodes (negative counts as 0); None: the default.
+
+    Returns
+    -------
+    int
+        The interval in episodes; 0: no checkpoints.
+    """
     if every is not None:
         return max(0, int(every))
     return CHECKPOINT_EPISODES if steps >= CHECKPOINT_FROM_STEPS else 0
@@ -200,7 +308,13 @@ def remove_empty(top: Path) -> None:
 def discard(folder: Path) -> None:
     """Remove the checkpoint ``folder`` and the temporary folders a killed save left beside it
     (:func:`~.stateio.debris`); a link in its place is removed, never followed, and nothing is
-    removed when a folder above it is not a real folder."""
+    removed when a folder above it is not a real folder.
+
+    Parameters
+    ----------
+    folder : path
+        The checkpoint folder ``OUT/checkpoints/<condition>/run-<NNN>``.
+    """
     try:
         if not (real_dir(folder.parent.parent) and real_dir(folder.parent)):
             return
@@ -219,7 +333,19 @@ class Checkpoints:
     checkpoint and must match on resume: a checkpoint of another run, of other parameters or of
     other code is never continued. ``required``: the checkpoints (or the agent) were asked for,
     so a simulator whose state the walker cannot save (e.g. a world holding a Python function) is
-    an error when the run starts; otherwise (checkpoints on by default) the run goes on without them."""
+    an error when the run starts; otherwise (checkpoints on by default) the run goes on without them.
+
+    Parameters
+    ----------
+    folder : path
+        The run's checkpoint folder ``OUT/checkpoints/<condition>/run-<NNN>``.
+    every : int
+        Episodes between two saves (:func:`checkpoint_every`); 0 saves none.
+    meta : mapping
+        What each checkpoint records and a resume must find again (see above).
+    required : bool
+        True: a simulator whose state cannot be saved is an error (see above).
+    """
 
     def __init__(self, folder, every: int, meta: Mapping, *, required: bool = False):
         self.folder = Path(folder)

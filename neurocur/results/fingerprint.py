@@ -40,7 +40,18 @@ NOT_RUN_CODE = ("analysis", "rl")
 
 
 def file_hashes(paths: Iterable[str]) -> dict[str, str]:
-    """The sha256 (hex) of each path that is a file, by path; other paths are left out."""
+    """The sha256 (hex) of each path that is a file, by path; other paths are left out.
+
+    Parameters
+    ----------
+    paths : iterable of str
+        The input file paths (each hashed once; a folder or a missing path is left out).
+
+    Returns
+    -------
+    dict of str to str
+        The hex sha256 of each file's content, by path as given.
+    """
     return {str(p): _sha256(Path(p)) for p in dict.fromkeys(paths) if Path(p).is_file()}
 
 
@@ -53,7 +64,20 @@ def _sha256(path: Path) -> str:
 
 
 def changed_input(old: Mapping[str, str], new: Mapping[str, str]) -> str | None:
-    """A description of the first file recorded in both ``old`` and ``new`` whose hash differs."""
+    """A description of the first file recorded in both ``old`` and ``new`` whose hash differs.
+
+    Parameters
+    ----------
+    old : mapping of str to str
+        The hashes the folder recorded (:func:`file_hashes`), by path.
+    new : mapping of str to str
+        The hashes of the experiment to resume, by path.
+
+    Returns
+    -------
+    str or None
+        The path with both hashes' first 12 digits; None when no file recorded in both changed.
+    """
     for path, digest in new.items():
         if path in old and old[path] != digest:
             return f"input file {path} changed since this folder's runs were computed (sha256 {old[path][:12]} then, " \
@@ -100,7 +124,18 @@ def plugin_fingerprints() -> list[dict]:
 
 def portable(tree):
     """``tree`` with every string (and key) naming a path inside the package written relative to it,
-    ``<neurocur>/...``."""
+    ``<neurocur>/...``.
+
+    Parameters
+    ----------
+    tree : object
+        A plain-data tree (mappings and lists are walked; other values are kept).
+
+    Returns
+    -------
+    object
+        The tree rewritten (a new tree; ``tree`` is left as it is).
+    """
     prefix = str(PACKAGE) + "/"
     if isinstance(tree, Mapping):
         return {portable(k): portable(v) for k, v in tree.items()}
@@ -112,7 +147,18 @@ def portable(tree):
 
 
 def local_path(text: str) -> Path:
-    """The path that a :func:`portable` string names in the running package (other paths as they are)."""
+    """The path that a :func:`portable` string names in the running package (other paths as they are).
+
+    Parameters
+    ----------
+    text : str
+        A path as ``config.toml`` records it.
+
+    Returns
+    -------
+    path
+        The path in this installation.
+    """
     return PACKAGE / text.removeprefix("<neurocur>/") if text.startswith("<neurocur>/") else Path(text)
 
 
@@ -134,13 +180,38 @@ def _package_fingerprint() -> dict:
 
 
 def same_code(a: Mapping, b: Mapping) -> bool:
-    """Whether two code fingerprints describe the same code (version, source hash and plug-ins)."""
+    """Whether two code fingerprints describe the same code (version, source hash and plug-ins).
+
+    Parameters
+    ----------
+    a, b : mapping
+        Two code fingerprints (:func:`code_fingerprint`); the commit and ``dirty`` are not compared.
+
+    Returns
+    -------
+    bool
+        True when version, source hash and plug-ins agree.
+    """
     return (a.get("version"), a.get("source"), a.get("plugins", [])) == \
         (b.get("version"), b.get("source"), b.get("plugins", []))
 
 
 def code_changed(recorded: list, current: Mapping) -> str | None:
-    """A description of the change when ``current`` matches none of the ``recorded`` fingerprints."""
+    """A description of the change when ``current`` matches none of the ``recorded`` fingerprints.
+
+    Parameters
+    ----------
+    recorded : list
+        The fingerprints a folder's ``config.toml`` records (``code``); entries that are not tables match nothing.
+    current : mapping
+        The running code's fingerprint.
+
+    Returns
+    -------
+    str or None
+        The last recorded and the current code ([`describe_code`][neurocur.results.fingerprint.describe_code]);
+        None when ``current`` is the same code as one recorded ([`same_code`][neurocur.results.fingerprint.same_code]).
+    """
     if any(same_code(old, current) for old in recorded if isinstance(old, Mapping)):
         return None
     then = describe_code(recorded[-1]) if recorded else "a neurocur that recorded no code fingerprint"

@@ -22,10 +22,11 @@ from pathlib import Path
 
 from .agents import AGENT
 from .errors import ResultsError
+from .names import check_folder_name
 from .safeio import UnsafePath, open_real_dir, read_own
 
-__all__ = ["RUN_INFO", "agent_digests", "check_run_info", "digests", "file_digests", "read_run_info", "run_folder_name", "run_number", "run_spawn_key", "scan_runs", "seed_json",
-           "seeds_record"]
+__all__ = ["RUN_INFO", "agent_digests", "check_run_info", "digests", "file_digests", "read_run_info", "run_folder_name",
+           "run_number", "run_path", "run_spawn_key", "scan_runs", "seed_json", "seeds_record"]
 
 _RUN = re.compile(r"run-(\d{3,})")
 #: the run's summary file in its folder
@@ -33,7 +34,18 @@ RUN_INFO = "run.json"
 
 
 def read_run_info(folder) -> dict:
-    """The ``run.json`` of a run folder (a JSON object; ResultsError otherwise)."""
+    """The ``run.json`` of a run folder (a JSON object; ResultsError otherwise).
+
+    Parameters
+    ----------
+    folder : path
+        The run folder.
+
+    Returns
+    -------
+    dict
+        Its ``run.json``.
+    """
     path = Path(folder) / RUN_INFO
     try:
         info = json.loads(path.read_text(encoding="utf-8"))
@@ -50,38 +62,133 @@ SPAWN_KEY_RULE = "[run]"
 
 def seeds_record(entropy: int) -> dict:
     """The ``seeds`` table of ``config.toml``: run i of every condition uses
-    ``SeedSequence(entropy, spawn_key=(i,))``; written in constant size, however many runs."""
+    ``SeedSequence(entropy, spawn_key=(i,))``; written in constant size, however many runs.
+
+    Parameters
+    ----------
+    entropy : int
+        The experiment's seed (``SeedSequence.entropy``).
+
+    Returns
+    -------
+    dict
+        ``{"entropy": entropy, "spawn_key": "[run]"}``.
+    """
     return {"entropy": entropy, "spawn_key": SPAWN_KEY_RULE}
 
 
 def seed_json(seed) -> dict:
-    """A run's ``SeedSequence`` as its ``run.json`` (and a checkpoint or saved agent) records it."""
+    """A run's ``SeedSequence`` as its ``run.json`` (and a checkpoint or saved agent) records it.
+
+    Parameters
+    ----------
+    seed : numpy.random.SeedSequence
+        The run's seed.
+
+    Returns
+    -------
+    dict
+        ``{"entropy": ..., "spawn_key": [...]}``.
+    """
     return {"entropy": seed.entropy, "spawn_key": list(seed.spawn_key)}
 
 
 def run_spawn_key(seeds: Mapping, run: int) -> list:
     """The spawn key of run ``run`` as a ``seeds`` table records it (a folder written before the rule
-    lists every run's key as ``spawn_keys``)."""
+    lists every run's key as ``spawn_keys``).
+
+    Parameters
+    ----------
+    seeds : mapping
+        The ``seeds`` table of a folder's ``config.toml``.
+    run : int
+        The run's index.
+
+    Returns
+    -------
+    list
+        ``[run]``, or the key listed for the run in ``spawn_keys``.
+    """
     keys = seeds.get("spawn_keys")
     return list(keys[run]) if isinstance(keys, list) and run < len(keys) else [run]
 
 
 def run_folder_name(run: int) -> str:
-    """``run-007``: the one spelling of run 7's folder."""
+    """``run-007``: the one spelling of run 7's folder.
+
+    Parameters
+    ----------
+    run : int
+        The run's index (zero-padded to three digits; more digits above 999).
+
+    Returns
+    -------
+    str
+        The folder's name.
+    """
     return f"run-{run:03d}"
 
 
 def run_number(name: str) -> int | None:
-    """The run number of a canonically spelled run folder name, else None."""
+    """The run number of a canonically spelled run folder name, else None.
+
+    Parameters
+    ----------
+    name : str
+        A folder's name.
+
+    Returns
+    -------
+    int or None
+        The run's index when ``name`` is exactly [`run_folder_name`][neurocur.results.runinfo.run_folder_name] of it.
+    """
     match = _RUN.fullmatch(name)
     if match is None or run_folder_name(int(match.group(1))) != name:
         return None
     return int(match.group(1))
 
 
+def run_path(runs: Path, condition: str, run: int) -> Path:
+    """``runs/<condition>/run-<NNN>``: where run ``run`` of ``condition`` lives.
+
+    Parameters
+    ----------
+    runs : path
+        The ``runs/`` folder of a results folder.
+    condition : str
+        The condition's name.
+    run : int
+        The run's index.
+
+    Returns
+    -------
+    path
+        The run's folder.
+
+    Raises
+    ------
+    ConfigError
+        When ``condition`` is no folder name ([`check_folder_name`][neurocur.results.names.check_folder_name]).
+    """
+    check_folder_name(condition, runs, "condition")
+    return runs / condition / run_folder_name(run)
+
+
 def scan_runs(runs: Path) -> list[Path]:
     """Every run folder ``runs/<condition>/run-<NNN>``, sorted; ResultsError for an entry of
-    ``runs/`` or of a condition folder that is a link, or a ``run-*`` entry spelled otherwise."""
+    ``runs/`` or of a condition folder that is a link, or a ``run-*`` entry spelled otherwise.
+
+    Parameters
+    ----------
+    runs : path
+        The ``runs/`` folder of a results folder (no such folder: an empty list).
+
+    Returns
+    -------
+    list of path
+        The run folders, by condition then run name; entries of a condition folder not starting
+        with ``run-`` are skipped.
+    """
     if not runs.is_dir():
         return []
     found = []
@@ -102,7 +209,18 @@ def scan_runs(runs: Path) -> list[Path]:
 
 
 def digests(folder: Path) -> dict[str, str]:
-    """The sha256 of each table (``*.parquet``) of a run folder, by file name."""
+    """The sha256 of each table (``*.parquet``) of a run folder, by file name.
+
+    Parameters
+    ----------
+    folder : path
+        The run folder.
+
+    Returns
+    -------
+    dict of str to str
+        The hex sha256 of each table, by file name, sorted.
+    """
     found = {}
     for path in sorted(Path(folder).glob("*.parquet")):
         h = hashlib.sha256()
@@ -115,7 +233,18 @@ def digests(folder: Path) -> dict[str, str]:
 
 def agent_digests(folder: Path) -> dict[str, str]:
     """The sha256 of each file of a run folder's saved agent (``agent/``), by name; empty without one.
-    ResultsError for a link in the agent's place or in it (never followed)."""
+    ResultsError for a link in the agent's place or in it (never followed).
+
+    Parameters
+    ----------
+    folder : path
+        The run folder.
+
+    Returns
+    -------
+    dict of str to str
+        The hex sha256 of each file of ``agent/``, by name, sorted.
+    """
     agent = Path(folder) / AGENT
     try:
         fd = open_real_dir(agent)
@@ -132,7 +261,18 @@ def agent_digests(folder: Path) -> dict[str, str]:
 
 def file_digests(folder: Path) -> dict:
     """What ``run.json`` records of a run folder's files: ``tables`` (:func:`digests`) and, when it
-    keeps a saved agent, ``agent`` (:func:`agent_digests`)."""
+    keeps a saved agent, ``agent`` (:func:`agent_digests`).
+
+    Parameters
+    ----------
+    folder : path
+        The run folder (or the temporary folder it is written in).
+
+    Returns
+    -------
+    dict
+        ``{"tables": ..., "agent": ...}``, without ``agent`` when it keeps none.
+    """
     agent = agent_digests(folder)
     return {"tables": digests(folder), **({"agent": agent} if agent else {})}
 
@@ -145,7 +285,32 @@ def check_run_info(folder: Path, info: Mapping, condition: str, run: int, config
     without a proper ``condition`` or ``run``, and, when the folder's ``config.toml`` is given
     and was written by the store (it records ``code``), for a seed, steps or tables digest
     that is missing or disagrees (the digest may be missing in a folder written before run.json
-    recorded it)."""
+    recorded it).
+
+    Parameters
+    ----------
+    folder : path
+        The run folder.
+    info : mapping
+        Its ``run.json`` as read ([`read_run_info`][neurocur.results.runinfo.read_run_info]).
+    condition : str
+        The condition its path names.
+    run : int
+        The run its path names.
+    config : mapping or None
+        The results folder's ``config.toml`` as read; None (or one without ``code``) checks only the
+        condition and run.
+
+    Returns
+    -------
+    tuple or None
+        ``(condition, run)`` as ``run.json`` says when they differ from the path, else None.
+
+    Raises
+    ------
+    ResultsError
+        For a ``run.json`` that fails a check, naming the file and the key.
+    """
     where = Path(folder) / "run.json"
     said_condition, said_run = info.get("condition"), info.get("run")
     if not isinstance(said_condition, str):

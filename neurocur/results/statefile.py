@@ -52,13 +52,51 @@ __all__ = ["FORMAT", "VERSION", "StateError", "encode_state", "load_state", "sav
 
 def save_state(folder, roots: Mapping[str, object], meta: Mapping | None = None) -> Path:
     """Write the attributes of each root of ``roots`` (and ``meta``, plain JSON) into ``folder``,
-    atomically (:func:`~.stateio.write_state`); returns ``folder``."""
+    atomically (:func:`~.stateio.write_state`); returns ``folder``.
+
+    Parameters
+    ----------
+    folder : path
+        The state folder to write; an existing one is replaced.
+    roots : mapping of str to object
+        The objects whose attributes are saved, by name (what the walker takes: see above).
+    meta : mapping, optional
+        Plain JSON kept as ``state.json``'s ``meta``.
+
+    Returns
+    -------
+    path
+        ``folder``.
+
+    Raises
+    ------
+    StateError
+        For an object the walker does not take, naming its path and type.
+    """
     return write_state(folder, *encode_state(roots, meta))
 
 
 def encode_state(roots: Mapping[str, object], meta: Mapping | None = None) -> tuple[dict, dict[str, np.ndarray]]:
     """``(body, arrays)``: the state of ``roots`` as :func:`~.stateio.write_state` writes it (``state.json``'s
-    content and the arrays by key), copied out of the live objects."""
+    content and the arrays by key), copied out of the live objects.
+
+    Parameters
+    ----------
+    roots : mapping of str to object
+        The objects whose attributes are encoded, by name.
+    meta : mapping, optional
+        Plain JSON kept as the body's ``meta``.
+
+    Returns
+    -------
+    (dict, dict)
+        ``state.json``'s content (without ``arrays`` and ``sha256``) and the arrays by key.
+
+    Raises
+    ------
+    StateError
+        For an object the walker does not take, naming its path and type.
+    """
     encoder = _Encoder(roots)
     body = {"format": FORMAT, "version": VERSION, "meta": dict(meta or {}),
             "roots": {name: encoder.attributes(obj, name) for name, obj in roots.items()}}
@@ -73,7 +111,28 @@ Check = Callable[[dict, dict[str, dict]], None]
 def load_state(folder, roots: Mapping[str, object], check: Check | None = None) -> dict:
     """Restore, in place, the attributes of each root of ``roots`` from ``folder`` (written by
     :func:`save_state` for roots of the same names) once the state has passed every check
-    (:func:`~.stateio.read_state`'s, the roots' kinds, ``check``); returns the saved ``meta``."""
+    (:func:`~.stateio.read_state`'s, the roots' kinds, ``check``); returns the saved ``meta``.
+
+    Parameters
+    ----------
+    folder : path
+        The state folder.
+    roots : mapping of str to object
+        Freshly built objects of the same names as those saved; set only when every check passes.
+    check : callable, optional
+        ``check(meta, staged)``: the caller's checks before anything is set (``staged``: each root's
+        decoded attributes by name); it raises StateError to refuse the state.
+
+    Returns
+    -------
+    dict
+        The saved ``meta``.
+
+    Raises
+    ------
+    StateError
+        When a check fails, naming the file and what did not match.
+    """
     folder = Path(folder)
     body, arrays = read_state(folder)
     missing = set(body["roots"]) ^ set(roots)

@@ -39,7 +39,10 @@ __all__ = ["ARRAYS", "FORMAT", "STATE", "VERSION", "StateError", "debris", "read
 FORMAT = "neurocur-state"
 #: 2: ``state.json`` declares its arrays and carries the digests (version 1 did neither)
 VERSION = 2
-STATE, ARRAYS = "state.json", "arrays.npz"
+#: the state folder's JSON file (body, digests)
+STATE = "state.json"
+#: the state folder's arrays
+ARRAYS = "arrays.npz"
 _DEBRIS = re.compile(r"\.(.+)\.\d+\.(?:tmp|old)")
 
 
@@ -49,7 +52,22 @@ class StateError(ValueError):
 
 def write_state(folder, body: Mapping, arrays: Mapping[str, np.ndarray]) -> Path:
     """Write a state (``body``: ``state.json``'s content without ``arrays`` and ``sha256``, which are
-    added here) into ``folder`` atomically; returns ``folder``."""
+    added here) into ``folder`` atomically; returns ``folder``.
+
+    Parameters
+    ----------
+    folder : path
+        The state folder; an existing one (or a link in its place) is moved aside and removed, never followed.
+    body : mapping
+        ``state.json``'s content without ``arrays`` and ``sha256``.
+    arrays : mapping of str to numpy.ndarray
+        The arrays by key, written as ``arrays.npz``.
+
+    Returns
+    -------
+    path
+        ``folder``.
+    """
     folder = Path(folder)
     arrays = {key: np.asarray(value) for key, value in arrays.items()}
     buffer = io.BytesIO()
@@ -79,7 +97,20 @@ def write_state(folder, body: Mapping, arrays: Mapping[str, np.ndarray]) -> Path
 def debris(parent: Path, name: str | None = None) -> list[Path]:
     """The temporary folders that :func:`write_state` leaves in ``parent`` when its process is killed
     while it writes the state folder ``name`` (any name when None): ``.<name>.<pid>.tmp`` and
-    ``.<name>.<pid>.old``."""
+    ``.<name>.<pid>.old``.
+
+    Parameters
+    ----------
+    parent : path
+        The folder holding state folders (empty list when it is a link or no folder).
+    name : str, optional
+        The state folder's name; None: any.
+
+    Returns
+    -------
+    list of path
+        The temporary folders, sorted.
+    """
     if parent.is_symlink() or not parent.is_dir():
         return []
     found = (_DEBRIS.fullmatch(p.name) for p in parent.iterdir())
@@ -88,7 +119,23 @@ def debris(parent: Path, name: str | None = None) -> list[Path]:
 
 def read_state(folder) -> tuple[dict, dict[str, np.ndarray]]:
     """``(body, arrays)`` of the state folder ``folder``, every check of the module docstring passed
-    (``body`` without its ``sha256``)."""
+    (``body`` without its ``sha256``).
+
+    Parameters
+    ----------
+    folder : path
+        The state folder.
+
+    Returns
+    -------
+    (dict, dict)
+        ``state.json``'s content without ``sha256``, and the arrays by key.
+
+    Raises
+    ------
+    StateError
+        When a check fails, naming the file and what did not match.
+    """
     folder = Path(folder)
     try:
         fd = open_real_dir(folder)

@@ -13,13 +13,9 @@ Layout::
     OUT/checkpoints/<condition>/run-<NNN>/         the last checkpoint of a run in progress (:mod:`.agents`)
     OUT/.lock                                      while a process writes (:mod:`.lock`)
 
-**The folder is the truth.** A run's condition and number are those of its path; the
-``condition`` and ``run`` of its ``run.json`` and of its tables must agree, else reading
-(and resuming) fails naming the folder, what its files say and, when the same run also
-exists under its own name, both paths (a copied or renamed folder). A run folder is spelled
-``run-<NNN>`` and is a real folder, and its ``run.json`` agrees with ``config.toml`` (seed,
-steps) and with its tables (sha256) (:mod:`.runinfo`); a folder with runs but no
-``config.toml`` is refused. Nothing is written through a link the store did not make, nor
+**The folder is the truth** (:mod:`.reading`): a run's condition and number are those of its
+path, and a run folder whose ``run.json`` or tables say otherwise is refused, as is a folder with
+runs but no ``config.toml``. Nothing is written through a link the store did not make, nor
 outside the folder (:mod:`.safeio`, :mod:`.names`).
 
 **Writing.** A process writes only while it holds the folder's lock
@@ -56,24 +52,23 @@ import pandas as pd
 from neurocur.config import ConfigError
 
 from .agents import AGENT, Checkpoints, discard, provenance, remove_empty, write_agent
-from .configfile import comparable, lookup, read_config
+from .configfile import CONFIG, comparable, folder_config, lookup
 from .errors import ResultsError
 from .fingerprint import changed_input, code_changed, code_fingerprint, file_hashes, portable
 from .lock import FolderLock, locked
 from .names import check_folder_name
-from .runinfo import RUN_INFO, check_run_info, file_digests, read_run_info, run_folder_name, run_number, scan_runs
+from .reading import check_run_folder, join_runs, join_table, run_folders
+from .runinfo import RUN_INFO, file_digests, read_run_info, run_number, run_path, scan_runs
 from .safeio import atomic_text, own_dir
 from .tomlio import difference_path, dotted, dumps_toml
 
 __all__ = ["ResultsError", "ResultsStore", "RunResult", "load", "run_dirs"]
 
-CONFIG = "config.toml"
 SUMMARY = "summary.json"
 PARTIAL = ".partial"
 #: the manifest a fit's output folder carries (:mod:`neurocur.fit.outdir`), which runs must not mix with
 FIT_MANIFEST = "manifest.json"
 CHECKPOINTS = "checkpoints"
-RUN_TABLES = ("episodes", "modules")
 _HEADER = """Resolved experiment written by neurocur; do not edit (resuming into this folder compares it).
 Seeds: run i of every condition uses numpy SeedSequence(seeds.entropy, spawn_key=[i]);
 each region's generator is that seed's child keyed by the region's name, the world's its child keyed by 'world'.
@@ -133,8 +128,7 @@ class ResultsStore:
     def run_dir(self, condition: str, run: int) -> Path:
         """Folder of run ``run`` of ``condition`` (a ConfigError for a name that is no folder name:
         :func:`~neurocur.results.names.check_folder_name`)."""
-        check_folder_name(condition, self.root / "runs", "condition")
-        return self.root / "runs" / condition / run_folder_name(run)
+        return run_path(self.root / "runs", condition, run)
 
     def completed(self, conditions: Iterable[str], runs: int) -> set[tuple[str, int]]:
         """The (condition, run) pairs already written (complete run folders).
@@ -146,7 +140,7 @@ class ResultsStore:
         found = set()
         for path in self._scan():
             if (path / RUN_INFO).is_file():
-                self._check_info(path, config)
+                check_run_folder(path, config)
                 found.add((path.parent.name, run_number(path.name)))
         wanted = set(conditions)
         return {(c, i) for c, i in found if c in wanted and i < runs}
@@ -168,10 +162,7 @@ class ResultsStore:
 
     def config(self) -> dict | None:
         """The folder's resolved experiment (``config.toml``), or None when there is none yet."""
-        path = self.root / CONFIG
-        if not path.is_file():
-            return None
-        return read_config(path)
+        return folder_config(self.root)
 
     def check(self, config: Mapping, *, inputs: Mapping[str, Iterable[str]] | None = None,
               accept_code_change: bool = False) -> dict | None:
@@ -310,37 +301,10 @@ class ResultsStore:
     # ------------------------------------------------------------------ reading
 
     def run_dirs(self) -> list[Path]:
-        """The run folders ``runs/<condition>/run-<NNN>``, sorted.
-
-        Raises ValueError when the folder is not a results folder (no ``runs/`` folder, no
-        run folder in it, or a run folder without its Parquet tables), and ResultsError for
-        a folder without its ``config.toml``, a run folder spelled otherwise than
-        ``run-<NNN>`` or that is a link, without its ``run.json``, or whose ``run.json``
-        names another condition or run than its path, or disagrees with ``config.toml``
-        (:func:`~neurocur.results.runinfo.check_run_info`).
-        """
-        root, runs = self.root, self.root / "runs"
-        if not root.is_dir():
-            raise ValueError(f"results folder {root} does not exist or is not a directory")
-        if not runs.is_dir():
-            raise ValueError(f"{root} is not a results folder: expected a 'runs/' folder holding "
-                             "runs/<condition>/run-<NNN>/episodes.parquet (write one with 'neurocur run')")
-        found = self._scan()
-        if not found:
-            raise ValueError(f"{root} is not a results folder: 'runs/' holds no run folder runs/<condition>/run-<NNN>/")
-        config = self.config()
-        for path in found:
-            missing = [f"{name}.parquet" for name in RUN_TABLES if not (path / f"{name}.parquet").is_file()]
-            if missing:
-                raise ValueError(f"run folder {path} lacks {', '.join(missing)}")
-            if config is None:
-                raise ResultsError(f"{root} holds runs but no {CONFIG}, so nothing tells which experiment they "
-                                   f"belong to (a folder moved while it ran?); restore its {CONFIG}")
-            if not (path / RUN_INFO).is_file():
-                raise ResultsError(f"run folder {path} is incomplete: it lacks {RUN_INFO} "
-                                   "('neurocur run' into this folder computes it again)")
-            self._check_info(path, config)
-        return found
+        """The run folders ``runs/<condition>/run-<NNN>``, sorted, each checked against its path, its
+        ``run.json`` and ``config.toml`` (:func:`~neurocur.results.reading.run_folders`: ValueError when the
+        folder is not a results folder, ResultsError for a run folder that is not what its path says)."""
+        return run_folders(self.root)
 
     def _scan(self) -> list[Path]:
         return scan_runs(self.root / "runs")
@@ -350,66 +314,19 @@ class ResultsStore:
         return read_run_info(path)
 
     def load(self) -> tuple[pd.DataFrame, pd.DataFrame]:
-        """``(episodes, modules)``: every run of every condition, led by ``condition`` and ``run``.
+        """``(episodes, modules)``: every run of every condition, led by ``condition`` and ``run``
+        (:func:`~neurocur.results.reading.join_runs` of :meth:`run_dirs`).
 
         Sorted by condition, run and episode (modules: by condition, run and module rank);
         ``condition`` and ``run`` are taken from the folder names when a table lacks them,
         and must equal them when it has them (ResultsError otherwise).
         The modules' ``gates`` column is normalised to a (possibly empty) string.
         """
-        dirs = self.run_dirs()
-        episodes = pd.concat([self._read(p, "episodes") for p in dirs], ignore_index=True)
-        modules = [self._read(p, "modules") for p in dirs]
-        modules = pd.concat([m for m in modules if len(m)] or modules[:1], ignore_index=True)
-        if "gates" in modules:
-            modules["gates"] = modules["gates"].fillna("").astype(str)
-        episodes = episodes.sort_values(["condition", "run", "episode"], kind="stable")
-        modules = modules.sort_values(["condition", "run", "module"], kind="stable")
-        return episodes.reset_index(drop=True), modules.reset_index(drop=True)
+        return join_runs(self.run_dirs())
 
     def load_table(self, name: str, columns: Iterable[str] = ()) -> pd.DataFrame:
         """Every run's ``<name>.parquet`` as one table (empty, with ``columns``, when no run has one)."""
-        tables = [self._read(p, name) for p in self.run_dirs() if (p / f"{name}.parquet").is_file()]
-        tables = [t for t in tables if len(t)]
-        if not tables:
-            return pd.DataFrame(columns=list(columns))
-        return pd.concat(tables, ignore_index=True)
-
-    def _read(self, run_folder: Path, name: str) -> pd.DataFrame:
-        """A run's table, its ``condition`` and ``run`` checked against (or taken from) the folder."""
-        table = pd.read_parquet(run_folder / f"{name}.parquet")
-        condition, run = run_folder.parent.name, _run_number(run_folder)
-        said = {}
-        for position, (column, value) in enumerate((("condition", condition), ("run", run))):
-            if column not in table:
-                table.insert(position, column, value)
-            elif len(table):
-                values = [v.item() if hasattr(v, "item") else v for v in table[column].unique()]
-                said[column] = values[0] if len(values) == 1 else ", ".join(map(str, values))
-        if said and (said.get("condition", condition), said.get("run", run)) != (condition, run):
-            raise self._mismatch(run_folder, f"{name}.parquet", said.get("condition", condition), said.get("run", run))
-        return table
-
-    def _check_info(self, run_folder: Path, config: Mapping | None) -> None:
-        """ResultsError when the ``run.json`` of ``run_folder`` names another condition or run than its
-        path, or disagrees with ``config`` (:func:`~neurocur.results.runinfo.check_run_info`)."""
-        said = check_run_info(run_folder, self.run_info(run_folder), run_folder.parent.name,
-                              _run_number(run_folder), config)
-        if said is not None:
-            raise self._mismatch(run_folder, RUN_INFO, *said)
-
-    def _mismatch(self, run_folder: Path, file: str, condition, run) -> ResultsError:
-        text = (f"run folder {run_folder} holds run {run} of condition {condition!r} by its {file}, not run "
-                f"{_run_number(run_folder)} of {run_folder.parent.name!r} as its path says (a copied or renamed folder?)")
-        try:
-            own = self.run_dir(str(condition), run) if isinstance(run, int) and not isinstance(run, bool) else None
-        except ConfigError:  # its files name a condition that is no folder name
-            own = None
-        if own is not None and own != run_folder and (own / RUN_INFO).is_file():
-            return ResultsError(f"{text}; the same run is in {own}: remove one of the two folders")
-        if own is not None and own != run_folder:
-            return ResultsError(f"{text}; rename it to {own} or remove it")
-        return ResultsError(f"{text}; remove it")
+        return join_table(self.run_dirs(), name, columns)
 
 
 def run_dirs(results_dir) -> list[Path]:
@@ -442,10 +359,3 @@ def load(results_dir) -> tuple[pd.DataFrame, pd.DataFrame]:
         The episodes and modules tables of every run.
     """
     return ResultsStore(results_dir).load()
-
-
-def _run_number(run_folder: Path) -> int:
-    number = run_number(run_folder.name)
-    if number is None:
-        raise ResultsError(f"run folder {run_folder} is not named run-<NNN>")
-    return number

@@ -22,6 +22,23 @@ def dumps_toml(data: Mapping, *, header: str = "") -> str:
 
     Tables nested in lists are written as inline tables. ``tomllib.loads`` of the result
     equals ``data`` (tuples and Paths come back as lists and strings).
+
+    Parameters
+    ----------
+    data : mapping
+        The plain-data tree (numpy scalars and arrays are written as numbers and lists).
+    header : str
+        Text written first as ``#`` comment lines, one per line; empty: none.
+
+    Returns
+    -------
+    str
+        The TOML text, ending with a newline.
+
+    Raises
+    ------
+    TypeError
+        For a value of another type, naming it.
     """
     lines = [f"# {line}" if line else "#" for line in header.splitlines()]
     _write_table(lines, data, ())
@@ -69,14 +86,40 @@ def _value(value) -> str:
 
 
 def first_difference(old, new) -> str | None:
-    """The first dotted key at which two plain-data trees differ (None when equal)."""
+    """The first dotted key at which two plain-data trees differ (None when equal).
+
+    Parameters
+    ----------
+    old, new : object
+        The two trees (mappings, lists and scalars; NaN equals NaN).
+
+    Returns
+    -------
+    str or None
+        The dotted key ([`dotted`][neurocur.results.tomlio.dotted]) of
+        [`difference_path`][neurocur.results.tomlio.difference_path].
+    """
     path = difference_path(old, new)
     return None if path is None else dotted(path)
 
 
 def difference_path(old, new, prefix: tuple = ()) -> tuple | None:
     """The path (keys, and list indices as ints) of the first difference of two plain-data
-    trees; None when they are equal, ``()`` when they differ at the root."""
+    trees; None when they are equal, ``()`` when they differ at the root.
+
+    Parameters
+    ----------
+    old, new : object
+        The two trees (mappings, lists and scalars; NaN equals NaN; two lists of different lengths
+        differ as a whole, at their own path).
+    prefix : tuple
+        The path of ``old`` and ``new`` in the trees they belong to, prepended to the result.
+
+    Returns
+    -------
+    tuple or None
+        The path of the first difference, in the order of ``old``'s keys then ``new``'s.
+    """
     if isinstance(old, Mapping) and isinstance(new, Mapping):
         for key in list(dict.fromkeys([*old, *new])):
             if key not in old or key not in new:
@@ -96,7 +139,18 @@ def difference_path(old, new, prefix: tuple = ()) -> tuple | None:
 
 
 def dotted(path: tuple) -> str:
-    """A path as a dotted key (list indices as ``[i]``; ``"(root)"`` for the empty path)."""
+    """A path as a dotted key (list indices as ``[i]``; ``"(root)"`` for the empty path).
+
+    Parameters
+    ----------
+    path : tuple
+        Keys (str) and list indices (int), as [`difference_path`][neurocur.results.tomlio.difference_path] returns them.
+
+    Returns
+    -------
+    str
+        E.g. ``conditions.curious.world.contexts[2]``.
+    """
     text = ""
     for part in path:
         text += f"[{part}]" if isinstance(part, int) else (f".{part}" if text else str(part))

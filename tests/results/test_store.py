@@ -2,7 +2,6 @@
 inputs and code, runs that are never written half or twice."""
 
 import hashlib
-import json
 import shutil
 import signal
 import subprocess
@@ -35,39 +34,7 @@ def tables(out):
     return {p.relative_to(out): pd.read_parquet(p) for p in sorted(Path(out).glob("runs/*/*/*.parquet"))}
 
 
-# --- the folder is the truth ------------------------------------------------------------------
-
-def test_a_copied_condition_folder_is_refused_naming_both_paths(folder, capsys):
-    shutil.copytree(folder / "runs" / "curious", folder / "runs" / "curious_old")
-    with pytest.raises(ResultsError) as info:
-        load(folder)
-    text = str(info.value)
-    assert f"{folder / 'runs' / 'curious_old' / 'run-000'} holds run 0 of condition 'curious'" in text
-    assert f"the same run is in {folder / 'runs' / 'curious' / 'run-000'}" in text
-    assert main(["figures", str(folder)]) == 2  # no doubled figures either
-    err = capsys.readouterr().err
-    assert "copied or renamed" in err and err.count("\n") == 1
-
-
-def test_a_renamed_run_folder_is_refused_and_blocks_a_resume(folder):
-    (folder / "runs" / "curious" / "run-001").rename(folder / "runs" / "curious" / "run-005")
-    with pytest.raises(ResultsError, match=r"run-005 holds run 1 of condition 'curious' by its run.json.*"
-                                           r"rename it to .*run-001"):
-        load(folder)
-    before = tables(folder)
-    with pytest.raises(ResultsError, match="run-005 holds run 1"):  # refused before computing anything
-        run_experiment(tiny(), folder, jobs=1, conditions=["curious"], progress=False)
-    assert tables(folder).keys() == before.keys()
-
-
-def test_the_tables_must_agree_with_the_folder_too(folder):
-    copy = folder / "runs" / "other" / "run-000"
-    shutil.copytree(folder / "runs" / "curious" / "run-000", copy)
-    info = json.loads((copy / "run.json").read_text())
-    (copy / "run.json").write_text(json.dumps({**info, "condition": "other"}))  # run.json made to agree
-    with pytest.raises(ResultsError, match="other/run-000 holds run 0 of condition 'curious' by its episodes.parquet"):
-        load(folder)
-
+# --- runs written whole, once (the reading checks: test_reading.py) ---------------------------
 
 def test_a_run_without_its_run_json_is_computed_again(folder, written):
     (folder / "runs" / "curious" / "run-001" / "run.json").unlink()
