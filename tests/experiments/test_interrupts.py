@@ -47,11 +47,18 @@ def group(pgid: int) -> list[int]:
     return [pid for pid, (_, g) in processes().items() if g == pgid]
 
 
+def command_line(pid: int) -> bytes:
+    """The process's command line; empty once it has exited (a child may end between listing and reading)."""
+    try:
+        return Path(f"/proc/{pid}/cmdline").read_bytes()
+    except OSError:
+        return b""
+
+
 def workers(pid: int) -> list[int]:
     """The worker processes of the command ``pid``: the children of its fork server."""
     table = processes()
-    servers = [p for p, (parent, _) in table.items() if parent == pid
-               and b"forkserver" in Path(f"/proc/{p}/cmdline").read_bytes()]
+    servers = [p for p, (parent, _) in table.items() if parent == pid and b"forkserver" in command_line(p)]
     return [p for p, (parent, _) in table.items() if parent in servers]
 
 
