@@ -101,14 +101,14 @@ def parameter_recovery(sessions: Sequence[Session], maps: pd.DataFrame, model: s
     p_correct : array_like
         Each activity's chance of a correct answer (:func:`~neurocur.fit.ten2021_models.simulate_sessions`).
     **fit
-        :func:`~neurocur.fit.ten2021_models.fit_group`'s ``starts``, ``n_samples``, ``max_iter`` (the table
-        holds the maximum-likelihood fits, so ``ml`` stays true).
+        :func:`~neurocur.fit.ten2021_models.fit_group`'s ``starts``, ``n_samples``, ``max_iter`` and ``ml``
+        (``ml=False`` skips the per-participant fits and leaves the ``ml`` column empty).
 
     Returns
     -------
     pandas.DataFrame
         A row per fitted key and participant: the truth on the fitted scale (:func:`true_coefficients`), the
-        hierarchical MAP and the maximum-likelihood estimate.
+        hierarchical MAP and the maximum-likelihood estimate (NaN with ``ml=False``).
     """
     names = [s.name for s in sessions]
     coefs = coefficients(maps, names)
@@ -120,7 +120,7 @@ def parameter_recovery(sessions: Sequence[Session], maps: pd.DataFrame, model: s
     for key in model_bounds([model])[model]:
         j = FEATURES.index(KEYS[key])
         hier = found["maps"][found["maps"]["param"] == key].set_index("subject")["estimate"]
-        ml = found["ml"].set_index("subject")[key]
+        ml = found["ml"].set_index("subject")[key] if len(found["ml"]) else pd.Series(np.nan, index=names)
         rows += [{"subject": name, "param": key, "true": truth[i, j], "hierarchical": float(hier[name]),
                   "ml": float(ml[name])} for i, name in enumerate(names)]
     return pd.DataFrame(rows)

@@ -125,6 +125,10 @@ def test_parameter_recovery_on_simulated_sessions():
     summary = recovery_summary(table).iloc[0]
     assert summary["r_ml"] > 0.9 and summary["r_hierarchical"] > 0.9, summary
     assert summary["rmse_ml"] < 0.35 * table["true"].std(), summary
+    hierarchical_only = parameter_recovery(base, maps, "pc", seed=5, starts=1, n_samples=50, max_iter=20, ml=False)
+    assert hierarchical_only["ml"].isna().all()  # no per-participant fits: the column is empty, not an error
+    np.testing.assert_array_equal(hierarchical_only["hierarchical"], table["hierarchical"])
+    assert "r_ml" not in recovery_summary(hierarchical_only).columns
 
 
 def test_mastered_counts_13_of_the_last_15_of_a_learnable_activity():
