@@ -75,47 +75,55 @@ def fig_vigilance(episodes: pd.DataFrame, per_run: pd.DataFrame):
 
 def fig_conditioning(episodes: pd.DataFrame):
     """DA at the cue and at the reward's time over training trials (mean over runs; omitted trials
-    marked), the baseline, and the omission dip (Schultz et al. 1997, Fig. 1).
+    marked), the baseline, and the omission dip (Schultz et al. 1997, Fig. 1); a row per condition.
 
     Parameters
     ----------
     episodes : pandas.DataFrame
         The episodes table of a ``conditioning`` world (columns ``episode``, ``omitted``, ``da_cue``,
-        ``da_reward``, ``da_baseline``).
+        ``da_reward``, ``da_baseline``, and ``condition`` when it holds several).
 
     Returns
     -------
     matplotlib.figure.Figure
-        Two panels: DA over trials, and the three cases of their Fig. 1.
+        Per condition (rows), two panels: DA over trials, and the three cases of their Fig. 1.
     """
+    conditions = list(dict.fromkeys(episodes["condition"])) if "condition" in episodes else [None]
     with style():
-        fig, axes = figure(1, 2, figsize=(9.0, 3.6), gridspec_kw={"width_ratios": [2, 1]})
-        ax = axes[0, 0]
-        rewarded = episodes[~episodes["omitted"].astype(bool)]
-        for column, label in (("da_cue", "DA at the cue"), ("da_reward", "DA at the reward")):
-            mean = rewarded.groupby("episode")[column].mean()
-            ax.plot(mean.index, mean.to_numpy(), label=label)
-        omitted = episodes[episodes["omitted"].astype(bool)]
-        if len(omitted):
-            ax.plot(omitted["episode"], omitted["da_reward"], "v", ms=3, color="C3", label="reward omitted")
-        ax.axhline(float(episodes["da_baseline"].mean()), color="0.5", lw=0.8, ls="--", label="baseline")
-        ax.set_xlabel("trial")
-        ax.set_ylabel("DA = TD error (reward units)")
-        ax.set_title("DA moves from the reward to the cue")
-        ax.legend(fontsize=8)
-        ax = axes[0, 1]
-        late = episodes[episodes["episode"] >= episodes["episode"].max() * 0.6]
-        groups = {"early, rewarded": episodes[(episodes["episode"] < 10) & ~episodes["omitted"].astype(bool)],
-                  "late, rewarded": late[~late["omitted"].astype(bool)], "late, omitted": late[late["omitted"].astype(bool)]}
-        x = np.arange(len(groups))
-        for i, (column, label) in enumerate((("da_cue", "cue"), ("da_reward", "reward time"))):
-            ax.bar(x + (i - 0.5) * 0.35, [g[column].mean() if len(g) else np.nan for g in groups.values()],
-                   width=0.35, label=label)
-        ax.axhline(0.0, color="k", lw=0.8)
-        ax.set_xticks(x, list(groups), rotation=20, fontsize=8)
-        ax.set_title("the three panels of their Fig. 1")
-        ax.legend(fontsize=8)
+        fig, axes = figure(len(conditions), 2, figsize=(9.0, 3.6 * len(conditions)),
+                           gridspec_kw={"width_ratios": [2, 1]})
+        for row, condition in enumerate(conditions):
+            ep = episodes if condition is None else episodes[episodes["condition"] == condition]
+            named = "" if len(conditions) == 1 else f"{condition}: "
+            _conditioning_row(ep, axes[row, 0], axes[row, 1], named)
     return fig
+
+
+def _conditioning_row(episodes: pd.DataFrame, ax, bars, named: str) -> None:
+    """One condition's two panels of :func:`fig_conditioning`, titles led by ``named``."""
+    rewarded = episodes[~episodes["omitted"].astype(bool)]
+    for column, label in (("da_cue", "DA at the cue"), ("da_reward", "DA at the reward")):
+        mean = rewarded.groupby("episode")[column].mean()
+        ax.plot(mean.index, mean.to_numpy(), label=label)
+    omitted = episodes[episodes["omitted"].astype(bool)]
+    if len(omitted):
+        ax.plot(omitted["episode"], omitted["da_reward"], "v", ms=3, color="C3", label="reward omitted")
+    ax.axhline(float(episodes["da_baseline"].mean()), color="0.5", lw=0.8, ls="--", label="baseline")
+    ax.set_xlabel("trial")
+    ax.set_ylabel("DA = TD error (reward units)")
+    ax.set_title(f"{named}DA moves from the reward to the cue")
+    ax.legend(fontsize=8)
+    late = episodes[episodes["episode"] >= episodes["episode"].max() * 0.6]
+    groups = {"early, rewarded": episodes[(episodes["episode"] < 10) & ~episodes["omitted"].astype(bool)],
+              "late, rewarded": late[~late["omitted"].astype(bool)], "late, omitted": late[late["omitted"].astype(bool)]}
+    x = np.arange(len(groups))
+    for i, (column, label) in enumerate((("da_cue", "cue"), ("da_reward", "reward time"))):
+        bars.bar(x + (i - 0.5) * 0.35, [g[column].mean() if len(g) else np.nan for g in groups.values()],
+                 width=0.35, label=label)
+    bars.axhline(0.0, color="k", lw=0.8)
+    bars.set_xticks(x, list(groups), rotation=20, fontsize=8)
+    bars.set_title(f"{named}the three panels of their Fig. 1")
+    bars.legend(fontsize=8)
 
 
 def fig_blocks(episodes: pd.DataFrame, block_visits: int):
