@@ -89,6 +89,8 @@ def _documented_modules() -> set[str]:
 def _exported(module):
     """Each function or class named in ``module.__all__`` and defined in the package, with its module."""
     for name in module.exports or ():
+        assert str(name) in module.members, (f"{module.path}.__all__ names {name!r}, which the docs' reader does not "
+                                             "find in the module (bound by tuple unpacking? assign it on its own line)")
         obj = module.get_member(str(name))
         if obj.is_alias:
             try:
