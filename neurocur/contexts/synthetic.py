@@ -180,38 +180,38 @@ class SyntheticWorld(World):
 
     Parameters
     ----------
-    contexts:
+    contexts : sequence of str
         The source of each context, by name (default: the paper's
         ``("S-A", "S-A", "S-B", "S-C", "S-D")``). The built-in names are S-A, S-B, S-C
         (sinusoid pairs) and S-D (an isotropic random walk drawn per run); any other
         name must be a key of ``sources``.
-    sources:
+    sources : mapping, optional
         Declared driving forces ``{name: array (n_steps, n_dims)}``, rows are time,
         column :data:`~neurocur.contexts.sources.SLOW_DIM` the slow dimension (a name
         equal to a built-in replaces it), or ``{name: SourceParams or table}`` for files,
         sinusoid pairs, noise and re-sampled sources (:mod:`.user_sources`). All files
         and built-in sources shown must have the same ``n_steps``, which is the number of
         context-states; built-in sources have 1000.
-    visit_length:
+    visit_length : int
         Frames per visit (100 in the paper).
-    normalise:
+    normalise : str
         ``"global"`` or ``"image"`` (see the module docstring).
-    clock_offsets:
+    clock_offsets : str or sequence of int
         ``"random"``, ``"zero"`` or one start step per context.
-    frame_shape:
+    frame_shape : sequence of int
         The frame's (height, width); 20×20 in the paper.
-    context_names:
+    context_names : sequence of str, optional
         Defaults to ``C1``, ``C2``, ...
-    nonstationary:
+    nonstationary : bool
         Redraw random sources (S-D, and noise without a flag of its own) at every wrap of
         their clock (see the module docstring).
-    learnable:
+    learnable : sequence of str, optional
         The learnable sources in Ω order, for the analysis (:meth:`source_spec`); default:
         the built-in learnable sources shown, then the declared sources that are replayed
         (not noise, not re-sampled).
-    rewards:
+    rewards : sequence, optional
         Extrinsic reward per context, a number or a schedule each (:mod:`.rewards`).
-    params:
+    params : SyntheticParams, optional
         The world's parameters (an instance of its ``Params`` class, e.g. :class:`SyntheticParams`) instead
         of the keyword arguments (an experiment file's ``[world]`` table becomes one); the keyword
         arguments build one of that class and are checked by it too.
