@@ -218,9 +218,8 @@ def _figure_5(results, out: Path) -> dict:
         return {}
     from neurocur.analysis.figures.invariance import fig_invariance
     from neurocur.experiments.invariance import load_invariance, write_invariance
-    from neurocur.tables import resolve_file
 
-    spec = load_invariance(resolve_file("invariance", Path(), "invariance", source="invariance", key=None))
+    spec = load_invariance("invariance")
     demo, _ = write_invariance(spec, out)
     return {"invariance": fig_invariance(demo)}
 
@@ -276,9 +275,8 @@ def _cmd_omega(args) -> int:
 def _cmd_invariance(args) -> int:
     from neurocur.analysis.figures.invariance import save_invariance
     from neurocur.experiments.invariance import load_invariance, write_invariance
-    from neurocur.tables import resolve_file
 
-    spec = load_invariance(resolve_file(args.experiment, Path(), "invariance", source=args.experiment, key=None))
+    spec = load_invariance(args.experiment)
     out = Path(args.out) if args.out else Path("results") / spec.name
     demo, result = write_invariance(spec, out)
     print(f"{spec.source}: corr = {demo.corr:.5f} (first feature before/after the swap), "

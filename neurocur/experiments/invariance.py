@@ -33,7 +33,7 @@ from neurocur.contexts.synthetic import NORMALISATIONS, SyntheticWorld, mix_fram
 from neurocur.learn.correlation import abs_corr
 from neurocur.learn.incsfa import IncSFA
 from neurocur.results.safeio import atomic_text
-from neurocur.tables import check_keys, load_toml, require
+from neurocur.tables import check_keys, load_toml, require, resolve_file
 
 __all__ = ["InvarianceDemo", "InvarianceSpec", "invariance_demo", "load_invariance", "write_invariance"]
 
@@ -175,15 +175,16 @@ def load_invariance(path) -> InvarianceSpec:
 
     Parameters
     ----------
-    path : path
-        The invariance file.
+    path : path or str
+        The invariance file, or the name of one shipped in ``neurocur/experiments_data/``
+        (``"invariance"``; ``neurocur.tables.resolve_file``, as for experiments).
 
     Returns
     -------
     InvarianceSpec
         The validated file.
     """
-    path = Path(path)
+    path = resolve_file(path, Path(), "invariance", source=path, key=None)
     data = load_toml(path)
     check_keys(data, KEYS, source=path, required=("source",))
     text = dict(source=path, expected="a string")

@@ -4,7 +4,6 @@ and the paper's numbers drawn beside the model's."""
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 import matplotlib.colors as mcolors
 import pandas as pd
@@ -27,7 +26,6 @@ from neurocur.analysis.figures.style import condition_colours, source_colours
 from neurocur.cli import main
 from neurocur.contexts.synthetic import SYNTHETIC
 from neurocur.experiments.invariance import load_invariance
-from neurocur.tables import resolve_file
 
 
 def _hex(colour) -> str:
@@ -47,7 +45,7 @@ def test_the_index_names_every_png_written_and_only_those(results_dir, tmp_path,
     assert set(index["file"]) == {p.name for p in out.glob("*.png")} - {"stale.png"}
     assert FIGURE_5 not in printed                                   # Figure 5 is drawn, not named
     assert index.set_index("file").loc["invariance.png", "paper_figure"].startswith("Figure 5")
-    demo = load_invariance(resolve_file("invariance", Path(), "invariance", source="invariance", key=None)).run()
+    demo = load_invariance("invariance").run()
     result = json.loads((out / "invariance.json").read_text())
     assert (result["corr"], result["quality"]) == (demo.corr, demo.quality)  # the shipped demo, seeded
     assert f"corr {demo.corr:.4f}" in index.set_index("file").loc["invariance.png", "what_it_shows"]
