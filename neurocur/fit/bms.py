@@ -24,6 +24,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import pandas as pd
 from scipy import integrate, special, stats
 
 __all__ = ["BMS", "bms", "exceedance"]
@@ -61,6 +62,22 @@ class BMS:
     pxp: np.ndarray
     f1: float
     f0: float
+
+    def table(self, models) -> pd.DataFrame:
+        """One row per model: ``model, expected, xp, pxp, bor`` (the omnibus risk the same on every row).
+
+        Parameters
+        ----------
+        models : sequence of str
+            The models' names, in the order of the log evidences' columns.
+
+        Returns
+        -------
+        pandas.DataFrame
+            The model selection's table.
+        """
+        return pd.DataFrame({"model": list(models), "expected": self.expected, "xp": self.xp, "pxp": self.pxp,
+                             "bor": self.bor})
 
 
 def bms(log_evidence, alpha0: float = 1.0, *, tol: float = 1e-10, max_iter: int = 10_000) -> BMS:

@@ -205,9 +205,7 @@ def bms_table(table: pd.DataFrame, evidence: str = "bic") -> pd.DataFrame:
         ``model, expected, xp, pxp, bor``, one row per model in the table's order (:func:`~neurocur.fit.bms.bms`).
     """
     wide = table.pivot(index="dataset", columns="model", values=evidence)[list(dict.fromkeys(table["model"]))]
-    result = bms(-wide.to_numpy() / 2.0 if evidence == "bic" else wide.to_numpy())
-    return pd.DataFrame({"model": wide.columns, "expected": result.expected, "xp": result.xp, "pxp": result.pxp,
-                         "bor": result.bor})
+    return bms(-wide.to_numpy() / 2.0 if evidence == "bic" else wide.to_numpy()).table(wide.columns)
 
 
 def totals(table: pd.DataFrame, selection: pd.DataFrame) -> pd.DataFrame:

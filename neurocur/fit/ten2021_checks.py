@@ -24,13 +24,13 @@ import pandas as pd
 
 from ..analysis.stats.choice_shares import ordered_peaks, peak_bins, share_change
 from ..regions.ten2021 import SIGNALS, WINDOW
+from .bms import bms
 from .ten2021 import ACTIVITIES, FREE_TRIALS
 from .ten2021_models import (
     FEATURES,
     KEYS,
     MODELS,
     Session,
-    bms_rows,
     coefficients,
     fit_group,
     model_bounds,
@@ -208,7 +208,7 @@ def model_recovery(sessions: Sequence[Session], maps: pd.DataFrame, *, seed: int
         coefs = coefficients(maps[maps["model"] == generating], names)
         simulated, _ = _simulate(np.random.default_rng([seed, g]), coefs, spans, p_correct, names)
         found = fit_group(simulated, bounds, seed=seed, ml=False, **fit)
-        selection = bms_rows(found["evidence"], models)
+        selection = bms(found["evidence"]).table(models)
         for h, s in zip(found["hierarchical"].itertuples(), selection.itertuples()):
             rows.append({"generating": generating, "fitted": h.model, "ibic": h.ibic, "converged": h.converged,
                          "expected": s.expected, "pxp": s.pxp})

@@ -33,12 +33,11 @@ from scipy import special
 from ..config import ConfigError
 from ..experiments import load_experiment
 from ..regions.ten2021 import EARLY, LATE, SIGNALS, WINDOW, session_signals
-from .bms import bms
 from .hierarchical import MAX_ITER, N_SAMPLES, Subject, fit_hierarchical
 from .mle import fit_ml
 from .study import default_bounds
 
-__all__ = ["FEATURES", "KEYS", "LP_MODELS", "MODELS", "MODEL_SETS", "Session", "bms_rows", "coefficients", "fit_group", "model_bounds",
+__all__ = ["FEATURES", "KEYS", "LP_MODELS", "MODELS", "MODEL_SETS", "Session", "coefficients", "fit_group", "model_bounds",
            "raw_coefficients", "session_features", "simulate_sessions"]
 
 #: The features of the logits: the three signals of ``ten2021.utility`` and the repetition of the previous choice.
@@ -343,21 +342,3 @@ def fit_group(sessions: Sequence[Session], bounds: Mapping[str, Mapping[str, tup
             "ml": pd.DataFrame(ml_rows)}
 
 
-def bms_rows(evidence: np.ndarray, models: Sequence[str]) -> pd.DataFrame:
-    """Random-effects BMS of a (sessions x models) log-evidence matrix, a row per model.
-
-    Parameters
-    ----------
-    evidence : numpy.ndarray
-        (sessions, models) log evidences (:func:`fit_group`'s ``evidence``).
-    models : sequence of str
-        The models, in the columns' order.
-
-    Returns
-    -------
-    pandas.DataFrame
-        ``model, expected, xp, pxp, bor`` (:func:`~neurocur.fit.bms.bms`).
-    """
-    result = bms(evidence)
-    return pd.DataFrame({"model": list(models), "expected": result.expected, "xp": result.xp, "pxp": result.pxp,
-                         "bor": result.bor})

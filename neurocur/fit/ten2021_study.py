@@ -26,9 +26,10 @@ import numpy as np
 import pandas as pd
 
 from ..regions.ten2021 import WINDOW, activity_signals
+from .bms import bms
 from .hierarchical import MAX_ITER, N_SAMPLES
 from .ten2021 import ACTIVITIES, GROUPS, free_play, read_ten2021_groups
-from .ten2021_models import LP_MODELS, MODEL_SETS, MODELS, Session, bms_rows, fit_group, model_bounds, session_features
+from .ten2021_models import LP_MODELS, MODEL_SETS, MODELS, Session, fit_group, model_bounds, session_features
 
 __all__ = ["LP_MODELS", "MODELS", "compare_group", "lp_verdict", "mastered", "model_bounds", "sessions_of"]
 
@@ -167,9 +168,9 @@ def compare_group(sessions: Sequence[Session], *, seed: int, starts: int = 3, n_
     names, lp_models = MODEL_SETS[models]
     found = fit_group(sessions, model_bounds(names), seed=seed, starts=starts, n_samples=n_samples,
                       max_iter=max_iter)
-    found["bms"] = bms_rows(found["evidence"], names)
+    found["bms"] = bms(found["evidence"]).table(names)
     bic = found["ml"].pivot(index="subject", columns="model", values="bic").loc[[s.name for s in sessions], list(names)]
-    found["bms_bic"] = bms_rows(-bic.to_numpy() / 2, names)
+    found["bms_bic"] = bms(-bic.to_numpy() / 2).table(names)
     found["verdict"] = lp_verdict(found["hierarchical"], found["bms"], lp_models)
     found["paper"] = paper_comparison(found["ml"], AIC_CONTRASTS[models])
     return found

@@ -36,6 +36,9 @@ def test_decisive_evidence_gives_the_exact_posterior_evidence_and_omnibus_risk()
     assert abs(result.bor - 1 / (1 + np.exp(f1 - f0))) < 1e-12
     np.testing.assert_allclose(result.pxp, (1 - result.bor) * exceedance(1 + counts) + result.bor / 3, atol=1e-12)
     assert result.xp[0] > result.pxp[0] > 0.5  # the protection shrinks the winner towards 1/K
+    table = result.table(["a", "b", "c"])  # a row per model, in the evidences' column order
+    assert list(table["model"]) == ["a", "b", "c"] and (table["bor"] == result.bor).all()
+    np.testing.assert_array_equal(table[["expected", "xp", "pxp"]].to_numpy().T, [result.expected, result.xp, result.pxp])
 
 
 def test_the_free_energy_bounds_the_exact_evidence_from_integration():
